@@ -1,0 +1,82 @@
+/* `tissuebench reproduce`: runs the reproduction suites, each writing
+ * results/<suite>/ through the results pipeline (core/tb_results.h). A
+ * suite is one entry of the table below. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_cli.h"
+#include "tb_timer.h"
+
+static const tb_suite_entry suites[] = {
+    {"meshes", "generated meshes: counts beside the documents' (thesis §2.5, Bao 2006)",
+     tb_suite_meshes},
+};
+static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
+
+/* Is name in the comma-separated list? */
+static int listed(const char *list, const char *name) {
+  size_t n = strlen(name);
+  for (const char *p = list; p && *p;) {
+    const char *c = strchr(p, ',');
+    size_t len = c ? (size_t)(c - p) : strlen(p);
+    if (len == n && !strncmp(p, name, n)) return 1;
+    p = c ? c + 1 : NULL;
+  }
+  return 0;
+}
+
+int tb_cmd_reproduce(int argc, char **argv) {
+  tb_suite_opts o = {0, 1, TB_SOURCE_ROOT "/results"};
+  const char *only = NULL;
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    if (!strcmp(a, "--quick")) o.full = 0;
+    else if (!strcmp(a, "--full")) o.full = 1;
+    else if (!strcmp(a, "--list")) {
+      for (int s = 0; s < nsuites; s++) printf("%-10s %s\n", suites[s].name, suites[s].summary);
+      return TB_EXIT_OK;
+    } else if (!strcmp(a, "--only") && i + 1 < argc) only = argv[++i];
+    else if (!strcmp(a, "--results") && i + 1 < argc) o.results = argv[++i];
+    else if (!strcmp(a, "--seed") && i + 1 < argc) {
+      char *end;
+      unsigned long long s = strtoull(argv[++i], &end, 10);
+      if (*end || end == argv[i]) {
+        fprintf(stderr, "tissuebench reproduce: --seed needs a whole number\n");
+        return TB_EXIT_INPUT;
+      }
+      o.seed = s;
+    } else {
+      fprintf(stderr, "tissuebench reproduce: unknown or incomplete option '%s'\n", a);
+      return TB_EXIT_INPUT;
+    }
+  }
+  if (only) { /* every listed name must be a suite */
+    for (const char *p = only; *p;) {
+      const char *c = strchr(p, ',');
+      size_t len = c ? (size_t)(c - p) : strlen(p);
+      int found = 0;
+      for (int s = 0; s < nsuites; s++)
+        found |= strlen(suites[s].name) == len && !strncmp(suites[s].name, p, len);
+      if (!found) {
+        fprintf(stderr, "tissuebench reproduce: unknown suite '%.*s' (--list)\n", (int)len, p);
+        return TB_EXIT_INPUT;
+      }
+      p = c ? c + 1 : p + len;
+    }
+  }
+  int failed = 0;
+  uint64_t t0 = tb_time_ns();
+  for (int s = 0; s < nsuites; s++) {
+    if (only && !listed(only, suites[s].name)) continue;
+    fprintf(stderr, "== %s (%s)\n", suites[s].name, o.full ? "full" : "quick");
+    uint64_t ts = tb_time_ns();
+    int rc = suites[s].run(&o);
+    fprintf(stderr, "== %s: %s in %.1f s -> %s/%s/\n", suites[s].name, rc ? "FAILED" : "done",
+            (double)(tb_time_ns() - ts) * 1e-9, o.results, suites[s].name);
+    failed += rc != 0;
+  }
+  fprintf(stderr, "reproduce: %d suite(s) failed, %.1f s in all\n", failed,
+          (double)(tb_time_ns() - t0) * 1e-9);
+  return failed ? TB_EXIT_FAIL : TB_EXIT_OK;
+}

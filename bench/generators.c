@@ -1,0 +1,239 @@
+/* The generator table behind `tissuebench mesh NAME` and the meshes suite:
+ * liver (thesis §2.5), instrument, geodesic sphere (Bao 2006 table 1) and
+ * cantilever beam, each with its settings and the documents' counts. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_generators.h"
+#include "tb_meshgen.h"
+#include "tb_timer.h"
+
+/* ---- liver ---- */
+static int liver_run(const double *p, tb_gen_result *r, tb_error *err) {
+  tb_liver_def d = tb_liver_default_def();
+  d.surface_verts = (int)p[0], d.tet_verts = (int)p[1], d.tets = (int)p[2], d.length = p[3];
+  d.noise = p[4];
+  d.seed = (uint64_t)p[5];
+  if (tb_liver_surface(&d, &r->surface, err)) return -1;
+  return tb_liver_tets(&d, &r->surface, &r->volume, err);
+}
+static int liver_paper(const double *p, tb_gen_counts *c, const char **src) {
+  (void)p;
+  *c = (tb_gen_counts){725, 1448, 1206, 4230, 9313, 6288};
+  *src = "thesis §2.5 (Amira marching cubes; QTetraMesher)";
+  return 1;
+}
+
+/* ---- instrument ---- */
+static int instrument_run(const double *p, tb_gen_result *r, tb_error *err) {
+  tb_instrument_def d = tb_instrument_default_def();
+  d.length = p[0], d.radius = p[1], d.jaw_length = p[2], d.jaw_opening = p[3];
+  d.segments = (int)p[4], d.shaft_rings = (int)p[5], d.jaw_rings = (int)p[6];
+  return tb_instrument(&d, &r->surface, err);
+}
+static int instrument_paper(const double *p, tb_gen_counts *c, const char **src) {
+  (void)p;
+  *c = (tb_gen_counts){628, 1248, 0, 0, 0, 0};
+  *src = "thesis §4.5 (instrument model)";
+  return 1;
+}
+
+/* ---- sphere ---- */
+static int sphere_run(const double *p, tb_gen_result *r, tb_error *err) {
+  return tb_sphere((int)p[0], p[1], &r->surface, err);
+}
+static int sphere_paper(const double *p, tb_gen_counts *c, const char **src) {
+  *src = "Bao 2006 table 1";
+  memset(c, 0, sizeof *c);
+  if ((int)p[0] == 252) c->surface_verts = 252, c->surface_tris = 500;
+  else if ((int)p[0] == 1002) c->surface_verts = 1002, c->surface_tris = 2000;
+  return c->surface_verts != 0;
+}
+
+/* ---- beam ---- */
+static int beam_run(const double *p, tb_gen_result *r, tb_error *err) {
+  return tb_beam(p[0], p[1], p[2], (int)p[3], (int)p[4], (int)p[5], &r->volume, err);
+}
+
+static const tb_generator generators[] = {
+    {"liver",
+     "synthetic CT volume -> marching cubes -> clean-up -> TetGen",
+     {{"surface_verts", 725, 1, "target surface vertices (within 5%)"},
+      {"tet_verts", 1206, 1, "target tet-mesh vertices (within 10%)"},
+      {"tets", 4230, 1, "target tets (within 10%; 0: tet_verts * 4230 / 1206)"},
+      {"length", 10, 0, "extent along x"},
+      {"noise", 0.08, 0, "grey-value noise amplitude (relative to tissue)"},
+      {"seed", 1, 1, "noise seed"}},
+     liver_run,
+     liver_paper},
+    {"instrument",
+     "grasper: shaft + lower jaw tube and hinged upper jaw tube (2 closed parts)",
+     {{"length", 15, 0, "shaft length"},
+      {"radius", 0.25, 0, "shaft radius"},
+      {"jaw_length", 1.2, 0, "jaw length"},
+      {"jaw_opening", 0.5, 0, "angle between the jaws (radians)"},
+      {"segments", 16, 1, "segments around"},
+      {"shaft_rings", 24, 1, "rings of the shaft + lower jaw"},
+      {"jaw_rings", 15, 1, "rings of the upper jaw"}},
+     instrument_run,
+     instrument_paper},
+    {"sphere",
+     "geodesic sphere, 10 f^2 + 2 vertices (252, 1002, ...)",
+     {{"verts", 252, 1, "vertices: 10 f^2 + 2"}, {"radius", 1, 0, "radius"}},
+     sphere_run,
+     sphere_paper},
+    {"beam",
+     "box cantilever, cubes split into 6 tets each",
+     {{"lx", 10, 0, "length (x)"},
+      {"ly", 1, 0, "width (y)"},
+      {"lz", 1, 0, "height (z)"},
+      {"nx", 20, 1, "cells along x"},
+      {"ny", 2, 1, "cells along y"},
+      {"nz", 2, 1, "cells along z"}},
+     beam_run,
+     NULL},
+};
+static const int ngenerators = (int)(sizeof generators / sizeof generators[0]);
+
+static int nparams(const tb_generator *g) {
+  int n = 0;
+  while (n < TB_GEN_MAX_PARAMS && g->params[n].key) n++;
+  return n;
+}
+
+const tb_generator *tb_generator_find(const char *name) {
+  for (int i = 0; i < ngenerators; i++)
+    if (!strcmp(generators[i].name, name)) return &generators[i];
+  return NULL;
+}
+
+void tb_generator_list(FILE *f) {
+  for (int i = 0; i < ngenerators; i++) {
+    const tb_generator *g = &generators[i];
+    fprintf(f, "%s: %s\n", g->name, g->summary);
+    for (int k = 0; k < nparams(g); k++)
+      fprintf(f, "  --set %s=%g\t%s\n", g->params[k].key, g->params[k].value, g->params[k].doc);
+  }
+}
+
+void tb_generator_defaults(const tb_generator *g, double *p) {
+  for (int k = 0; k < TB_GEN_MAX_PARAMS; k++) p[k] = k < nparams(g) ? g->params[k].value : 0;
+}
+
+int tb_generator_set(const tb_generator *g, double *p, const char *kv) {
+  const char *eq = strchr(kv, '=');
+  for (int k = 0; eq && k < nparams(g); k++) {
+    if (strlen(g->params[k].key) != (size_t)(eq - kv) || strncmp(g->params[k].key, kv, eq - kv))
+      continue;
+    char *end;
+    errno = 0;
+    double v = strtod(eq + 1, &end);
+    if (end == eq + 1 || *end || errno == ERANGE || !isfinite(v) ||
+        (g->params[k].integer && (v != floor(v) || fabs(v) > 1e9))) {
+      fprintf(stderr, "tissuebench mesh %s: %s needs a %s, not '%s'\n", g->name,
+              g->params[k].key, g->params[k].integer ? "whole number" : "finite number", eq + 1);
+      return -1;
+    }
+    p[k] = v;
+    return 0;
+  }
+  fprintf(stderr, "tissuebench mesh %s: unknown setting '%s' (tissuebench mesh list)\n", g->name,
+          kv);
+  return -1;
+}
+
+int tb_generator_run(const tb_generator *g, const double *p, tb_gen_result *r, tb_error *err) {
+  memset(r, 0, sizeof *r);
+  uint64_t t0 = tb_time_ns();
+  int rc = g->run(p, r, err);
+  r->ms = (double)(tb_time_ns() - t0) * 1e-6;
+  if (rc) tb_gen_result_free(r);
+  return rc;
+}
+
+void tb_gen_result_free(tb_gen_result *r) {
+  tb_mesh_free(&r->surface);
+  tb_mesh_free(&r->volume);
+}
+
+tb_gen_counts tb_gen_result_counts(const tb_gen_result *r) {
+  tb_gen_counts c = {r->surface.nv, r->surface.ntri, r->volume.nv, r->volume.ntet, 0, 0};
+  if (!r->surface.nv) c.surface_verts = 0, c.surface_tris = r->volume.ntri;
+  if (r->volume.ntet) {
+    int *f = NULL, *e = NULL;
+    c.faces = tb_mesh_tet_faces(&r->volume, &f);
+    c.edges = tb_mesh_edges(&r->volume, &e);
+    free(f), free(e);
+  }
+  return c;
+}
+
+static void row(FILE *f, const char *what, int ours, int paper, int has_paper) {
+  if (!ours && !paper) return;
+  if (has_paper && paper)
+    fprintf(f, "  %-20s %8d %8d %+7.1f%%\n", what, ours, paper, 100.0 * (ours - paper) / paper);
+  else
+    fprintf(f, "  %-20s %8d %8s\n", what, ours, "-");
+}
+
+void tb_gen_result_print(FILE *f, const tb_generator *g, const double *p, const tb_gen_result *r) {
+  tb_gen_counts c = tb_gen_result_counts(r), d;
+  const char *src = "";
+  int has = g->paper && g->paper(p, &d, &src);
+  if (!has) memset(&d, 0, sizeof d);
+  fprintf(f, "%s (%.1f ms)%s%s\n  %-20s %8s %8s %8s\n", g->name, r->ms, has ? "; documents: " : "",
+          src, "", "ours", "document", "diff");
+  row(f, "surface vertices", c.surface_verts, d.surface_verts, has);
+  row(f, "surface triangles", c.surface_tris, d.surface_tris, has);
+  row(f, "tet-mesh vertices", c.verts, d.verts, has);
+  row(f, "tets", c.tets, d.tets, has);
+  row(f, "tet faces", c.faces, d.faces, has);
+  row(f, "tet edges", c.edges, d.edges, has);
+  const tb_mesh *m = r->surface.nv ? &r->surface : &r->volume;
+  tb_mesh s = *m;
+  s.ntet = 0;
+  tb_mesh_topo t = tb_mesh_topology(&s);
+  fprintf(f, "  surface: %s, %s, %d component(s), Euler %d", t.closed ? "closed" : "open",
+          t.manifold ? "manifold" : "NOT manifold", t.components, t.euler);
+  if (r->volume.ntet) fprintf(f, "; min tet volume %.3g", tb_mesh_min_tet_volume(&r->volume));
+  fprintf(f, "\n");
+}
+
+int tb_gen_result_part(const tb_gen_result *r, tb_mesh_part part, tb_mesh *out, tb_error *err) {
+  const tb_mesh *vol = &r->volume, *surf = &r->surface;
+  if (part == TB_PART_DEFAULT) part = vol->ntet ? TB_PART_TETS : TB_PART_SURFACE;
+  memset(out, 0, sizeof *out);
+  if ((part == TB_PART_TETS || part == TB_PART_FACES) && !vol->ntet)
+    return tb_error_set(err, "mesh", 0, "this mesh has no tets");
+  int rc = 0;
+  if (part == TB_PART_TETS) rc = tb_mesh_copy(out, vol);
+  else if (part == TB_PART_SURFACE) {
+    rc = tb_mesh_copy(out, surf->nv ? surf : vol);
+    free(out->tet);
+    out->tet = NULL, out->ntet = 0;
+  } else if (part == TB_PART_FACES) {
+    tb_mesh m = *vol;
+    m.tri = NULL, m.ntri = 0, m.tet = NULL, m.ntet = 0;
+    rc = tb_mesh_copy(out, &m);
+    if (!rc) {
+      out->ntri = tb_mesh_tet_faces(vol, &out->tri);
+      rc = out->ntri < 0;
+    }
+  } else {
+    return tb_error_set(err, "mesh", 0, "edges are not a mesh part");
+  }
+  if (rc) {
+    tb_mesh_free(out);
+    return tb_error_set(err, "mesh", 0, "out of memory");
+  }
+  return 0;
+}
+
+int tb_mesh_part_parse(const char *s, tb_mesh_part *part) {
+  static const char *names[] = {"default", "tets", "surface", "faces", "edges"};
+  for (int i = 0; i < 5; i++)
+    if (!strcmp(s, names[i])) return *part = (tb_mesh_part)i, 0;
+  return -1;
+}

@@ -1,0 +1,98 @@
+/* tissuebench: the command-line front end. Every subcommand is one entry of
+ * the table below; `help` lists them, `NAME --help` shows one. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "tb_cli.h"
+
+static int cmd_help(int argc, char **argv);
+static int cmd_test(int argc, char **argv);
+
+static const tb_command commands[] = {
+    {"help", "list the subcommands", "tissuebench help", cmd_help},
+    {"reproduce", "run the reproduction suites into results/",
+     "tissuebench reproduce [--quick|--full] [--seed N] [--only SUITE[,SUITE...]] [--results DIR]\n"
+     "  --quick   the default: every suite at reduced scale (under 10 minutes on 2 cores)\n"
+     "  --full    every suite at the documents' scale\n"
+     "  --only    run only the named suites (see --list)\n"
+     "  --list    list the suites",
+     tb_cmd_reproduce},
+    {"test", "run the whole test suite (ends with \"N passed, N failed\")",
+     "tissuebench test [SUBSTRING...]\n"
+     "  runs the test cases whose \"suite/name\" contains any SUBSTRING (all without)",
+     cmd_test},
+    {"mesh", "mesh info FILE, or generate a mesh (liver, instrument, sphere, beam)",
+     "tissuebench mesh info FILE\n"
+     "  counts, bounding box, closed/manifold, Euler characteristic and volume of a mesh file\n"
+     "  (.obj .off .stl .node/.ele .msh); malformed input: FILE:LINE: reason, exit 2\n"
+     "tissuebench mesh NAME [--out FILE] [--part PART] [--stats] [--set key=value ...]\n"
+     "  NAME: liver, instrument, sphere, beam (mesh list shows their settings)\n"
+     "  --out FILE   write by extension: .obj .off .node (with .ele) .vtk; .edges for edges\n"
+     "  --part PART  liver only: tets (default), surface, faces (all tet faces), edges\n"
+     "  --stats      print the counts beside the documents' counts",
+     tb_cmd_mesh},
+};
+static const int ncommands = (int)(sizeof commands / sizeof commands[0]);
+
+static int cmd_help(int argc, char **argv) {
+  (void)argc, (void)argv;
+  printf("usage: tissuebench COMMAND [options]   (COMMAND --help for its options)\n\n");
+  for (int i = 0; i < ncommands; i++) printf("  %-10s %s\n", commands[i].name, commands[i].summary);
+  return TB_EXIT_OK;
+}
+
+/* The test binary sits beside this one in the build folder. */
+static int cmd_test(int argc, char **argv) {
+  char self[4096];
+  ssize_t n = readlink("/proc/self/exe", self, sizeof self - 16);
+  if (n <= 0) {
+    fprintf(stderr, "tissuebench: cannot locate the test binary\n");
+    return TB_EXIT_FAIL;
+  }
+  self[n] = 0;
+  char *slash = strrchr(self, '/');
+  strcpy(slash ? slash + 1 : self, "tb_tests");
+  argv[0] = self;
+  (void)argc;
+  execv(self, argv);
+  fprintf(stderr, "tissuebench: cannot run %s: %s\n", self, strerror(errno));
+  return TB_EXIT_FAIL;
+}
+
+int tb_cli_has_help(int argc, char **argv) {
+  for (int i = 1; i < argc; i++)
+    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
+  return 0;
+}
+
+int tb_cli_parse_double(const char *what, const char *text, double *out) {
+  char *end;
+  errno = 0;
+  double v = strtod(text, &end);
+  if (end == text || *end || errno == ERANGE || !isfinite(v)) {
+    fprintf(stderr, "tissuebench: %s: not a finite number: '%s'\n", what, text);
+    return -1;
+  }
+  *out = v;
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) return cmd_help(argc, argv), TB_EXIT_INPUT;
+  const char *name = argv[1];
+  if (!strcmp(name, "--help") || !strcmp(name, "-h")) name = "help";
+  for (int i = 0; i < ncommands; i++) {
+    if (strcmp(name, commands[i].name)) continue;
+    if (tb_cli_has_help(argc - 1, argv + 1)) {
+      printf("%s\n\n%s\n", commands[i].summary, commands[i].usage);
+      return TB_EXIT_OK;
+    }
+    return commands[i].run(argc - 1, argv + 1);
+  }
+  fprintf(stderr, "tissuebench: unknown command '%s' (tissuebench help lists them)\n", name);
+  return TB_EXIT_INPUT;
+}

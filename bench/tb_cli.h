@@ -1,0 +1,42 @@
+/* The command line: one table of subcommands; each takes argc/argv after
+ * its name and returns the process exit code (0 ok, 1 failed, 2 bad input). */
+#ifndef TB_CLI_H
+#define TB_CLI_H
+
+#include <stdint.h>
+
+typedef struct tb_command {
+  const char *name;
+  const char *summary;
+  const char *usage; /* printed by --help */
+  int (*run)(int argc, char **argv);
+} tb_command;
+
+/* Exit codes. */
+enum { TB_EXIT_OK = 0, TB_EXIT_FAIL = 1, TB_EXIT_INPUT = 2 };
+
+int tb_cmd_mesh(int argc, char **argv);
+int tb_cmd_reproduce(int argc, char **argv);
+
+/* Options every suite receives. */
+typedef struct tb_suite_opts {
+  int full;             /* paper scale instead of --quick */
+  uint64_t seed;
+  const char *results;  /* results/ folder */
+} tb_suite_opts;
+
+/* A suite of the reproduction: writes results/<name>/. Returns 0 or 1. */
+typedef struct tb_suite_entry {
+  const char *name;
+  const char *summary;
+  int (*run)(const tb_suite_opts *opts);
+} tb_suite_entry;
+
+int tb_suite_meshes(const tb_suite_opts *opts);
+
+/* Helpers shared by the commands. */
+int tb_cli_has_help(int argc, char **argv);
+/* Parses key=value into a double; returns 0 or prints an error and -1. */
+int tb_cli_parse_double(const char *what, const char *text, double *out);
+
+#endif

@@ -1,0 +1,154 @@
+/* Mesh writers: OBJ and OFF (triangles; a tet mesh without triangles is
+ * written as its boundary), TetGen .node/.ele/.face (1-based, TetGen's
+ * default) and VTK legacy ASCII ("VTK File Formats", Kitware: an
+ * UNSTRUCTURED_GRID of VTK_TETRA cells, type 10, or POLYDATA polygons).
+ * Doubles are printed with %.17g so a write-read round trip is exact. */
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io_internal.h"
+
+/* Refuses meshes a reader could not read back: bad indices, non-finite x. */
+static int check(const char *path, const tb_mesh *m, tb_error *err) {
+  if (m->nv < 0 || m->ntri < 0 || m->ntet < 0 || (m->nv && !m->x) || (m->ntri && !m->tri) ||
+      (m->ntet && !m->tet))
+    return tb_error_set(err, path, 0, "cannot write: inconsistent mesh counts");
+  for (int i = 0; i < m->nv; i++)
+    if (!tb_isfinite3(m->x[i]))
+      return tb_error_set(err, path, 0, "cannot write: vertex %d is not finite", i);
+  for (long i = 0; i < 3L * m->ntri; i++)
+    if (m->tri[i] < 0 || m->tri[i] >= m->nv)
+      return tb_error_set(err, path, 0, "cannot write: triangle %ld uses vertex %d of %d", i / 3,
+                          m->tri[i], m->nv);
+  for (long i = 0; i < 4L * m->ntet; i++)
+    if (m->tet[i] < 0 || m->tet[i] >= m->nv)
+      return tb_error_set(err, path, 0, "cannot write: tet %ld uses vertex %d of %d", i / 4,
+                          m->tet[i], m->nv);
+  return 0;
+}
+
+static FILE *open_out(const char *path, tb_error *err) {
+  FILE *f = fopen(path, "wb");
+  if (!f) tb_error_set(err, path, 0, "cannot open for writing: %s", strerror(errno));
+  return f;
+}
+
+static int close_out(FILE *f, const char *path, tb_error *err) {
+  int bad = ferror(f), e = errno;
+  if (fclose(f) != 0 || bad)
+    return tb_error_set(err, path, 0, "write failed: %s", strerror(bad ? e : errno));
+  return 0;
+}
+
+/* Each point as LEAD x y z, or "i x y z" (1-based) when lead is NULL. */
+static void put_points(FILE *f, const tb_mesh *m, const char *lead) {
+  for (int i = 0; i < m->nv; i++) {
+    if (lead)
+      fputs(lead, f);
+    else
+      fprintf(f, "%d ", i + 1);
+    fprintf(f, "%.17g %.17g %.17g\n", m->x[i].x, m->x[i].y, m->x[i].z);
+  }
+}
+
+/* Each k-index cell as LEAD i0+base ..., or "n i0+base ..." when lead is NULL. */
+static void put_cells(FILE *f, const int *idx, int n, int k, const char *lead, int base) {
+  for (int i = 0; i < n; i++) {
+    if (lead)
+      fputs(lead, f);
+    else
+      fprintf(f, "%d", i + 1);
+    for (int j = 0; j < k; j++) fprintf(f, " %d", idx[k * i + j] + base);
+    fputc('\n', f);
+  }
+}
+
+/* The triangles to write: the mesh's own, or its tets' boundary (*owned). */
+static int surface(const char *path, const tb_mesh *m, const int **tri, int **owned,
+                   tb_error *err) {
+  *owned = NULL;
+  *tri = m->tri;
+  if (m->ntri > 0 || m->ntet == 0) return m->ntri;
+  int n = tb_mesh_tet_boundary(m, owned);
+  if (n < 0) return tb_error_set(err, path, 0, "out of memory");
+  *tri = *owned;
+  return n;
+}
+
+static int write_surface(const char *path, const tb_mesh *m, int off, tb_error *err) {
+  const int *tri;
+  int *owned, n;
+  if (check(path, m, err) || (n = surface(path, m, &tri, &owned, err)) < 0) return -1;
+  FILE *f = open_out(path, err);
+  if (f) {
+    if (off)
+      fprintf(f, "OFF\n%d %d 0\n", m->nv, n);
+    else
+      fprintf(f, "# %d vertices, %d triangles\n", m->nv, n);
+    put_points(f, m, off ? "" : "v ");
+    put_cells(f, tri, n, 3, off ? "3" : "f", off ? 0 : 1);
+  }
+  free(owned);
+  return f ? close_out(f, path, err) : -1;
+}
+
+int tb_write_obj(const char *path, const tb_mesh *m, tb_error *err) {
+  return write_surface(path, m, 0, err);
+}
+int tb_write_off(const char *path, const tb_mesh *m, tb_error *err) {
+  return write_surface(path, m, 1, err);
+}
+
+/* base.node, base.ele and base.face (the mesh's triangles, maybe none). */
+int tb_write_tetgen(const char *path, const tb_mesh *m, tb_error *err) {
+  static const char *const ext[] = {".node", ".ele", ".face"};
+  if (check(path, m, err)) return -1;
+  const char *dot = strrchr(path, '.');
+  size_t len = dot ? (size_t)(dot - path) : strlen(path);
+  char *name = malloc(len + 6);
+  if (!name) return tb_error_set(err, path, 0, "out of memory");
+  memcpy(name, path, len);
+  int rc = 0;
+  for (int k = 0; k < 3 && rc == 0; k++) {
+    strcpy(name + len, ext[k]);
+    FILE *f = open_out(name, err);
+    if (!f) {
+      rc = -1;
+      break;
+    }
+    if (k == 0) {
+      fprintf(f, "%d 3 0 0\n", m->nv);
+      put_points(f, m, NULL);
+    } else if (k == 1) {
+      fprintf(f, "%d 4 0\n", m->ntet);
+      put_cells(f, m->tet, m->ntet, 4, NULL, 1);
+    } else {
+      fprintf(f, "%d 0\n", m->ntri);
+      put_cells(f, m->tri, m->ntri, 3, NULL, 1);
+    }
+    rc = close_out(f, name, err);
+  }
+  free(name);
+  return rc;
+}
+
+int tb_write_vtk(const char *path, const tb_mesh *m, tb_error *err) {
+  if (check(path, m, err)) return -1;
+  FILE *f = open_out(path, err);
+  if (!f) return -1;
+  int tets = m->ntet > 0;
+  fprintf(f, "# vtk DataFile Version 3.0\ntissuebench mesh\nASCII\nDATASET %s\nPOINTS %d double\n",
+          tets ? "UNSTRUCTURED_GRID" : "POLYDATA", m->nv);
+  put_points(f, m, "");
+  if (tets) {
+    fprintf(f, "CELLS %d %ld\n", m->ntet, 5L * m->ntet);
+    put_cells(f, m->tet, m->ntet, 4, "4", 0);
+    fprintf(f, "CELL_TYPES %d\n", m->ntet);
+    for (int i = 0; i < m->ntet; i++) fputs("10\n", f);
+  } else if (m->ntri > 0) {
+    fprintf(f, "POLYGONS %d %ld\n", m->ntri, 4L * m->ntri);
+    put_cells(f, m->tri, m->ntri, 3, "3", 0);
+  }
+  return close_out(f, path, err);
+}

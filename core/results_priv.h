@@ -1,0 +1,65 @@
+/* Private to the results writer (core/results*.c): the layout of tables
+ * and suites, and the helpers its files share. Not for suites: use
+ * tb_results.h. */
+#ifndef TB_RESULTS_PRIV_H
+#define TB_RESULTS_PRIV_H
+
+#include <stdio.h>
+
+#include "tb_results.h"
+
+struct tb_table {
+  char *name, *title;
+  int ncols, nrows, cap_rows, next; /* next: column of the next cell */
+  char **cols;
+  char **cells; /* nrows * ncols, NULL when empty */
+  char err[200];
+};
+
+/* A cell's text, "" when it was never set. */
+static inline const char *tb_results_cell(const tb_table *t, int r, int j) {
+  const char *c = t->cells[(size_t)r * (size_t)t->ncols + (size_t)j];
+  return c ? c : "";
+}
+
+/* What table.md holds, in order. */
+enum { TB_ITEM_NOTE, TB_ITEM_TABLE, TB_ITEM_CHART };
+typedef struct tb_results_item {
+  int kind;
+  char *text; /* a note's text, or a chart's outbase */
+  tb_table *table;
+} tb_results_item;
+
+typedef struct tb_results_bench {
+  char *name;
+  const char *unit; /* one of "ns", "us", "ms", "s" */
+  int n;
+  double *real, *cpu;
+} tb_results_bench;
+
+struct tb_suite {
+  char *dir, *name, *title;
+  char exe[512];
+  tb_context ctx;
+  tb_results_item *items;
+  int nitems, cap_items;
+  tb_results_bench *benches;
+  int nbenches, cap_benches;
+  char err[400]; /* the first misuse, reported by tb_suite_end */
+};
+
+/* core/results.c */
+char *tb_results_dup(const char *s);
+char *tb_results_join(const char *dir, const char *name); /* dir/name, malloc'd */
+/* Grows an array to hold `need` elements; NULL (old array intact) when out
+ * of memory. */
+void *tb_results_grow(void *p, int *cap, int need, size_t size);
+/* Appends to table.md's items (takes text and t); -1 when out of memory. */
+int tb_results_add(tb_suite *s, int kind, char *text, tb_table *t);
+/* Records the first misuse of the run. */
+void tb_results_fail(tb_suite *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* core/results_files.c: writes table.md, data.csv and data.json. */
+int tb_results_write_files(tb_suite *s, tb_error *err);
+
+#endif

@@ -1,0 +1,91 @@
+/* The results pipeline every suite uses. A suite run writes results/<suite>/:
+ *   table.md   the documents' figures beside ours, units in headers, the
+ *              run's context in a short header;
+ *   data.csv   every table's rows (a "table" column tells them apart);
+ *   data.json  Google Benchmark's JSON layout: "context" and "benchmarks"
+ *              with mean/median/stddev/min/max aggregates;
+ *   *.png/svg  charts drawn by gnuplot from scripts in tools/.
+ * A progress bar goes to stderr when stderr is a terminal. */
+#ifndef TB_RESULTS_H
+#define TB_RESULTS_H
+
+#include <stdint.h>
+
+#include "tb_error.h"
+
+/* ---- run context (machine, compiler, commit, dependency versions) ---- */
+typedef struct tb_context {
+  char date[32];      /* ISO 8601, UTC */
+  char host[128];
+  char cpu[160];      /* model name from /proc/cpuinfo */
+  int cores;
+  int mhz;            /* 0 when unknown */
+  char compiler[128]; /* e.g. "gcc 12.2.0" */
+  char flags[256];    /* build type and C flags */
+  char commit[48];    /* git commit, or "unknown" */
+  int dirty;          /* uncommitted changes at run time: 1, 0, or -1 unknown */
+  char cholmod[32], fcl[32], bullet[32], cgal[32], tetgen[32];
+  uint64_t seed;
+} tb_context;
+
+/* Fills c; fields that cannot be read say "unknown" (numbers 0). */
+void tb_context_collect(tb_context *c, uint64_t seed);
+
+/* ---- tables ---- */
+typedef struct tb_table tb_table;
+/* Column names carry their units, e.g. "time (ms)". NULL on bad arguments
+ * or no memory (tb_suite_table then records the error). A row with more
+ * cells than columns, or a cell before the first row, is an error reported
+ * by tb_suite_end; missing cells are empty. */
+tb_table *tb_table_new(const char *name, const char *title, int ncols, const char *const *cols);
+void tb_table_row(tb_table *t); /* starts a new row */
+void tb_table_cell(tb_table *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void tb_table_free(tb_table *t);
+
+/* ---- timing samples -> aggregates ---- */
+typedef struct tb_stats {
+  int n;
+  double mean, median, stddev, min, max;
+} tb_stats;
+/* Sorts a copy; n may be 0 (all zero). Median of an even count: the mean
+ * of the middle two; stddev: the sample deviation (n - 1), 0 for n < 2. */
+tb_stats tb_stats_of(const double *samples, int n);
+
+/* ---- a suite run ---- */
+typedef struct tb_suite tb_suite;
+/* dir: the output folder (created, with parents). */
+tb_suite *tb_suite_begin(const char *dir, const char *name, const char *title, uint64_t seed,
+                         tb_error *err);
+const tb_context *tb_suite_context(const tb_suite *s);
+/* A paragraph of table.md, in order with the tables. */
+void tb_suite_note(tb_suite *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* The suite takes ownership of t. */
+void tb_suite_table(tb_suite *s, tb_table *t);
+/* One benchmark entry: per-repetition times in the given unit ("ns", "us",
+ * "ms", "s"); real and CPU time may be the same array (cpu NULL: same as
+ * real). Also summarised in a "timings" table at the end of table.md. */
+void tb_suite_bench(tb_suite *s, const char *name, const double *real, const double *cpu, int n,
+                    const char *unit);
+/* Writes <dir>/<csv_name>: a header line, then body (free-form rows, for
+ * charts). */
+int tb_suite_write_data(tb_suite *s, const char *csv_name, const char *header, const char *body,
+                        tb_error *err);
+/* Runs gnuplot on tools/<script> with variables datafile (path inside the
+ * suite folder) and outbase; produces <dir>/<outbase>.png and .svg, linked
+ * from table.md. A missing gnuplot, script or data file, or a failing
+ * script, is an error. */
+int tb_suite_chart(tb_suite *s, const char *script, const char *datafile, const char *outbase,
+                   tb_error *err);
+/* The same with more gnuplot -e assignments, e.g. "title='Solve'; logy=1"
+ * (tools/chart_lines.gp reads title, xlabel, ylabel, logx, logy, points). */
+int tb_suite_chart_vars(tb_suite *s, const char *script, const char *datafile,
+                        const char *outbase, const char *vars, tb_error *err);
+/* Writes table.md, data.csv, data.json; frees s. Also returns the first
+ * misuse recorded during the run (the files are still written). */
+int tb_suite_end(tb_suite *s, tb_error *err);
+
+/* ---- progress on stderr (only when it is a terminal) ----
+ * One line redrawn with '\r'; the line ends when done == total. */
+void tb_progress(const char *label, long done, long total);
+
+#endif

@@ -1,0 +1,133 @@
+/* Test runner: runs every case of every table in its own child process (a
+ * crash fails that case, not the run), prints failures and SKIP lines, and
+ * ends with "N passed, N failed, N skipped". Arguments: substrings; a case
+ * runs when its "suite/name" contains any of them (all run without any). */
+#define _POSIX_C_SOURCE 200809L
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "tb_test.h"
+
+#define SKIP_CODE 77
+
+static int failures;
+static int skipped;
+static char tmpdir[512];
+
+void tb_test_fail(const char *file, int line, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  fprintf(stderr, "  %s:%d: check failed: ", file, line);
+  vfprintf(stderr, fmt, ap);
+  fputc('\n', stderr);
+  va_end(ap);
+  failures++;
+}
+
+void tb_test_skip(const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  printf("SKIP: ");
+  vprintf(fmt, ap);
+  putchar('\n');
+  va_end(ap);
+  skipped = 1;
+}
+
+const char *tb_test_tmpdir(void) { return tmpdir; }
+const char *tb_test_cli(void) { return TB_BUILD_ROOT "/tissuebench"; }
+const char *tb_test_source_root(void) { return TB_SOURCE_ROOT; }
+
+const char *tb_test_file(const char *name, const char *content, long len) {
+  static char paths[8][600];
+  static int slot;
+  char *p = paths[slot++ % 8];
+  snprintf(p, 600, "%s/%s", tmpdir, name);
+  FILE *f = fopen(p, "wb");
+  if (!f) {
+    tb_test_fail(__FILE__, __LINE__, "cannot write %s", p);
+    return p;
+  }
+  fwrite(content, 1, len < 0 ? strlen(content) : (size_t)len, f);
+  fclose(f);
+  return p;
+}
+
+int tb_test_run(const char *cmd, char *out, int cap) {
+  char full[4096];
+  snprintf(full, sizeof full, "(%s) 2>&1", cmd);
+  FILE *p = popen(full, "r");
+  if (!p) return -1;
+  int n = 0, c;
+  while ((c = fgetc(p)) != EOF)
+    if (out && n < cap - 1) out[n++] = (char)c;
+  if (out && cap > 0) out[n] = 0;
+  int st = pclose(p);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static const struct {
+  const char *name;
+  const tb_test_case *cases;
+} suites[] = {
+    {"core", tb_tests_core},       {"io", tb_tests_io},           {"mc", tb_tests_mc},
+    {"results", tb_tests_results}, {"meshgen", tb_tests_meshgen}, {"cli", tb_tests_cli},
+};
+
+static int selected(const char *id, int argc, char **argv) {
+  if (argc < 2) return 1;
+  for (int i = 1; i < argc; i++)
+    if (strstr(id, argv[i])) return 1;
+  return 0;
+}
+
+/* Runs one case in a child; returns 0 pass, 1 fail, 2 skip. */
+static int run_case(const tb_test_case *tc) {
+  fflush(stdout);
+  fflush(stderr);
+  pid_t pid = fork();
+  if (pid == 0) {
+    tc->fn();
+    fflush(stdout);
+    exit(failures ? 1 : (skipped ? SKIP_CODE : 0)); /* exit, so LeakSanitizer checks */
+  }
+  int st = 0;
+  if (pid < 0 || waitpid(pid, &st, 0) < 0) return 1;
+  if (WIFSIGNALED(st)) {
+    fprintf(stderr, "  crashed with signal %d\n", WTERMSIG(st));
+    return 1;
+  }
+  int code = WEXITSTATUS(st);
+  return code == 0 ? 0 : (code == SKIP_CODE ? 2 : 1);
+}
+
+int main(int argc, char **argv) {
+  snprintf(tmpdir, sizeof tmpdir, "%s/tb_tests.XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+  if (!mkdtemp(tmpdir)) {
+    perror("mkdtemp");
+    return 2;
+  }
+  int npass = 0, nfail = 0, nskip = 0;
+  for (size_t s = 0; s < sizeof suites / sizeof suites[0]; s++) {
+    for (const tb_test_case *tc = suites[s].cases; tc->name; tc++) {
+      char id[256];
+      snprintf(id, sizeof id, "%s/%s", suites[s].name, tc->name);
+      if (!selected(id, argc, argv)) continue;
+      int r = run_case(tc);
+      printf("%s %s\n", r == 0 ? "ok  " : (r == 1 ? "FAIL" : "skip"), id);
+      if (r == 0) npass++;
+      else if (r == 1) nfail++;
+      else nskip++;
+    }
+  }
+  char rm[600];
+  snprintf(rm, sizeof rm, "rm -rf '%s'", tmpdir);
+  if (system(rm) != 0) fprintf(stderr, "warning: could not remove %s\n", tmpdir);
+  printf("%d passed, %d failed, %d skipped\n", npass, nfail, nskip);
+  return nfail ? 1 : 0;
+}

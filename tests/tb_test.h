@@ -1,0 +1,54 @@
+/* A small test runner: each test file exports a table of cases; a case
+ * passes when none of its checks fails. The runner prints one line per
+ * failure, visible SKIP lines, and ends with "N passed, N failed, N skipped". */
+#ifndef TB_TEST_H
+#define TB_TEST_H
+
+typedef struct tb_test_case {
+  const char *name;
+  void (*fn)(void);
+} tb_test_case;
+
+/* Records a failed check (and keeps going). */
+void tb_test_fail(const char *file, int line, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Marks the running case skipped, with a reason printed as "SKIP: ...". */
+void tb_test_skip(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+#define TB_CHECK(cond)                                            \
+  do {                                                            \
+    if (!(cond)) tb_test_fail(__FILE__, __LINE__, "%s", #cond);   \
+  } while (0)
+#define TB_CHECK_MSG(cond, ...)                                   \
+  do {                                                            \
+    if (!(cond)) tb_test_fail(__FILE__, __LINE__, __VA_ARGS__);   \
+  } while (0)
+/* |a - b| <= tol */
+#define TB_CHECK_NEAR(a, b, tol)                                                        \
+  do {                                                                                  \
+    double tb_a_ = (a), tb_b_ = (b);                                                    \
+    if (!(fabs(tb_a_ - tb_b_) <= (tol)))                                                \
+      tb_test_fail(__FILE__, __LINE__, "%s = %.17g, %s = %.17g, tolerance %g", #a, tb_a_, \
+                   #b, tb_b_, (double)(tol));                                           \
+  } while (0)
+
+/* A fresh file in the run's temporary folder holding `content` (len bytes;
+ * len < 0 means strlen). Returns its path (static storage per call slot). */
+const char *tb_test_file(const char *name, const char *content, long len);
+/* The run's temporary folder, and the built CLI binary and source root. */
+const char *tb_test_tmpdir(void);
+const char *tb_test_cli(void);
+const char *tb_test_source_root(void);
+/* Runs a shell command; returns its exit status (or -1) and copies up to
+ * cap-1 bytes of its combined stdout+stderr into out (may be NULL). */
+int tb_test_run(const char *cmd, char *out, int cap);
+
+/* The tables, one per test file. */
+extern const tb_test_case tb_tests_core[];
+extern const tb_test_case tb_tests_io[];
+extern const tb_test_case tb_tests_mc[];
+extern const tb_test_case tb_tests_results[];
+extern const tb_test_case tb_tests_meshgen[];
+extern const tb_test_case tb_tests_cli[];
+
+#endif

@@ -1,0 +1,511 @@
+/* Tests of the results pipeline (core/tb_results.h): statistics on known
+ * samples, the three files of a suite run (table.md, data.csv with quoting,
+ * data.json checked by a small JSON validator below), the run context,
+ * gnuplot charts and their errors, and the progress bar's tty rule. */
+#define _XOPEN_SOURCE 700 /* posix_openpt, grantpt, ptsname */
+#include <fcntl.h>
+#include <math.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "tb_results.h"
+#include "tb_test.h"
+
+/* ---- helpers ---- */
+
+/* The whole file as a string (NULL when unreadable); the caller frees. */
+static char *slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  size_t n = 0, cap = 4096;
+  char *s = malloc(cap);
+  int c;
+  while (s && (c = fgetc(f)) != EOF) {
+    if (n + 1 >= cap) {
+      char *t = realloc(s, cap *= 2);
+      if (!t) free(s);
+      s = t;
+    }
+    if (s) s[n++] = (char)c;
+  }
+  fclose(f);
+  if (s) s[n] = 0;
+  return s;
+}
+
+static const char *path_in(const char *dir, const char *name) {
+  static char buf[4][700];
+  static int slot;
+  char *p = buf[slot++ % 4];
+  snprintf(p, 700, "%s/%s", dir, name);
+  return p;
+}
+
+static long size_of(const char *path) {
+  struct stat sb;
+  return stat(path, &sb) == 0 ? (long)sb.st_size : -1;
+}
+
+/* ---- a JSON validator (RFC 8259 grammar, recursive descent) ---- */
+
+static const char *js_value(const char *p, int depth);
+
+static const char *js_ws(const char *p) {
+  while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') p++;
+  return p;
+}
+
+static const char *js_string(const char *p) {
+  if (*p++ != '"') return NULL;
+  for (;;) {
+    unsigned char c = (unsigned char)*p++;
+    if (c == '"') return p;
+    if (c < 0x20) return NULL; /* also the end of the text */
+    if (c != '\\') continue;
+    c = (unsigned char)*p++;
+    if (c == 'u') {
+      for (int i = 0; i < 4; i++, p++)
+        if (!strchr("0123456789abcdefABCDEF", *p) || !*p) return NULL;
+    } else if (!c || !strchr("\"\\/bfnrt", c)) {
+      return NULL;
+    }
+  }
+}
+
+static const char *js_digits(const char *p) {
+  if (*p < '0' || *p > '9') return NULL;
+  while (*p >= '0' && *p <= '9') p++;
+  return p;
+}
+
+static const char *js_number(const char *p) {
+  if (*p == '-') p++;
+  if (*p == '0')
+    p++;
+  else if (!(p = js_digits(p)))
+    return NULL;
+  if (*p == '.' && !(p = js_digits(p + 1))) return NULL;
+  if (*p == 'e' || *p == 'E') {
+    p++;
+    if (*p == '+' || *p == '-') p++;
+    if (!(p = js_digits(p))) return NULL;
+  }
+  return p;
+}
+
+static const char *js_list(const char *p, int depth, char close, int object) {
+  p = js_ws(p + 1);
+  if (*p == close) return p + 1;
+  for (;;) {
+    if (object) {
+      if (!(p = js_string(p))) return NULL;
+      p = js_ws(p);
+      if (*p++ != ':') return NULL;
+    }
+    if (!(p = js_value(p, depth + 1))) return NULL;
+    p = js_ws(p);
+    if (*p == close) return p + 1;
+    if (*p++ != ',') return NULL;
+    p = js_ws(p);
+  }
+}
+
+static const char *js_value(const char *p, int depth) {
+  if (depth > 64) return NULL;
+  p = js_ws(p);
+  switch (*p) {
+    case '{':
+      return js_list(p, depth, '}', 1);
+    case '[':
+      return js_list(p, depth, ']', 0);
+    case '"':
+      return js_string(p);
+    case 't':
+      return strncmp(p, "true", 4) ? NULL : p + 4;
+    case 'f':
+      return strncmp(p, "false", 5) ? NULL : p + 5;
+    case 'n':
+      return strncmp(p, "null", 4) ? NULL : p + 4;
+    default:
+      return js_number(p);
+  }
+}
+
+static int json_valid(const char *text) {
+  const char *end = text ? js_value(text, 0) : NULL;
+  return end && *js_ws(end) == 0;
+}
+
+/* The number after "key": following `from` in text, NAN when absent. */
+static double json_number_after(const char *text, const char *from, const char *key) {
+  const char *p = text ? strstr(text, from) : NULL;
+  char k[64];
+  snprintf(k, sizeof k, "\"%s\": ", key);
+  p = p ? strstr(p, k) : NULL;
+  return p ? strtod(p + strlen(k), NULL) : NAN;
+}
+
+static void test_json_validator(void) {
+  TB_CHECK(json_valid("{\"a\": [1, -2.5e3, true, null, \"x\\\"y\\u00e9\"], \"b\": {}}"));
+  TB_CHECK(!json_valid("{\"a\": [1, 2,]}"));
+  TB_CHECK(!json_valid("{\"a\": \"tab\there\"}"));
+  TB_CHECK(!json_valid("{\"a\": 01}"));
+  TB_CHECK(!json_valid("{\"a\": nan}"));
+  TB_CHECK(!json_valid("{\"a\": 1} x"));
+}
+
+/* ---- statistics ---- */
+
+static void test_stats_odd(void) {
+  const double x[] = {5, 1, 3};
+  tb_stats s = tb_stats_of(x, 3);
+  TB_CHECK(s.n == 3);
+  TB_CHECK_NEAR(s.median, 3, 0);
+  TB_CHECK_NEAR(s.mean, 3, 1e-15);
+  TB_CHECK_NEAR(s.stddev, 2, 1e-15); /* (4 + 4 + 0) / (3 - 1) = 4 */
+  TB_CHECK_NEAR(s.min, 1, 0);
+  TB_CHECK_NEAR(s.max, 5, 0);
+  TB_CHECK(x[0] == 5 && x[1] == 1 && x[2] == 3); /* the input is not sorted */
+}
+
+static void test_stats_even(void) {
+  const double x[] = {4, 1, 3, 2};
+  tb_stats s = tb_stats_of(x, 4);
+  TB_CHECK_NEAR(s.median, 2.5, 0);
+  TB_CHECK_NEAR(s.mean, 2.5, 1e-15);
+  TB_CHECK_NEAR(s.stddev, sqrt(5.0 / 3.0), 1e-15);
+  TB_CHECK_NEAR(s.min, 1, 0);
+  TB_CHECK_NEAR(s.max, 4, 0);
+}
+
+static void test_stats_one_and_none(void) {
+  const double x[] = {7.25};
+  tb_stats s = tb_stats_of(x, 1);
+  TB_CHECK(s.n == 1);
+  TB_CHECK(s.mean == 7.25 && s.median == 7.25 && s.min == 7.25 && s.max == 7.25);
+  TB_CHECK(s.stddev == 0);
+  tb_stats z = tb_stats_of(x, 0);
+  TB_CHECK(z.n == 0 && z.mean == 0 && z.median == 0 && z.stddev == 0 && z.min == 0 && z.max == 0);
+  z = tb_stats_of(NULL, 5);
+  TB_CHECK(z.n == 0 && z.mean == 0);
+}
+
+/* ---- a suite run ---- */
+
+/* Writes a small suite into <tmp>/<sub>/run; returns that folder. */
+static const char *run_suite(const char *sub) {
+  static char dir[600];
+  snprintf(dir, sizeof dir, "%s/%s/run", tb_test_tmpdir(), sub);
+  tb_error err = {{0}};
+  tb_suite *s = tb_suite_begin(dir, "demo", "Demo suite", 42, &err);
+  TB_CHECK_MSG(s, "tb_suite_begin: %s", err.msg);
+  if (!s) return dir;
+  tb_suite_note(s, "First note, %d.", 1);
+  const char *c1[] = {"mesh", "time (ms)", "paper (ms)"};
+  tb_table *t = tb_table_new("speed", "Speed beside the paper", 3, c1);
+  tb_table_row(t);
+  tb_table_cell(t, "liver, \"coarse\"");
+  tb_table_cell(t, "%.1f", 1.5);
+  tb_table_cell(t, "2");
+  tb_table_row(t);
+  tb_table_cell(t, "a|b");
+  tb_table_cell(t, "3");
+  tb_suite_table(s, t); /* its second row lacks the last cell */
+  tb_suite_note(s, "Second note.");
+  const char *c2[] = {"mesh", "vertices", "vertices"};
+  t = tb_table_new("counts", "", 3, c2);
+  tb_table_row(t);
+  tb_table_cell(t, "sphere");
+  tb_table_cell(t, "252");
+  tb_table_cell(t, "250");
+  tb_suite_table(s, t);
+  const double real[] = {3, 1, 2, 4}, cpu[] = {2, 1, 1, 2};
+  tb_suite_bench(s, "solve", real, cpu, 4, "ms");
+  const double one[] = {500};
+  tb_suite_bench(s, "odd \"name\"\\", one, NULL, 1, "us");
+  TB_CHECK_MSG(tb_suite_end(s, &err) == 0, "tb_suite_end: %s", err.msg);
+  return dir;
+}
+
+static void test_suite_writes_three_files(void) {
+  const char *dir = run_suite("three/deep");
+  TB_CHECK(size_of(path_in(dir, "table.md")) > 0);
+  TB_CHECK(size_of(path_in(dir, "data.csv")) > 0);
+  TB_CHECK(size_of(path_in(dir, "data.json")) > 0);
+}
+
+static void test_table_md(void) {
+  char *md = slurp(path_in(run_suite("md"), "table.md"));
+  TB_CHECK(md);
+  if (!md) return;
+  TB_CHECK(strncmp(md, "# Demo suite\n", 13) == 0);
+  const char *want[] = {"**Date**",
+                        "**CPU**",
+                        "**Compiler**",
+                        TB_COMPILER,
+                        "**Commit**",
+                        "FCL 0.7.0",
+                        "CGAL 5.5.1",
+                        "**Seed**: 42",
+                        "## Speed beside the paper",
+                        "| mesh | time (ms) | paper (ms) |",
+                        "| --- | ---: | ---: |",
+                        "| liver, \"coarse\" | 1.5 | 2 |",
+                        "| a\\|b | 3 |  |",
+                        "## counts",
+                        "| sphere | 252 | 250 |",
+                        "| solve | 4 | 2.5 | 2.5 |"};
+  for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
+    TB_CHECK_MSG(strstr(md, want[i]), "table.md lacks \"%s\"", want[i]);
+  /* notes and tables in the order added, the timings last */
+  const char *a = strstr(md, "First note, 1."), *b = strstr(md, "## Speed"),
+             *c = strstr(md, "Second note."), *d = strstr(md, "## counts"),
+             *e = strstr(md, "## Timings");
+  TB_CHECK(a && b && c && d && e && a < b && b < c && c < d && d < e);
+  /* the us benchmark converted to ms: 500 us = 0.5 ms */
+  TB_CHECK(strstr(md, "median (ms)") && strstr(md, "| 1 | 0.5 |"));
+  free(md);
+}
+
+static void test_data_csv(void) {
+  char *csv = slurp(path_in(run_suite("csv"), "data.csv"));
+  TB_CHECK(csv);
+  if (!csv) return;
+  const char *lines[] = {
+      "table,mesh,time (ms),paper (ms),vertices,vertices,benchmark,repetitions,median (ms),",
+      "\nspeed,\"liver, \"\"coarse\"\"\",1.5,2,,,,,",
+      "\nspeed,a|b,3,,,,,,",
+      "\ncounts,sphere,,,252,250,,,",
+      "\ntimings,,,,,,solve,4,2.5,",
+      "\ntimings,,,,,,\"odd \"\"name\"\"\\\",1,0.5,"};
+  for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++)
+    TB_CHECK_MSG(strstr(csv, lines[i]), "data.csv lacks \"%s\"", lines[i]);
+  int n = 0;
+  for (const char *p = csv; *p; p++) n += *p == '\n';
+  TB_CHECK_MSG(n == 6, "data.csv has %d lines, expected 6", n);
+  free(csv);
+}
+
+static void test_data_json(void) {
+  char *js = slurp(path_in(run_suite("json"), "data.json"));
+  TB_CHECK(js);
+  if (!js) return;
+  TB_CHECK(json_valid(js));
+  const char *want[] = {"\"context\": {",
+                        "\"host_name\": \"",
+                        "\"num_cpus\": ",
+                        "\"cpu_model\": \"",
+                        "\"fcl_version\": \"0.7.0\"",
+                        "\"cgal_version\": \"5.5.1\"",
+                        "\"seed\": 42",
+                        "\"caches\": []",
+                        "\"benchmarks\": [",
+                        "\"run_type\": \"iteration\"",
+                        "\"aggregate_name\": \"median\"",
+                        "\"name\": \"solve_max\"",
+                        "\"name\": \"odd \\\"name\\\"\\\\_mean\"",
+                        "\"time_unit\": \"us\""};
+  for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
+    TB_CHECK_MSG(strstr(js, want[i]), "data.json lacks %s", want[i]);
+  TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_median\"", "real_time"), 2.5, 0);
+  TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_median\"", "cpu_time"), 1.5, 0);
+  TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_stddev\"", "real_time"), sqrt(5.0 / 3.0),
+                1e-9);
+  TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_min\"", "real_time"), 1, 0);
+  TB_CHECK_NEAR(json_number_after(js, "\"repetition_index\": 3", "real_time"), 4, 0);
+  free(js);
+}
+
+static void test_context(void) {
+  tb_context c;
+  tb_context_collect(&c, 7);
+  TB_CHECK(c.seed == 7);
+  TB_CHECK_MSG(strlen(c.date) == 20 && c.date[4] == '-' && c.date[10] == 'T' && c.date[19] == 'Z',
+               "date \"%s\"", c.date);
+  TB_CHECK(c.host[0] && c.cpu[0] && c.cores >= 1);
+  TB_CHECK(strcmp(c.compiler, TB_COMPILER) == 0 && strcmp(c.flags, TB_BUILD_FLAGS) == 0);
+  TB_CHECK(c.commit[0] && c.dirty >= -1 && c.dirty <= 1);
+  TB_CHECK_MSG(strcmp(c.fcl, "0.7.0") == 0, "FCL \"%s\"", c.fcl);
+  TB_CHECK_MSG(strcmp(c.cgal, "5.5.1") == 0, "CGAL \"%s\"", c.cgal);
+  TB_CHECK_MSG(strcmp(c.bullet, "3.24") == 0, "Bullet \"%s\"", c.bullet);
+  TB_CHECK_MSG(strcmp(c.cholmod, "3.0.14") == 0, "CHOLMOD \"%s\"", c.cholmod);
+  TB_CHECK_MSG(strcmp(c.tetgen, TB_TETGEN_VERSION[0] ? TB_TETGEN_VERSION : "unknown") == 0,
+               "TetGen \"%s\"", c.tetgen);
+  /* a commit is 40 hex digits or "unknown" */
+  TB_CHECK(strcmp(c.commit, "unknown") == 0 ||
+           (strlen(c.commit) == 40 && strspn(c.commit, "0123456789abcdef") == 40));
+}
+
+/* ---- misuse is reported, not a crash ---- */
+
+static void test_misuse_reported(void) {
+  char dir[600];
+  snprintf(dir, sizeof dir, "%s/misuse", tb_test_tmpdir());
+  tb_error err = {{0}};
+  tb_suite *s = tb_suite_begin(dir, "misuse", NULL, 1, &err);
+  TB_CHECK(s);
+  if (!s) return;
+  const char *cols[] = {"a"};
+  tb_table *t = tb_table_new("t", "T", 1, cols);
+  tb_table_row(t);
+  tb_table_cell(t, "1");
+  tb_table_cell(t, "2"); /* one too many */
+  tb_suite_table(s, t);
+  const double x[] = {1};
+  tb_suite_bench(s, "b", x, x, 1, "minutes");
+  TB_CHECK(tb_suite_end(s, &err) != 0);
+  TB_CHECK_MSG(strstr(err.msg, "more cells than columns"), "message: %s", err.msg);
+  TB_CHECK(size_of(path_in(dir, "table.md")) > 0); /* the files are still written */
+
+  TB_CHECK(tb_table_new("x", "X", 0, cols) == NULL);
+  TB_CHECK(tb_suite_end(NULL, &err) != 0);
+  s = tb_suite_begin(dir, "misuse", NULL, 1, &err);
+  tb_suite_bench(s, "b", x, x, 1, "minutes");
+  TB_CHECK(tb_suite_end(s, &err) != 0 && strstr(err.msg, "minutes"));
+  /* a folder below a regular file cannot be made */
+  const char *file = tb_test_file("plain", "x", -1);
+  snprintf(dir, sizeof dir, "%s/sub", file);
+  TB_CHECK(tb_suite_begin(dir, "x", NULL, 1, &err) == NULL);
+  TB_CHECK_MSG(strstr(err.msg, "plain/sub"), "message: %s", err.msg);
+}
+
+/* ---- data files and charts ---- */
+
+static tb_suite *chart_suite(const char *sub, char *dir, size_t cap) {
+  snprintf(dir, cap, "%s/%s", tb_test_tmpdir(), sub);
+  tb_error err = {{0}};
+  tb_suite *s = tb_suite_begin(dir, "chart", "Charts", 3, &err);
+  TB_CHECK_MSG(s, "%s", err.msg);
+  if (s)
+    TB_CHECK(tb_suite_write_data(s, "lines.csv", "n,a (ms),b (ms)", "1,2,3\n10,4,5\n100,8,6",
+                                 &err) == 0);
+  return s;
+}
+
+static void test_write_data(void) {
+  char dir[600];
+  tb_suite *s = chart_suite("data", dir, sizeof dir);
+  if (!s) return;
+  char *text = slurp(path_in(dir, "lines.csv"));
+  TB_CHECK(text && strcmp(text, "n,a (ms),b (ms)\n1,2,3\n10,4,5\n100,8,6\n") == 0);
+  free(text);
+  tb_error err = {{0}};
+  TB_CHECK(tb_suite_write_data(s, "../escape.csv", "a", "1", &err) != 0);
+  TB_CHECK(tb_suite_write_data(s, "/tmp/abs.csv", "a", "1", &err) != 0);
+  TB_CHECK(tb_suite_end(s, &err) == 0);
+}
+
+static void test_chart(void) {
+  char dir[600];
+  tb_suite *s = chart_suite("chart", dir, sizeof dir);
+  if (!s) return;
+  tb_error err = {{0}};
+  int rc = tb_suite_chart_vars(s, "chart_lines.gp", "lines.csv", "lines",
+                               "title='It''s a test'; xlabel='n'; logx=1", &err);
+  TB_CHECK_MSG(rc == 0, "chart: %s", err.msg);
+  TB_CHECK(size_of(path_in(dir, "lines.png")) > 0);
+  TB_CHECK(size_of(path_in(dir, "lines.svg")) > 0);
+  rc = tb_suite_chart(s, "chart_lines.gp", "lines.csv", "plain", &err);
+  TB_CHECK_MSG(rc == 0, "chart: %s", err.msg);
+  TB_CHECK(size_of(path_in(dir, "plain.png")) > 0 && size_of(path_in(dir, "plain.svg")) > 0);
+  char *svg = slurp(path_in(dir, "lines.svg"));
+  TB_CHECK(svg && strstr(svg, "<svg") && strstr(svg, "a (ms)"));
+  free(svg);
+  TB_CHECK(tb_suite_end(s, &err) == 0);
+  char *md = slurp(path_in(dir, "table.md"));
+  TB_CHECK(md && strstr(md, "![lines](lines.svg)") && strstr(md, "![plain](plain.svg)"));
+  free(md);
+}
+
+static void test_chart_errors(void) {
+  char dir[600];
+  tb_suite *s = chart_suite("chart_err", dir, sizeof dir);
+  if (!s) return;
+  tb_error err = {{0}};
+  TB_CHECK(tb_suite_chart(s, "no_such_script.gp", "lines.csv", "x", &err) != 0);
+  TB_CHECK_MSG(strstr(err.msg, "no_such_script.gp: no such gnuplot script"), "%s", err.msg);
+  TB_CHECK(tb_suite_chart(s, "../tools/chart_lines.gp", "lines.csv", "x", &err) != 0);
+  TB_CHECK(tb_suite_chart(s, "chart_lines.gp", "missing.csv", "x", &err) != 0);
+  TB_CHECK_MSG(strstr(err.msg, "missing.csv: chart data file not found"), "%s", err.msg);
+  /* a failing script: a syntax error in the variables */
+  TB_CHECK(tb_suite_chart_vars(s, "chart_lines.gp", "lines.csv", "bad", "logy=", &err) != 0);
+  TB_CHECK_MSG(strstr(err.msg, "gnuplot failed"), "%s", err.msg);
+  TB_CHECK(size_of(path_in(dir, "bad.png")) < 0);
+  /* no gnuplot on PATH (this case runs in its own process) */
+  setenv("PATH", "/nonexistent", 1);
+  TB_CHECK(tb_suite_chart(s, "chart_lines.gp", "lines.csv", "nogp", &err) != 0);
+  TB_CHECK_MSG(strstr(err.msg, "gnuplot"), "%s", err.msg);
+  TB_CHECK(tb_suite_end(s, &err) == 0);
+}
+
+/* ---- progress ---- */
+
+static void test_progress_silent_without_tty(void) {
+  const char *path = tb_test_file("progress.txt", "", 0);
+  fflush(stderr);
+  int saved = dup(2), fd = open(path, O_WRONLY | O_TRUNC);
+  TB_CHECK(saved >= 0 && fd >= 0);
+  if (saved < 0 || fd < 0) return;
+  dup2(fd, 2);
+  close(fd);
+  for (long i = 0; i <= 10; i++) tb_progress("work", i, 10);
+  fflush(stderr);
+  dup2(saved, 2);
+  close(saved);
+  TB_CHECK_MSG(size_of(path) == 0, "progress wrote %ld bytes to a file", size_of(path));
+}
+
+static void test_progress_on_tty(void) {
+  int master = posix_openpt(O_RDWR | O_NOCTTY);
+  if (master < 0 || grantpt(master) || unlockpt(master)) {
+    if (master >= 0) close(master);
+    tb_test_skip("no pseudo-terminal available");
+    return;
+  }
+  int slave = open(ptsname(master), O_RDWR | O_NOCTTY);
+  TB_CHECK(slave >= 0);
+  if (slave < 0) return;
+  fflush(stderr);
+  int saved = dup(2);
+  dup2(slave, 2);
+  tb_progress("meshes", 1, 4);
+  tb_progress("meshes", 4, 4);
+  dup2(saved, 2);
+  close(saved);
+  close(slave);
+  char out[512];
+  size_t n = 0;
+  struct pollfd pfd = {master, POLLIN, 0};
+  while (n + 1 < sizeof out && poll(&pfd, 1, 200) > 0) {
+    ssize_t got = read(master, out + n, sizeof out - 1 - n);
+    if (got <= 0) break;
+    n += (size_t)got;
+  }
+  out[n] = 0;
+  close(master);
+  TB_CHECK_MSG(strstr(out, "\rmeshes [") && strstr(out, " 25% (1/4)"), "tty got \"%s\"", out);
+  TB_CHECK_MSG(strstr(out, "100% (4/4)") && strchr(out, '\n'), "tty got \"%s\"", out);
+}
+
+const tb_test_case tb_tests_results[] = {
+    {"json_validator", test_json_validator},
+    {"stats_odd", test_stats_odd},
+    {"stats_even", test_stats_even},
+    {"stats_one_and_none", test_stats_one_and_none},
+    {"suite_writes_three_files", test_suite_writes_three_files},
+    {"table_md", test_table_md},
+    {"data_csv", test_data_csv},
+    {"data_json", test_data_json},
+    {"context", test_context},
+    {"misuse_reported", test_misuse_reported},
+    {"write_data", test_write_data},
+    {"chart", test_chart},
+    {"chart_errors", test_chart_errors},
+    {"progress_silent_without_tty", test_progress_silent_without_tty},
+    {"progress_on_tty", test_progress_on_tty},
+    {0, 0},
+};

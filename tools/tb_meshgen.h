@@ -1,0 +1,90 @@
+/* Mesh generation: marching cubes on grey-value volumes (thesis §2.3.2),
+ * surface clean-up, the synthetic liver, the instrument, geodesic spheres
+ * (Bao 2006) and cantilever beams. Same settings, byte-identical meshes. */
+#ifndef TB_MESHGEN_H
+#define TB_MESHGEN_H
+
+#include <stdint.h>
+
+#include "tb_error.h"
+#include "tb_mesh.h"
+
+/* ---- grey-value volumes and marching cubes ---- */
+/* Sample (i,j,k) sits at origin + (i*h.x, j*h.y, k*h.z); its value is
+ * f[(k*ny + j)*nx + i]. "Inside" is f > iso. */
+typedef struct tb_volume {
+  int nx, ny, nz;
+  tb_vec3 origin, h;
+  double *f;
+} tb_volume;
+
+void tb_volume_free(tb_volume *v);
+/* Marching cubes: a closed, consistently oriented (outward) triangle mesh
+ * of the isosurface f = iso, vertices interpolated along cell edges (eq.
+ * 2-3). The volume's border samples must be outside. normals (may be NULL)
+ * receives malloc'ed per-vertex unit normals, interpolated from
+ * central-difference gradients (eq. 2-2), pointing outward. */
+int tb_marching_cubes(const tb_volume *v, double iso, tb_mesh *out, tb_vec3 **normals,
+                      tb_error *err);
+
+/* ---- surface clean-up (closed 2-manifold in, closed 2-manifold out) ---- */
+/* Collapses edges shorter than min_len, shortest first, keeping the mesh a
+ * closed 2-manifold (link condition) and never flipping a triangle. Returns
+ * the number of collapses. Unused vertices are removed. */
+int tb_remesh_collapse_short(tb_mesh *m, double min_len);
+/* Flips edges between nearly coplanar triangles when that raises the
+ * pair's smallest angle (keeps the mesh closed and manifold, valences >= 3,
+ * no folds). Returns the number of flips, -1 on bad input or no memory. */
+int tb_remesh_flip(tb_mesh *m);
+/* Taubin lambda|mu smoothing (no shrinkage), iters passes. */
+void tb_remesh_taubin(tb_mesh *m, int iters, double lambda, double mu);
+
+/* ---- TetGen (reference/tetgen_shim.cpp) ---- */
+/* Tetrahedralises a closed surface with TetGen's switches (e.g. "pq1.4a0.5Y");
+ * "Q" (quiet) and "z" (0-based) are added. out gets vertices, tets and
+ * the boundary triangles. TetGen's failures come back as err. */
+int tb_tetgen(const tb_mesh *surface, const char *switches, tb_mesh *out, tb_error *err);
+
+/* ---- the synthetic liver ---- */
+typedef struct tb_liver_def {
+  int surface_verts; /* target surface vertices (thesis: 725) */
+  int tet_verts;     /* target tet-mesh vertices (thesis: 1206) */
+  int tets;          /* target tets (thesis: 4230; 0: tet_verts * 4230 / 1206) */
+  double length;     /* extent along x (SOFA's liver is about 10) */
+  double noise;      /* amplitude of the grey-value noise, relative */
+  uint64_t seed;
+} tb_liver_def;
+tb_liver_def tb_liver_default_def(void);
+/* Grey-value volume of the liver shape with spacing h (CT-like: smooth
+ * blend of ellipsoids, intensity noise); the isovalue is returned. */
+int tb_liver_volume(const tb_liver_def *def, double h, tb_volume *v, double *iso, tb_error *err);
+/* Marching cubes + clean-up, with the grid spacing searched so the surface
+ * has surface_verts vertices within 5%. */
+int tb_liver_surface(const tb_liver_def *def, tb_mesh *surf, tb_error *err);
+/* The surface tetrahedralised by TetGen (boundary kept), the maximum tet
+ * volume searched to balance the relative errors of the vertex and tet
+ * counts against tet_verts and tets; fails unless both are within 10%. */
+int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, tb_error *err);
+
+/* ---- instrument, spheres, beams ---- */
+typedef struct tb_instrument_def {
+  double length;      /* shaft length */
+  double radius;      /* shaft radius */
+  double jaw_length;
+  double jaw_opening; /* angle between the jaws, radians */
+  int segments;       /* around the shaft */
+  int shaft_rings;    /* rings of the shaft + lower jaw tube */
+  int jaw_rings;      /* rings of the upper jaw tube */
+} tb_instrument_def;
+tb_instrument_def tb_instrument_default_def(void);
+int tb_instrument(const tb_instrument_def *def, tb_mesh *out, tb_error *err);
+
+/* Geodesic sphere of nv = 10 f^2 + 2 vertices and 20 f^2 triangles (f = 5
+ * and 10 give Bao 2006's 252/500 and 1002/2000); other nv is an error. */
+int tb_sphere(int nv, double radius, tb_mesh *out, tb_error *err);
+
+/* Box cantilever [0,lx]x[0,ly]x[0,lz] split into nx*ny*nz cubes of 6 tets
+ * each (conforming), boundary triangles included. */
+int tb_beam(double lx, double ly, double lz, int nx, int ny, int nz, tb_mesh *out, tb_error *err);
+
+#endif
