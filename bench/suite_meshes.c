@@ -44,13 +44,6 @@ static int apply_settings(const tb_generator *g, double *p, const char *settings
   return 0;
 }
 
-static int same_mesh(const tb_mesh *a, const tb_mesh *b) {
-  return a->nv == b->nv && a->ntri == b->ntri && a->ntet == b->ntet &&
-         !memcmp(a->x, b->x, sizeof(tb_vec3) * (size_t)a->nv) &&
-         !memcmp(a->tri, b->tri, sizeof(int) * 3 * (size_t)a->ntri) &&
-         !memcmp(a->tet, b->tet, sizeof(int) * 4 * (size_t)a->ntet);
-}
-
 /* Writes the generated parts: <label>.vtk (tets or surface), <label>.obj
  * (surface), and for tet meshes <label>-faces.obj (all tet faces). */
 static int write_part(const char *dir, const char *label, const char *suffix,
@@ -126,7 +119,7 @@ int tb_suite_meshes(const tb_suite_opts *o) {
         break;
       }
       ms[k] = r.ms;
-      deterministic &= same_mesh(&first.surface, &r.surface) && same_mesh(&first.volume, &r.volume);
+      deterministic &= tb_mesh_equal(&first.surface, &r.surface) && tb_mesh_equal(&first.volume, &r.volume);
       tb_gen_result_free(&r);
     }
     char name[128];

@@ -32,6 +32,15 @@ int tb_mesh_copy(tb_mesh *dst, const tb_mesh *src) {
   return 0;
 }
 
+static int same_bytes(const void *a, const void *b, size_t n) { return n == 0 || !memcmp(a, b, n); }
+
+int tb_mesh_equal(const tb_mesh *a, const tb_mesh *b) {
+  return a->nv == b->nv && a->ntri == b->ntri && a->ntet == b->ntet &&
+         same_bytes(a->x, b->x, sizeof(tb_vec3) * (size_t)a->nv) &&
+         same_bytes(a->tri, b->tri, sizeof(int) * 3 * (size_t)a->ntri) &&
+         same_bytes(a->tet, b->tet, sizeof(int) * 4 * (size_t)a->ntet);
+}
+
 void tb_mesh_bbox(const tb_mesh *m, tb_vec3 *lo, tb_vec3 *hi) {
   *lo = *hi = m->nv ? m->x[0] : tb_v3(0, 0, 0);
   for (int i = 1; i < m->nv; i++) {

@@ -35,6 +35,9 @@ void tb_mesh_free(tb_mesh *m);
 /* Deep copy; returns 0 or -1 when out of memory. */
 int tb_mesh_copy(tb_mesh *dst, const tb_mesh *src);
 
+/* Byte-identical positions and indices. */
+int tb_mesh_equal(const tb_mesh *a, const tb_mesh *b);
+
 void tb_mesh_bbox(const tb_mesh *m, tb_vec3 *lo, tb_vec3 *hi);
 /* Sum of signed tet volumes when the mesh has tets, else the volume the
  * triangles enclose (divergence theorem; meaningful when closed). */

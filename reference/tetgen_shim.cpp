@@ -140,11 +140,12 @@ extern "C" int tb_tetgen(const tb_mesh *surf, const char *switches, tb_mesh *out
   }
   if (!ok) {
     tb_mesh_free(out);
-    if (WIFSIGNALED(status))
+    if (head[0] <= 0 && (WIFSIGNALED(status) || WEXITSTATUS(status) != 0))
       return tb_error_set(err, "tetgen", 0,
-                          "TetGen crashed (signal %d), as it does on self-intersecting or "
-                          "degenerate surfaces",
-                          WTERMSIG(status));
+                          "TetGen crashed (%s %d), as it does on self-intersecting or degenerate "
+                          "surfaces",
+                          WIFSIGNALED(status) ? "signal" : "exit status",
+                          WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
     if (head[0] > 0)
       return tb_error_set(err, "tetgen", 0, "TetGen error %d: %s", head[0], tetgen_reason(head[0]));
     if (head[0] < 0) return tb_error_set(err, "tetgen", 0, "TetGen produced no linear tetrahedra");

@@ -14,13 +14,6 @@ static tb_mesh_topo surface_topology(const tb_mesh *m) {
   return tb_mesh_topology(&s);
 }
 
-static int same_mesh(const tb_mesh *a, const tb_mesh *b) {
-  return a->nv == b->nv && a->ntri == b->ntri && a->ntet == b->ntet &&
-         !memcmp(a->x, b->x, sizeof(tb_vec3) * (size_t)a->nv) &&
-         !memcmp(a->tri, b->tri, sizeof(int) * 3 * (size_t)a->ntri) &&
-         !memcmp(a->tet, b->tet, sizeof(int) * 4 * (size_t)a->ntet);
-}
-
 static void spheres_bao2006(void) {
   static const int nv[2] = {252, 1002}, nt[2] = {500, 2000};
   for (int k = 0; k < 2; k++) {
@@ -121,7 +114,7 @@ static void liver_tets_thesis(void) {
   TB_CHECK(t.nv - ne + nf - t.ntet == 1);
   TB_CHECK_MSG(abs(nf - 9313) <= 932 && abs(ne - 6288) <= 629, "faces %d edges %d", nf, ne);
   free(e), free(f);
-  TB_CHECK(tb_liver_tets(&d, &s, &t2, &err) == 0 && same_mesh(&t, &t2));
+  TB_CHECK(tb_liver_tets(&d, &s, &t2, &err) == 0 && tb_mesh_equal(&t, &t2));
   tb_mesh_free(&t2);
   tb_mesh_free(&t);
   tb_mesh_free(&s);
