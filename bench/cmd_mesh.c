@@ -24,7 +24,8 @@ void tb_mesh_print_info(FILE *f, const char *name, const tb_mesh *m) {
   tb_mesh_bbox(m, &lo, &hi);
   fprintf(f, "mesh        %s\n", name);
   fprintf(f, "vertices    %d\n", m->nv);
-  fprintf(f, "triangles   %d%s\n", m->ntri, bnd ? " (none in the file; boundary of the tets below)" : "");
+  fprintf(f, "triangles   %d%s\n", m->ntri,
+          bnd ? " (none in the file; boundary of the tets below)" : "");
   fprintf(f, "tets        %d\n", m->ntet);
   if (m->ntet) {
     int *e = NULL, *fa = NULL;
@@ -34,7 +35,8 @@ void tb_mesh_print_info(FILE *f, const char *name, const tb_mesh *m) {
     free(e), free(fa);
   }
   if (m->nskipped) fprintf(f, "skipped     %d elements of other types\n", m->nskipped);
-  fprintf(f, "bbox        [%.6g %.6g %.6g] - [%.6g %.6g %.6g]\n", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+  fprintf(f, "bbox        [%.6g %.6g %.6g] - [%.6g %.6g %.6g]\n", lo.x, lo.y, lo.z, hi.x, hi.y,
+          hi.z);
   fprintf(f, "surface     %d triangles, %d edges, %d components, Euler %d\n", surf.ntri, t.nedges,
           t.components, t.euler);
   fprintf(f, "closed      %s (%d boundary edges)\n", t.closed ? "yes" : "no", t.boundary_edges);
@@ -92,9 +94,12 @@ static int mesh_generate(int argc, char **argv) {
   tb_generator_defaults(g, p);
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
-    if (!strcmp(a, "--stats")) stats = 1;
-    else if (!strcmp(a, "--out") && i + 1 < argc) out = argv[++i];
-    else if (!strcmp(a, "--part") && i + 1 < argc) part = argv[++i];
+    if (!strcmp(a, "--stats"))
+      stats = 1;
+    else if (!strcmp(a, "--out") && i + 1 < argc)
+      out = argv[++i];
+    else if (!strcmp(a, "--part") && i + 1 < argc)
+      part = argv[++i];
     else if (!strcmp(a, "--set") && i + 1 < argc) {
       if (tb_generator_set(g, p, argv[++i])) return TB_EXIT_INPUT;
     } else {
@@ -122,8 +127,9 @@ static int mesh_generate(int argc, char **argv) {
   if (out) {
     tb_mesh m;
     int e = which == TB_PART_EDGES ? 0 : tb_gen_result_part(&r, which, &m, &err);
-    if (!e) e = which == TB_PART_EDGES ? write_edges(out, r.volume.nv ? &r.volume : &r.surface, &err)
-                                       : tb_mesh_write(out, &m, &err);
+    if (!e)
+      e = which == TB_PART_EDGES ? write_edges(out, r.volume.nv ? &r.volume : &r.surface, &err)
+                                 : tb_mesh_write(out, &m, &err);
     if (which != TB_PART_EDGES && !e) tb_mesh_free(&m);
     if (e) {
       fprintf(stderr, "tissuebench mesh %s: %s\n", name, err.msg);

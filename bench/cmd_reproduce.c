@@ -31,13 +31,17 @@ int tb_cmd_reproduce(int argc, char **argv) {
   const char *only = NULL;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
-    if (!strcmp(a, "--quick")) o.full = 0;
-    else if (!strcmp(a, "--full")) o.full = 1;
+    if (!strcmp(a, "--quick"))
+      o.full = 0;
+    else if (!strcmp(a, "--full"))
+      o.full = 1;
     else if (!strcmp(a, "--list")) {
       for (int s = 0; s < nsuites; s++) printf("%-10s %s\n", suites[s].name, suites[s].summary);
       return TB_EXIT_OK;
-    } else if (!strcmp(a, "--only") && i + 1 < argc) only = argv[++i];
-    else if (!strcmp(a, "--results") && i + 1 < argc) o.results = argv[++i];
+    } else if (!strcmp(a, "--only") && i + 1 < argc)
+      only = argv[++i];
+    else if (!strcmp(a, "--results") && i + 1 < argc)
+      o.results = argv[++i];
     else if (!strcmp(a, "--seed") && i + 1 < argc) {
       char *end;
       unsigned long long s = strtoull(argv[++i], &end, 10);

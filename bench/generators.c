@@ -47,8 +47,10 @@ static int sphere_run(const double *p, tb_gen_result *r, tb_error *err) {
 static int sphere_paper(const double *p, tb_gen_counts *c, const char **src) {
   *src = "Bao 2006 table 1";
   memset(c, 0, sizeof *c);
-  if ((int)p[0] == 252) c->surface_verts = 252, c->surface_tris = 500;
-  else if ((int)p[0] == 1002) c->surface_verts = 1002, c->surface_tris = 2000;
+  if ((int)p[0] == 252)
+    c->surface_verts = 252, c->surface_tris = 500;
+  else if ((int)p[0] == 1002)
+    c->surface_verts = 1002, c->surface_tris = 2000;
   return c->surface_verts != 0;
 }
 
@@ -132,8 +134,8 @@ int tb_generator_set(const tb_generator *g, double *p, const char *kv) {
     double v = strtod(eq + 1, &end);
     if (end == eq + 1 || *end || errno == ERANGE || !isfinite(v) ||
         (g->params[k].integer && (v != floor(v) || fabs(v) > 1e9))) {
-      fprintf(stderr, "tissuebench mesh %s: %s needs a %s, not '%s'\n", g->name,
-              g->params[k].key, g->params[k].integer ? "whole number" : "finite number", eq + 1);
+      fprintf(stderr, "tissuebench mesh %s: %s needs a %s, not '%s'\n", g->name, g->params[k].key,
+              g->params[k].integer ? "whole number" : "finite number", eq + 1);
       return -1;
     }
     p[k] = v;
@@ -208,7 +210,8 @@ int tb_gen_result_part(const tb_gen_result *r, tb_mesh_part part, tb_mesh *out, 
   if ((part == TB_PART_TETS || part == TB_PART_FACES) && !vol->ntet)
     return tb_error_set(err, "mesh", 0, "this mesh has no tets");
   int rc = 0;
-  if (part == TB_PART_TETS) rc = tb_mesh_copy(out, vol);
+  if (part == TB_PART_TETS)
+    rc = tb_mesh_copy(out, vol);
   else if (part == TB_PART_SURFACE) {
     rc = tb_mesh_copy(out, surf->nv ? surf : vol);
     free(out->tet);

@@ -65,10 +65,14 @@ static int write_parts(const char *dir, const char *label, const tb_gen_result *
 }
 
 static void cell_pair(tb_table *t, int ours, int paper) {
-  if (!ours && !paper) tb_table_cell(t, "-");
-  else tb_table_cell(t, "%d", ours);
-  if (paper) tb_table_cell(t, "%d (%+.1f%%)", paper, 100.0 * (ours - paper) / paper);
-  else tb_table_cell(t, "-");
+  if (!ours && !paper)
+    tb_table_cell(t, "-");
+  else
+    tb_table_cell(t, "%d", ours);
+  if (paper)
+    tb_table_cell(t, "%d (%+.1f%%)", paper, 100.0 * (ours - paper) / paper);
+  else
+    tb_table_cell(t, "-");
 }
 
 int tb_suite_meshes(const tb_suite_opts *o) {
@@ -78,17 +82,30 @@ int tb_suite_meshes(const tb_suite_opts *o) {
     fprintf(stderr, "meshes: results path too long\n");
     return 1;
   }
-  tb_suite *s = tb_suite_begin(dir, "meshes", "Generated meshes beside the documents' counts",
-                               o->seed, &err);
+  tb_suite *s =
+      tb_suite_begin(dir, "meshes", "Generated meshes beside the documents' counts", o->seed, &err);
   if (!s) {
     fprintf(stderr, "meshes: %s\n", err.msg);
     return 1;
   }
-  static const char *cols[] = {"mesh",           "settings",        "surface verts", "doc",
-                               "surface tris",   "doc",             "tet verts",     "doc",
-                               "tets",           "doc",             "tet faces",     "doc",
-                               "tet edges",      "doc",             "closed, manifold, Euler",
-                               "min tet volume", "deterministic",   "time (ms, median)"};
+  static const char *cols[] = {"mesh",
+                               "settings",
+                               "surface verts",
+                               "doc",
+                               "surface tris",
+                               "doc",
+                               "tet verts",
+                               "doc",
+                               "tets",
+                               "doc",
+                               "tet faces",
+                               "doc",
+                               "tet edges",
+                               "doc",
+                               "closed, manifold, Euler",
+                               "min tet volume",
+                               "deterministic",
+                               "time (ms, median)"};
   tb_table *t = tb_table_new("counts", "Mesh counts (ours, and the documents' with our difference)",
                              (int)(sizeof cols / sizeof cols[0]), cols);
   const int reps = o->full ? 5 : 3, njobs = (int)(sizeof jobs / sizeof jobs[0]);
@@ -102,7 +119,8 @@ int tb_suite_meshes(const tb_suite_opts *o) {
     tb_generator_defaults(g, p);
     char settings[200];
     if (!strcmp(jb->gen, "liver")) /* the liver's grey-value noise takes the run's seed */
-      snprintf(settings, sizeof settings, "%s seed=%llu", jb->settings, (unsigned long long)o->seed);
+      snprintf(settings, sizeof settings, "%s seed=%llu", jb->settings,
+               (unsigned long long)o->seed);
     else
       snprintf(settings, sizeof settings, "%s", jb->settings);
     tb_gen_result first, r;
@@ -119,7 +137,8 @@ int tb_suite_meshes(const tb_suite_opts *o) {
         break;
       }
       ms[k] = r.ms;
-      deterministic &= tb_mesh_equal(&first.surface, &r.surface) && tb_mesh_equal(&first.volume, &r.volume);
+      deterministic &=
+          tb_mesh_equal(&first.surface, &r.surface) && tb_mesh_equal(&first.volume, &r.volume);
       tb_gen_result_free(&r);
     }
     char name[128];
@@ -147,23 +166,27 @@ int tb_suite_meshes(const tb_suite_opts *o) {
     cell_pair(t, c.edges, d.edges);
     tb_table_cell(t, "%s, %s, %d", topo.closed ? "yes" : "NO", topo.manifold ? "yes" : "NO",
                   topo.euler);
-    if (first.volume.ntet) tb_table_cell(t, "%.3g", tb_mesh_min_tet_volume(&first.volume));
-    else tb_table_cell(t, "-");
+    if (first.volume.ntet)
+      tb_table_cell(t, "%.3g", tb_mesh_min_tet_volume(&first.volume));
+    else
+      tb_table_cell(t, "-");
     tb_table_cell(t, "%s", deterministic ? "yes" : "NO");
     tb_table_cell(t, "%.1f", tb_stats_of(ms, reps).median);
     failed += !deterministic || !topo.closed || !topo.manifold;
     tb_gen_result_free(&first);
   }
   tb_progress("meshes", njobs, njobs);
+  tb_suite_note(
+      s,
+      "Documents: thesis §2.5 (liver surface by Amira's marching cubes on Visible Human CT, "
+      "725 vertices / 1448 triangles; QTetraMesher: 1206 vertices, 4230 tets, 9313 "
+      "triangles, 6288 edges), thesis §4.5 instrument (628 / 1248), Bao 2006 table 1 "
+      "(spheres 252 / 500 and 1002 / 2000). Ours: a synthetic CT-like volume, marching "
+      "cubes (eqs. 2-2, 2-3), edge-collapse clean-up, TetGen with the surface kept. "
+      "\"tet faces\" is the collision model (every triangle of the tet mesh).");
   tb_suite_note(s,
-                "Documents: thesis §2.5 (liver surface by Amira's marching cubes on Visible Human CT, "
-                "725 vertices / 1448 triangles; QTetraMesher: 1206 vertices, 4230 tets, 9313 "
-                "triangles, 6288 edges), thesis §4.5 instrument (628 / 1248), Bao 2006 table 1 "
-                "(spheres 252 / 500 and 1002 / 2000). Ours: a synthetic CT-like volume, marching "
-                "cubes (eqs. 2-2, 2-3), edge-collapse clean-up, TetGen with the surface kept. "
-                "\"tet faces\" is the collision model (every triangle of the tet mesh).");
-  tb_suite_note(s, "Each mesh was generated %d times; \"deterministic\" means byte-identical "
-                   "outputs. The meshes are in this folder as .vtk (ParaView) and .obj.",
+                "Each mesh was generated %d times; \"deterministic\" means byte-identical "
+                "outputs. The meshes are in this folder as .vtk (ParaView) and .obj.",
                 reps);
   tb_suite_table(s, t);
   if (tb_suite_end(s, &err)) {

@@ -20,9 +20,9 @@ int tb_cmd_reproduce(int argc, char **argv);
 
 /* Options every suite receives. */
 typedef struct tb_suite_opts {
-  int full;             /* paper scale instead of --quick */
+  int full; /* paper scale instead of --quick */
   uint64_t seed;
-  const char *results;  /* results/ folder */
+  const char *results; /* results/ folder */
 } tb_suite_opts;
 
 /* A suite of the reproduction: writes results/<name>/. Returns 0 or 1. */

@@ -251,9 +251,12 @@ tb_mesh_topo tb_mesh_topology(const tb_mesh *m) {
     int j = i + 1;
     while (j < nk && same_key(&k[j], &k[i])) j++;
     r.nedges++;
-    if (j - i == 1) r.boundary_edges++;
-    else if (j - i > 2) r.nonmanifold_edges++;
-    else if (k[i].f[0] == k[i + 1].f[0]) r.misoriented_edges++;
+    if (j - i == 1)
+      r.boundary_edges++;
+    else if (j - i > 2)
+      r.nonmanifold_edges++;
+    else if (k[i].f[0] == k[i + 1].f[0])
+      r.misoriented_edges++;
     i = j;
   }
   /* vertex -> triangles, components, used vertices */
@@ -292,8 +295,8 @@ tb_mesh_topo tb_mesh_topology(const tb_mesh *m) {
   }
   r.euler = used - r.nedges + nt;
   r.closed = nt > 0 && r.boundary_edges == 0;
-  r.manifold = nt > 0 && r.nonmanifold_edges == 0 && r.nonmanifold_verts == 0 &&
-               r.degenerate_tris == 0;
+  r.manifold =
+      nt > 0 && r.nonmanifold_edges == 0 && r.nonmanifold_verts == 0 && r.degenerate_tris == 0;
 done:
   free(k), free(start), free(vt), free(par), free(scratch);
   return r;

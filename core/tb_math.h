@@ -20,8 +20,12 @@ static inline tb_vec3 tb_v3(double x, double y, double z) {
   r.x = x, r.y = y, r.z = z;
   return r;
 }
-static inline tb_vec3 tb_add(tb_vec3 a, tb_vec3 b) { return tb_v3(a.x + b.x, a.y + b.y, a.z + b.z); }
-static inline tb_vec3 tb_sub(tb_vec3 a, tb_vec3 b) { return tb_v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline tb_vec3 tb_add(tb_vec3 a, tb_vec3 b) {
+  return tb_v3(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+static inline tb_vec3 tb_sub(tb_vec3 a, tb_vec3 b) {
+  return tb_v3(a.x - b.x, a.y - b.y, a.z - b.z);
+}
 static inline tb_vec3 tb_scale(tb_vec3 a, double s) { return tb_v3(a.x * s, a.y * s, a.z * s); }
 /* a + s*b */
 static inline tb_vec3 tb_madd(tb_vec3 a, double s, tb_vec3 b) {
@@ -37,7 +41,9 @@ static inline tb_vec3 tb_normalize(tb_vec3 a) {
   double l = tb_len(a);
   return l > 0.0 ? tb_scale(a, 1.0 / l) : a;
 }
-static inline tb_vec3 tb_lerp(tb_vec3 a, tb_vec3 b, double t) { return tb_madd(a, t, tb_sub(b, a)); }
+static inline tb_vec3 tb_lerp(tb_vec3 a, tb_vec3 b, double t) {
+  return tb_madd(a, t, tb_sub(b, a));
+}
 static inline tb_vec3 tb_vmin(tb_vec3 a, tb_vec3 b) {
   return tb_v3(fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z));
 }
@@ -45,7 +51,9 @@ static inline tb_vec3 tb_vmax(tb_vec3 a, tb_vec3 b) {
   return tb_v3(fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z));
 }
 static inline double tb_comp(tb_vec3 a, int i) { return i == 0 ? a.x : (i == 1 ? a.y : a.z); }
-static inline int tb_isfinite3(tb_vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+static inline int tb_isfinite3(tb_vec3 a) {
+  return isfinite(a.x) && isfinite(a.y) && isfinite(a.z);
+}
 
 /* Signed volume det[b-a, c-a, d-a] / 6 of tetrahedron (a,b,c,d): positive when
  * d lies on the side of triangle (a,b,c) its normal (b-a)x(c-a) points to. */

@@ -12,7 +12,7 @@ typedef struct tb_mesh {
   int ntri;
   int *tri; /* 3*ntri vertex indices */
   int ntet;
-  int *tet; /* 4*ntet vertex indices */
+  int *tet;     /* 4*ntet vertex indices */
   int nskipped; /* elements of other kinds a reader skipped (lines, quads, ...) */
 } tb_mesh;
 

@@ -15,9 +15,9 @@
 
 /* ---- run context (machine, compiler, commit, dependency versions) ---- */
 typedef struct tb_context {
-  char date[32];      /* ISO 8601, UTC */
+  char date[32]; /* ISO 8601, UTC */
   char host[128];
-  char cpu[160];      /* model name from /proc/cpuinfo */
+  char cpu[160]; /* model name from /proc/cpuinfo */
   int cores;
   int mhz;            /* 0 when unknown */
   char compiler[128]; /* e.g. "gcc 12.2.0" */
@@ -78,8 +78,8 @@ int tb_suite_chart(tb_suite *s, const char *script, const char *datafile, const 
                    tb_error *err);
 /* The same with more gnuplot -e assignments, e.g. "title='Solve'; logy=1"
  * (tools/chart_lines.gp reads title, xlabel, ylabel, logx, logy, points). */
-int tb_suite_chart_vars(tb_suite *s, const char *script, const char *datafile,
-                        const char *outbase, const char *vars, tb_error *err);
+int tb_suite_chart_vars(tb_suite *s, const char *script, const char *datafile, const char *outbase,
+                        const char *vars, tb_error *err);
 /* Writes table.md, data.csv, data.json; frees s. Also returns the first
  * misuse recorded during the run (the files are still written). */
 int tb_suite_end(tb_suite *s, tb_error *err);

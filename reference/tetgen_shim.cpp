@@ -25,13 +25,20 @@ extern "C" {
 
 static const char *tetgen_reason(int code) {
   switch (code) {
-    case 1: return "out of memory";
-    case 2: return "internal error";
-    case 3: return "a self-intersection was detected in the surface";
-    case 4: return "a very small input feature size was detected";
-    case 5: return "two very close input facets were detected";
-    case 10: return "an input error was detected";
-    default: return "failed";
+    case 1:
+      return "out of memory";
+    case 2:
+      return "internal error";
+    case 3:
+      return "a self-intersection was detected in the surface";
+    case 4:
+      return "a very small input feature size was detected";
+    case 5:
+      return "two very close input facets were detected";
+    case 10:
+      return "an input error was detected";
+    default:
+      return "failed";
   }
 }
 
@@ -132,7 +139,8 @@ extern "C" int tb_tetgen(const tb_mesh *surf, const char *switches, tb_mesh *out
     out->tet = static_cast<int *>(std::malloc(sizeof(int) * 4 * (size_t)out->ntet));
     ok = out->x && out->tet && read_all(fd[0], pts.data(), sizeof(double) * pts.size()) &&
          read_all(fd[0], out->tet, sizeof(int) * 4 * (size_t)out->ntet);
-    for (int i = 0; ok && i < out->nv; i++) out->x[i] = tb_v3(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]);
+    for (int i = 0; ok && i < out->nv; i++)
+      out->x[i] = tb_v3(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]);
   }
   close(fd[0]);
   int status = 0;
@@ -159,7 +167,8 @@ extern "C" int tb_tetgen(const tb_mesh *surf, const char *switches, tb_mesh *out
         tb_mesh_free(out);
         return tb_error_set(err, "tetgen", 0, "TetGen returned an index out of range");
       }
-    if (tb_tet_volume(out->x[v[0]], out->x[v[1]], out->x[v[2]], out->x[v[3]]) < 0) std::swap(v[2], v[3]);
+    if (tb_tet_volume(out->x[v[0]], out->x[v[1]], out->x[v[2]], out->x[v[3]]) < 0)
+      std::swap(v[2], v[3]);
   }
   out->ntri = tb_mesh_tet_boundary(out, &out->tri);
   if (out->ntri < 0) {

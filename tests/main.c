@@ -107,7 +107,8 @@ static int run_case(const tb_test_case *tc) {
 }
 
 int main(int argc, char **argv) {
-  snprintf(tmpdir, sizeof tmpdir, "%s/tb_tests.XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+  snprintf(tmpdir, sizeof tmpdir, "%s/tb_tests.XXXXXX",
+           getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
   if (!mkdtemp(tmpdir)) {
     perror("mkdtemp");
     return 2;
@@ -120,9 +121,12 @@ int main(int argc, char **argv) {
       if (!selected(id, argc, argv)) continue;
       int r = run_case(tc);
       printf("%s %s\n", r == 0 ? "ok  " : (r == 1 ? "FAIL" : "skip"), id);
-      if (r == 0) npass++;
-      else if (r == 1) nfail++;
-      else nskip++;
+      if (r == 0)
+        npass++;
+      else if (r == 1)
+        nfail++;
+      else
+        nskip++;
     }
   }
   char rm[600];

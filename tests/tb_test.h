@@ -15,21 +15,21 @@ void tb_test_fail(const char *file, int line, const char *fmt, ...)
 /* Marks the running case skipped, with a reason printed as "SKIP: ...". */
 void tb_test_skip(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
-#define TB_CHECK(cond)                                            \
-  do {                                                            \
-    if (!(cond)) tb_test_fail(__FILE__, __LINE__, "%s", #cond);   \
+#define TB_CHECK(cond)                                          \
+  do {                                                          \
+    if (!(cond)) tb_test_fail(__FILE__, __LINE__, "%s", #cond); \
   } while (0)
-#define TB_CHECK_MSG(cond, ...)                                   \
-  do {                                                            \
-    if (!(cond)) tb_test_fail(__FILE__, __LINE__, __VA_ARGS__);   \
+#define TB_CHECK_MSG(cond, ...)                                 \
+  do {                                                          \
+    if (!(cond)) tb_test_fail(__FILE__, __LINE__, __VA_ARGS__); \
   } while (0)
 /* |a - b| <= tol */
-#define TB_CHECK_NEAR(a, b, tol)                                                        \
-  do {                                                                                  \
-    double tb_a_ = (a), tb_b_ = (b);                                                    \
-    if (!(fabs(tb_a_ - tb_b_) <= (tol)))                                                \
-      tb_test_fail(__FILE__, __LINE__, "%s = %.17g, %s = %.17g, tolerance %g", #a, tb_a_, \
-                   #b, tb_b_, (double)(tol));                                           \
+#define TB_CHECK_NEAR(a, b, tol)                                                              \
+  do {                                                                                        \
+    double tb_a_ = (a), tb_b_ = (b);                                                          \
+    if (!(fabs(tb_a_ - tb_b_) <= (tol)))                                                      \
+      tb_test_fail(__FILE__, __LINE__, "%s = %.17g, %s = %.17g, tolerance %g", #a, tb_a_, #b, \
+                   tb_b_, (double)(tol));                                                     \
   } while (0)
 
 /* A fresh file in the run's temporary folder holding `content` (len bytes;

@@ -66,8 +66,8 @@ static void liver_stats_deterministic(void) {
   TB_CHECK(strstr(out, "surface vertices") && strstr(out, "725") && strstr(out, "tets") &&
            strstr(out, "4230") && strstr(out, "closed, manifold"));
   for (int k = 0; k < 2; k++) {
-    snprintf(args, sizeof args, "mesh liver --part %s --out %s/liver%d.vtk",
-             k ? "faces" : "tets", tb_test_tmpdir(), k);
+    snprintf(args, sizeof args, "mesh liver --part %s --out %s/liver%d.vtk", k ? "faces" : "tets",
+             tb_test_tmpdir(), k);
     TB_CHECK_MSG(cli(args) == 0, "%s", out);
   }
   snprintf(args, sizeof args, "mesh liver --part tets --out %s/again.vtk", tb_test_tmpdir());
@@ -75,7 +75,8 @@ static void liver_stats_deterministic(void) {
   char cmd[1024];
   snprintf(cmd, sizeof cmd, "cmp %s/liver0.vtk %s/again.vtk", tb_test_tmpdir(), tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "not byte-identical: %s", out);
-  snprintf(cmd, sizeof cmd, "cmp -s %s/liver0.vtk %s/liver1.vtk", tb_test_tmpdir(), tb_test_tmpdir());
+  snprintf(cmd, sizeof cmd, "cmp -s %s/liver0.vtk %s/liver1.vtk", tb_test_tmpdir(),
+           tb_test_tmpdir());
   TB_CHECK(tb_test_run(cmd, NULL, 0) != 0); /* the parts differ */
   snprintf(args, sizeof args, "mesh liver --part edges --out %s/liver.edges", tb_test_tmpdir());
   TB_CHECK(cli(args) == 0);
@@ -89,8 +90,9 @@ static void reproduce_meshes_suite(void) {
   char args[1024];
   snprintf(args, sizeof args, "reproduce --only meshes --results %s/res", tb_test_tmpdir());
   TB_CHECK_MSG(cli(args) == 0, "%s", out);
-  static const char *files[] = {"table.md", "data.csv", "data.json", "liver.vtk", "liver-faces.obj",
-                                "instrument.obj", "sphere-252.obj", "sphere-1002.obj"};
+  static const char *files[] = {"table.md",       "data.csv",        "data.json",
+                                "liver.vtk",      "liver-faces.obj", "instrument.obj",
+                                "sphere-252.obj", "sphere-1002.obj"};
   for (int i = 0; i < 8; i++) {
     char cmd[1024];
     snprintf(cmd, sizeof cmd, "test -s %s/res/meshes/%s", tb_test_tmpdir(), files[i]);
@@ -99,7 +101,8 @@ static void reproduce_meshes_suite(void) {
   char cmd[1024];
   snprintf(cmd, sizeof cmd, "cat %s/res/meshes/table.md", tb_test_tmpdir());
   TB_CHECK(tb_test_run(cmd, out, sizeof out) == 0);
-  TB_CHECK(strstr(out, "1448") && strstr(out, "9313") && strstr(out, "6288") && strstr(out, "1248"));
+  TB_CHECK(strstr(out, "1448") && strstr(out, "9313") && strstr(out, "6288") &&
+           strstr(out, "1248"));
   TB_CHECK(strstr(out, "| liver |") && strstr(out, "NO") == NULL);
 }
 

@@ -61,7 +61,8 @@ static void rng_distribution(void) {
   TB_CHECK_NEAR(sum2 / n - 0.25, 1.0 / 12, 0.002);
   TB_CHECK_NEAR(nsum / n, 0, 0.01);
   TB_CHECK_NEAR(nsum2 / n, 1, 0.02);
-  for (int i = 0; i < 10; i++) TB_CHECK_MSG(abs(hist[i] - n / 10) < n / 100, "bin %d: %d", i, hist[i]);
+  for (int i = 0; i < 10; i++)
+    TB_CHECK_MSG(abs(hist[i] - n / 10) < n / 100, "bin %d: %d", i, hist[i]);
 }
 
 /* A unit cube split into 6 tets around the diagonal 0-7. */

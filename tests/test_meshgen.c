@@ -85,10 +85,14 @@ static void tetgen_sphere(void) {
   tb_mesh_free(&t);
   /* two overlapping spheres in one surface: TetGen fails (it crashes in
    * its own clean-up); that comes back as a tb_error, not our crash */
-  tb_mesh two = {2 * s.nv, malloc(sizeof(tb_vec3) * 2 * s.nv), 2 * s.ntri,
-                 malloc(sizeof(int) * 6 * s.ntri), 0, NULL, 0};
-  for (int i = 0; i < s.nv; i++) two.x[i] = s.x[i], two.x[s.nv + i] = tb_add(s.x[i], tb_v3(0.5, 0.1, 0.05));
-  for (int i = 0; i < 3 * s.ntri; i++) two.tri[i] = s.tri[i], two.tri[3 * s.ntri + i] = s.tri[i] + s.nv;
+  tb_mesh two = {2 * s.nv,   malloc(sizeof(tb_vec3) * 2 * s.nv),
+                 2 * s.ntri, malloc(sizeof(int) * 6 * s.ntri),
+                 0,          NULL,
+                 0};
+  for (int i = 0; i < s.nv; i++)
+    two.x[i] = s.x[i], two.x[s.nv + i] = tb_add(s.x[i], tb_v3(0.5, 0.1, 0.05));
+  for (int i = 0; i < 3 * s.ntri; i++)
+    two.tri[i] = s.tri[i], two.tri[3 * s.ntri + i] = s.tri[i] + s.nv;
   TB_CHECK(tb_tetgen(&two, "pq1.4Y", &t, &err) != 0);
   TB_CHECK_MSG(strstr(err.msg, "self-intersecting") || strstr(err.msg, "self-intersection"), "%s",
                err.msg);

@@ -6,8 +6,7 @@
 
 #include "tb_meshgen.h"
 
-int tb_beam(double lx, double ly, double lz, int nx, int ny, int nz, tb_mesh *out,
-            tb_error *err) {
+int tb_beam(double lx, double ly, double lz, int nx, int ny, int nz, tb_mesh *out, tb_error *err) {
   memset(out, 0, sizeof *out);
   if (!(lx > 0 && ly > 0 && lz > 0) || !isfinite(lx + ly + lz))
     return tb_error_set(err, "beam", 0, "box sides must be positive and finite");

@@ -39,7 +39,8 @@ static void add_tube(tb_mesh *m, const ring *rings, int n, int segs) {
     tb_vec3 u = tb_cross(v, t);
     for (int s = 0; s < segs; s++) {
       double phi = 2.0 * M_PI * s / segs;
-      m->x[m->nv++] = tb_madd(tb_madd(rings[r].c, rings[r].a * cos(phi), u), rings[r].b * sin(phi), v);
+      m->x[m->nv++] =
+          tb_madd(tb_madd(rings[r].c, rings[r].a * cos(phi), u), rings[r].b * sin(phi), v);
     }
   }
   int cap0 = m->nv, cap1 = m->nv + 1;

@@ -18,7 +18,9 @@ static int run(const tb_mesh *surf, double maxvol, tb_mesh *out, tb_error *err) 
 }
 
 /* Signed balance V/V* + T/T* - 2: decreasing as the volume bound grows. */
-static double balance(const tb_mesh *m, double tv, double tt) { return m->nv / tv + m->ntet / tt - 2; }
+static double balance(const tb_mesh *m, double tv, double tt) {
+  return m->nv / tv + m->ntet / tt - 2;
+}
 
 int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, tb_error *err) {
   double tv = def->tet_verts, tt = def->tets > 0 ? def->tets : def->tet_verts * 4230.0 / 1206.0;
@@ -44,8 +46,10 @@ int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, t
     } else {
       tb_mesh_free(&m);
     }
-    if (b > 0) lo = mid; /* too many: allow larger tets */
-    else hi = mid;
+    if (b > 0)
+      lo = mid; /* too many: allow larger tets */
+    else
+      hi = mid;
   }
   if (fabs(best.nv / tv - 1) <= 0.1 && fabs(best.ntet / tt - 1) <= 0.1) {
     *tets = best;
@@ -53,7 +57,8 @@ int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, t
   }
   int nv = best.nv, nt = best.ntet;
   tb_mesh_free(&best);
-  return tb_error_set(err, "liver", 0,
-                      "TetGen gives no mesh within 10%% of %g vertices and %g tets (closest: %d, %d)",
-                      tv, tt, nv, nt);
+  return tb_error_set(
+      err, "liver", 0,
+      "TetGen gives no mesh within 10%% of %g vertices and %g tets (closest: %d, %d)", tv, tt, nv,
+      nt);
 }

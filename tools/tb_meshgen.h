@@ -68,8 +68,8 @@ int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, t
 
 /* ---- instrument, spheres, beams ---- */
 typedef struct tb_instrument_def {
-  double length;      /* shaft length */
-  double radius;      /* shaft radius */
+  double length; /* shaft length */
+  double radius; /* shaft radius */
   double jaw_length;
   double jaw_opening; /* angle between the jaws, radians */
   int segments;       /* around the shaft */
