@@ -106,7 +106,30 @@ static void reproduce_meshes_suite(void) {
   TB_CHECK(strstr(out, "| liver |") && strstr(out, "NO") == NULL);
 }
 
+/* tools/setup.sh with fake dpkg-query and id on PATH: a missing package as
+ * non-root prints the apt-get line and fails; all present succeeds. */
+static void setup_script(void) {
+  const char *dir = tb_test_tmpdir();
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd,
+           "mkdir -p %s/fakebin && printf '#!/bin/sh\necho 1000\n' > %s/fakebin/id && "
+           "printf '#!/bin/sh\ncase \"$3\" in libcgal-dev) exit 1;; esac\n"
+           "echo \"install ok installed\"\n' > %s/fakebin/dpkg-query && chmod +x %s/fakebin/*",
+           dir, dir, dir, dir);
+  TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
+  snprintf(cmd, sizeof cmd, "PATH=%s/fakebin:$PATH sh %s/tools/setup.sh", dir,
+           tb_test_source_root());
+  TB_CHECK(tb_test_run(cmd, out, sizeof out) != 0);
+  TB_CHECK_MSG(strstr(out, "apt-get install -y libcgal-dev") != NULL, "%s", out);
+  snprintf(cmd, sizeof cmd, "sed -i 's/libcgal-dev/none-such/' %s/fakebin/dpkg-query", dir);
+  TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
+  snprintf(cmd, sizeof cmd, "PATH=%s/fakebin:$PATH sh %s/tools/setup.sh", dir,
+           tb_test_source_root());
+  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "%s", out);
+}
+
 const tb_test_case tb_tests_cli[] = {
+    {"setup_script", setup_script},
     {"help_lists_commands", help_lists_commands},
     {"mesh_generate_and_info", mesh_generate_and_info},
     {"mesh_info_errors", mesh_info_errors},

@@ -73,6 +73,25 @@ static int *rm_all_edges(const tb_mesh *m) {
   return e;
 }
 
+/* Triangle fans of every vertex, and the vertices that must not move: those
+ * on an edge not shared by exactly two triangles. Returns 0, or -1 when out
+ * of memory. */
+static int rm_prepare(const tb_mesh *m, rm_fan *fan, char *frozen) {
+  int ntri = m->ntri, *e = rm_all_edges(m);
+  if (!e) return -1;
+  for (int i = 0; i < 3 * ntri;) {
+    int j = i;
+    while (j < 3 * ntri && e[2 * j] == e[2 * i] && e[2 * j + 1] == e[2 * i + 1]) j++;
+    if (j - i != 2) frozen[e[2 * i]] = frozen[e[2 * i + 1]] = 1;
+    i = j;
+  }
+  free(e);
+  for (int t = 0; t < ntri; t++)
+    for (int c = 0; c < 3; c++)
+      if (rm_fan_push(&fan[m->tri[3 * t + c]], t)) return -1;
+  return 0;
+}
+
 static tb_vec3 rm_normal(tb_vec3 a, tb_vec3 b, tb_vec3 c) {
   return tb_cross(tb_sub(b, a), tb_sub(c, a));
 }
@@ -207,19 +226,9 @@ int tb_remesh_collapse_short(tb_mesh *m, double min_len) {
   int nv = m->nv, ntri = m->ntri, total = 0, ret = -1;
   rm_fan *fan = calloc((size_t)nv, sizeof *fan);
   char *dead_t = calloc((size_t)ntri, 1), *frozen = calloc((size_t)nv, 1);
-  int *e = rm_all_edges(m);
   rm_edge *cand = malloc((size_t)3 * ntri * sizeof *cand);
-  if (!fan || !dead_t || !frozen || !e || !cand) goto done;
-  /* vertices on an edge not shared by exactly two triangles never move */
-  for (int i = 0; i < 3 * ntri;) {
-    int j = i;
-    while (j < 3 * ntri && e[2 * j] == e[2 * i] && e[2 * j + 1] == e[2 * i + 1]) j++;
-    if (j - i != 2) frozen[e[2 * i]] = frozen[e[2 * i + 1]] = 1;
-    i = j;
-  }
-  for (int t = 0; t < ntri; t++)
-    for (int c = 0; c < 3; c++)
-      if (rm_fan_push(&fan[m->tri[3 * t + c]], t)) goto done;
+  if (!fan || !dead_t || !frozen || !cand) goto done;
+  if (rm_prepare(m, fan, frozen)) goto done;
   for (int pass = 0; pass < 64; pass++) {
     int nc = 0, done_now = 0;
     for (int t = 0; t < ntri; t++) {
@@ -253,7 +262,7 @@ int tb_remesh_collapse_short(tb_mesh *m, double min_len) {
 done:
   if (fan)
     for (int v = 0; v < nv; v++) free(fan[v].t);
-  free(fan), free(dead_t), free(frozen), free(e), free(cand);
+  free(fan), free(dead_t), free(frozen), free(cand);
   return ret;
 }
 
@@ -277,17 +286,8 @@ int tb_remesh_flip(tb_mesh *m) {
   int nv = m->nv, ntri = m->ntri, total = 0, ret = -1;
   rm_fan *fan = calloc((size_t)nv, sizeof *fan);
   char *frozen = calloc((size_t)nv, 1);
-  int *e = rm_all_edges(m);
-  if (!fan || !frozen || !e) goto done;
-  for (int i = 0; i < 3 * ntri;) {
-    int j = i;
-    while (j < 3 * ntri && e[2 * j] == e[2 * i] && e[2 * j + 1] == e[2 * i + 1]) j++;
-    if (j - i != 2) frozen[e[2 * i]] = frozen[e[2 * i + 1]] = 1;
-    i = j;
-  }
-  for (int t = 0; t < ntri; t++)
-    for (int c = 0; c < 3; c++)
-      if (rm_fan_push(&fan[m->tri[3 * t + c]], t)) goto done;
+  if (!fan || !frozen) goto done;
+  if (rm_prepare(m, fan, frozen)) goto done;
   for (int pass = 0; pass < 32; pass++) {
     int flips = 0;
     for (int t = 0; t < ntri; t++)
@@ -333,7 +333,7 @@ int tb_remesh_flip(tb_mesh *m) {
 done:
   if (fan)
     for (int v = 0; v < nv; v++) free(fan[v].t);
-  free(fan), free(frozen), free(e);
+  free(fan), free(frozen);
   return ret;
 }
 
