@@ -1,6 +1,7 @@
 /* `tissuebench reproduce`: runs the reproduction suites, each writing
- * results/<suite>/ through the results pipeline (core/tb_results.h). A
- * suite is one entry of the table below. */
+ * results/<suite>/ through the results pipeline (core/tb_results.h); and
+ * `tissuebench table NAME`: one suite by the name of the table it makes.
+ * A suite is one entry of the table below. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,8 +10,13 @@
 #include "tb_timer.h"
 
 static const tb_suite_entry suites[] = {
-    {"meshes", "generated meshes: counts beside the documents' (thesis §2.5, Bao 2006)",
+    {"meshes", "meshes", "generated meshes: counts beside the documents' (thesis §2.5, Bao 2006)",
      tb_suite_meshes},
+    {"correctness", "correctness",
+     "triangle tests: wrong answers against the exact oracle, per family of pairs",
+     tb_suite_correctness},
+    {"table-4.1", "4.1", "thesis table 4.1: time for 0.1-2 million tests; ns/pair on the JGT pairs",
+     tb_suite_table41},
 };
 static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
 
@@ -27,7 +33,7 @@ static int listed(const char *list, const char *name) {
 }
 
 int tb_cmd_reproduce(int argc, char **argv) {
-  tb_suite_opts o = {0, 1, TB_SOURCE_ROOT "/results"};
+  tb_suite_opts o = {0, 1.0, 1, TB_SOURCE_ROOT "/results"};
   const char *only = NULL;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -36,13 +42,21 @@ int tb_cmd_reproduce(int argc, char **argv) {
     else if (!strcmp(a, "--full"))
       o.full = 1;
     else if (!strcmp(a, "--list")) {
-      for (int s = 0; s < nsuites; s++) printf("%-10s %s\n", suites[s].name, suites[s].summary);
+      for (int s = 0; s < nsuites; s++) printf("%-12s %s\n", suites[s].name, suites[s].summary);
       return TB_EXIT_OK;
     } else if (!strcmp(a, "--only") && i + 1 < argc)
       only = argv[++i];
     else if (!strcmp(a, "--results") && i + 1 < argc)
       o.results = argv[++i];
-    else if (!strcmp(a, "--seed") && i + 1 < argc) {
+    else if (!strcmp(a, "--scale") && i + 1 < argc) {
+      double v;
+      if (tb_cli_parse_double("--scale", argv[++i], &v)) return TB_EXIT_INPUT;
+      if (!(v > 0 && v <= 100)) {
+        fprintf(stderr, "tissuebench reproduce: --scale must be in (0, 100]\n");
+        return TB_EXIT_INPUT;
+      }
+      o.scale = v;
+    } else if (!strcmp(a, "--seed") && i + 1 < argc) {
       char *end;
       unsigned long long s = strtoull(argv[++i], &end, 10);
       if (*end || end == argv[i]) {
@@ -83,4 +97,28 @@ int tb_cmd_reproduce(int argc, char **argv) {
   fprintf(stderr, "reproduce: %d suite(s) failed, %.1f s in all\n", failed,
           (double)(tb_time_ns() - t0) * 1e-9);
   return failed ? TB_EXIT_FAIL : TB_EXIT_OK;
+}
+
+/* `table NAME [options]`: reproduce --only the suite that makes table NAME. */
+int tb_cmd_table(int argc, char **argv) {
+  if (argc < 2 || argv[1][0] == '-') {
+    fprintf(stderr, "usage: tissuebench table NAME [--quick|--full] [--seed N] [--results DIR]\n");
+    for (int s = 0; s < nsuites; s++)
+      if (suites[s].table) fprintf(stderr, "  %-12s %s\n", suites[s].table, suites[s].summary);
+    return TB_EXIT_INPUT;
+  }
+  for (int s = 0; s < nsuites; s++) {
+    if (!suites[s].table || strcmp(suites[s].table, argv[1])) continue;
+    char *args[64];
+    int n = 0;
+    args[n++] = "reproduce";
+    args[n++] = "--only";
+    args[n++] = (char *)suites[s].name;
+    for (int i = 2; i < argc && n < 63; i++) args[n++] = argv[i];
+    args[n] = NULL;
+    return tb_cmd_reproduce(n, args);
+  }
+  fprintf(stderr, "tissuebench table: unknown table '%s' (tissuebench table lists them)\n",
+          argv[1]);
+  return TB_EXIT_INPUT;
 }

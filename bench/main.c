@@ -19,12 +19,26 @@ static const tb_command commands[] = {
      "  --quick   the default: every suite at reduced scale (under 10 minutes on 2 cores)\n"
      "  --full    every suite at the documents' scale\n"
      "  --only    run only the named suites (see --list)\n"
-     "  --list    list the suites",
+     "  --list    list the suites\n"
+     "  --scale F multiply every suite's pair and test counts by F (smoke tests)",
      tb_cmd_reproduce},
     {"test", "run the whole test suite (ends with \"N passed, N failed\")",
      "tissuebench test [SUBSTRING...]\n"
      "  runs the test cases whose \"suite/name\" contains any SUBSTRING (all without)",
      cmd_test},
+    {"table", "make one table of the reproduction (correctness, 4.1, meshes)",
+     "tissuebench table NAME [--quick|--full] [--seed N] [--results DIR]\n"
+     "  correctness  triangle tests' wrong answers against the exact oracle, per family\n"
+     "  4.1          thesis table 4.1: ms for 0.1-2 million tests, ns/pair on the JGT pairs\n"
+     "  meshes       generated meshes beside the documents' counts",
+     tb_cmd_table},
+    {"tritri", "classify triangle pairs with one method (0/1 per pair)",
+     "tissuebench tritri --method NAME [--input FILE] [--repeat K]\n"
+     "  reads pairs from FILE or stdin, one per line: 18 numbers p0 p1 p2 q0 q1 q2 (x y z each;\n"
+     "  anything strtod accepts, hex floats too; '#' starts a comment); writes 0 or 1 per pair.\n"
+     "  --repeat K  also classify the whole set K times; median ns/pair on stderr\n"
+     "  --method list  prints the methods",
+     tb_cmd_tritri},
     {"mesh", "mesh info FILE, or generate a mesh (liver, instrument, sphere, beam)",
      "tissuebench mesh info FILE\n"
      "  counts, bounding box, closed/manifold, Euler characteristic and volume of a mesh file\n"

@@ -75,8 +75,16 @@ static const struct {
   const char *name;
   const tb_test_case *cases;
 } suites[] = {
-    {"core", tb_tests_core},       {"io", tb_tests_io},           {"mc", tb_tests_mc},
-    {"results", tb_tests_results}, {"meshgen", tb_tests_meshgen}, {"cli", tb_tests_cli},
+    {"core", tb_tests_core},
+    {"io", tb_tests_io},
+    {"mc", tb_tests_mc},
+    {"results", tb_tests_results},
+    {"meshgen", tb_tests_meshgen},
+    {"cli", tb_tests_cli},
+    {"tritri_fast", tb_tests_tritri_fast},
+    {"tritri_exact", tb_tests_tritri_exact},
+    {"refs", tb_tests_refs},
+    {"tritri", tb_tests_tritri},
 };
 
 static int selected(const char *id, int argc, char **argv) {
