@@ -71,6 +71,14 @@ int tb_test_run(const char *cmd, char *out, int cap) {
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
+char tb_test_out[1 << 16];
+
+int tb_test_cli_run(const char *args) {
+  char cmd[4096];
+  snprintf(cmd, sizeof cmd, "'%s' %s", tb_test_cli(), args);
+  return tb_test_run(cmd, tb_test_out, sizeof tb_test_out);
+}
+
 static const struct {
   const char *name;
   const tb_test_case *cases;

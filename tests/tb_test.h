@@ -43,6 +43,11 @@ const char *tb_test_source_root(void);
  * cap-1 bytes of its combined stdout+stderr into out (may be NULL). */
 int tb_test_run(const char *cmd, char *out, int cap);
 
+/* Runs `tissuebench ARGS` (a shell fragment after the binary); returns its
+ * exit code, its combined output in tb_test_out (64 KiB). */
+extern char tb_test_out[1 << 16];
+int tb_test_cli_run(const char *args);
+
 /* The tables, one per test file. */
 extern const tb_test_case tb_tests_core[];
 extern const tb_test_case tb_tests_io[];

@@ -5,91 +5,88 @@
 
 #include "tb_test.h"
 
-static char out[1 << 16];
-
-/* Runs `tissuebench ARGS`; returns its exit code, output in `out`. */
-static int cli(const char *args) {
-  char cmd[2048];
-  snprintf(cmd, sizeof cmd, "'%s' %s", tb_test_cli(), args);
-  return tb_test_run(cmd, out, sizeof out);
-}
-
 static void help_lists_commands(void) {
-  TB_CHECK(cli("help") == 0);
+  TB_CHECK(tb_test_cli_run("help") == 0);
   static const char *names[] = {"help", "reproduce", "test", "mesh"};
-  for (int i = 0; i < 4; i++) TB_CHECK_MSG(strstr(out, names[i]), "help lacks %s", names[i]);
+  for (int i = 0; i < 4; i++)
+    TB_CHECK_MSG(strstr(tb_test_out, names[i]), "help lacks %s", names[i]);
   for (int i = 0; i < 4; i++) {
     char args[64];
     snprintf(args, sizeof args, "%s --help", names[i]);
-    TB_CHECK_MSG(cli(args) == 0 && strstr(out, "tissuebench"), "%s --help: %s", names[i], out);
+    TB_CHECK_MSG(tb_test_cli_run(args) == 0 && strstr(tb_test_out, "tissuebench"), "%s --help: %s",
+                 names[i], tb_test_out);
   }
-  TB_CHECK(cli("frobnicate") == 2 && strstr(out, "unknown command"));
-  TB_CHECK(cli("") == 2);
+  TB_CHECK(tb_test_cli_run("frobnicate") == 2 && strstr(tb_test_out, "unknown command"));
+  TB_CHECK(tb_test_cli_run("") == 2);
 }
 
 static void mesh_generate_and_info(void) {
   char args[1024];
   snprintf(args, sizeof args, "mesh sphere --set verts=1002 --out %s/s.obj", tb_test_tmpdir());
-  TB_CHECK_MSG(cli(args) == 0, "%s", out);
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   snprintf(args, sizeof args, "mesh info %s/s.obj", tb_test_tmpdir());
-  TB_CHECK_MSG(cli(args) == 0, "%s", out);
-  TB_CHECK(strstr(out, "vertices    1002") && strstr(out, "triangles   2000"));
-  TB_CHECK(strstr(out, "closed      yes") && strstr(out, "manifold    yes"));
-  TB_CHECK(strstr(out, "Euler 2"));
-  TB_CHECK(cli("mesh sphere --set verts=250 --stats") == 1 && strstr(out, "10 f^2 + 2"));
-  TB_CHECK(cli("mesh sphere --set verts=abc --stats") == 2);
-  TB_CHECK(cli("mesh sphere --set colour=3 --stats") == 2);
-  TB_CHECK(cli("mesh teapot --stats") == 2);
-  TB_CHECK(cli("mesh sphere") == 2); /* neither --out nor --stats */
-  TB_CHECK(cli("mesh list") == 0 && strstr(out, "liver") && strstr(out, "surface_verts"));
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  TB_CHECK(strstr(tb_test_out, "vertices    1002") && strstr(tb_test_out, "triangles   2000"));
+  TB_CHECK(strstr(tb_test_out, "closed      yes") && strstr(tb_test_out, "manifold    yes"));
+  TB_CHECK(strstr(tb_test_out, "Euler 2"));
+  TB_CHECK(tb_test_cli_run("mesh sphere --set verts=250 --stats") == 1 &&
+           strstr(tb_test_out, "10 f^2 + 2"));
+  TB_CHECK(tb_test_cli_run("mesh sphere --set verts=abc --stats") == 2);
+  TB_CHECK(tb_test_cli_run("mesh sphere --set colour=3 --stats") == 2);
+  TB_CHECK(tb_test_cli_run("mesh teapot --stats") == 2);
+  TB_CHECK(tb_test_cli_run("mesh sphere") == 2); /* neither --out nor --stats */
+  TB_CHECK(tb_test_cli_run("mesh list") == 0 && strstr(tb_test_out, "liver") &&
+           strstr(tb_test_out, "surface_verts"));
 }
 
 static void mesh_info_errors(void) {
   const char *bad = tb_test_file("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", -1);
   char args[1024];
   snprintf(args, sizeof args, "mesh info %s", bad);
-  TB_CHECK(cli(args) == 2);
+  TB_CHECK(tb_test_cli_run(args) == 2);
   char want[700];
   snprintf(want, sizeof want, "%s:4:", bad);
-  TB_CHECK_MSG(strstr(out, want) != NULL, "got: %s", out);
+  TB_CHECK_MSG(strstr(tb_test_out, want) != NULL, "got: %s", tb_test_out);
   snprintf(args, sizeof args, "mesh info %s/missing.obj", tb_test_tmpdir());
-  TB_CHECK(cli(args) == 2);
+  TB_CHECK(tb_test_cli_run(args) == 2);
   const char *unknown = tb_test_file("x.xyz", "1 2 3\n", -1);
   snprintf(args, sizeof args, "mesh info %s", unknown);
-  TB_CHECK(cli(args) == 2);
-  TB_CHECK(cli("mesh info") == 2);
+  TB_CHECK(tb_test_cli_run(args) == 2);
+  TB_CHECK(tb_test_cli_run("mesh info") == 2);
 }
 
 static void liver_stats_deterministic(void) {
   char args[1024];
-  TB_CHECK(cli("mesh liver --stats") == 0);
-  TB_CHECK(strstr(out, "surface vertices") && strstr(out, "725") && strstr(out, "tets") &&
-           strstr(out, "4230") && strstr(out, "closed, manifold"));
+  TB_CHECK(tb_test_cli_run("mesh liver --stats") == 0);
+  TB_CHECK(strstr(tb_test_out, "surface vertices") && strstr(tb_test_out, "725") &&
+           strstr(tb_test_out, "tets") && strstr(tb_test_out, "4230") &&
+           strstr(tb_test_out, "closed, manifold"));
   for (int k = 0; k < 2; k++) {
     snprintf(args, sizeof args, "mesh liver --part %s --out %s/liver%d.vtk", k ? "faces" : "tets",
              tb_test_tmpdir(), k);
-    TB_CHECK_MSG(cli(args) == 0, "%s", out);
+    TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   }
   snprintf(args, sizeof args, "mesh liver --part tets --out %s/again.vtk", tb_test_tmpdir());
-  TB_CHECK(cli(args) == 0);
+  TB_CHECK(tb_test_cli_run(args) == 0);
   char cmd[1024];
   snprintf(cmd, sizeof cmd, "cmp %s/liver0.vtk %s/again.vtk", tb_test_tmpdir(), tb_test_tmpdir());
-  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "not byte-identical: %s", out);
+  TB_CHECK_MSG(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0, "not byte-identical: %s",
+               tb_test_out);
   snprintf(cmd, sizeof cmd, "cmp -s %s/liver0.vtk %s/liver1.vtk", tb_test_tmpdir(),
            tb_test_tmpdir());
   TB_CHECK(tb_test_run(cmd, NULL, 0) != 0); /* the parts differ */
   snprintf(args, sizeof args, "mesh liver --part edges --out %s/liver.edges", tb_test_tmpdir());
-  TB_CHECK(cli(args) == 0);
-  TB_CHECK(cli("mesh liver --part bones --stats") == 2);
+  TB_CHECK(tb_test_cli_run(args) == 0);
+  TB_CHECK(tb_test_cli_run("mesh liver --part bones --stats") == 2);
 }
 
 static void reproduce_meshes_suite(void) {
-  TB_CHECK(cli("reproduce --list") == 0 && strstr(out, "meshes"));
-  TB_CHECK(cli("reproduce --only nonsense") == 2);
-  TB_CHECK(cli("reproduce --seed x") == 2);
+  TB_CHECK(tb_test_cli_run("reproduce --list") == 0 && strstr(tb_test_out, "meshes"));
+  TB_CHECK(tb_test_cli_run("reproduce --only nonsense") == 2);
+  TB_CHECK(tb_test_cli_run("reproduce --seed x") == 2);
   char args[1024];
   snprintf(args, sizeof args, "reproduce --only meshes --results %s/res", tb_test_tmpdir());
-  TB_CHECK_MSG(cli(args) == 0, "%s", out);
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   static const char *files[] = {"table.md",       "data.csv",        "data.json",
                                 "liver.vtk",      "liver-faces.obj", "instrument.obj",
                                 "sphere-252.obj", "sphere-1002.obj"};
@@ -100,10 +97,10 @@ static void reproduce_meshes_suite(void) {
   }
   char cmd[1024];
   snprintf(cmd, sizeof cmd, "cat %s/res/meshes/table.md", tb_test_tmpdir());
-  TB_CHECK(tb_test_run(cmd, out, sizeof out) == 0);
-  TB_CHECK(strstr(out, "1448") && strstr(out, "9313") && strstr(out, "6288") &&
-           strstr(out, "1248"));
-  TB_CHECK(strstr(out, "| liver |") && strstr(out, "NO") == NULL);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK(strstr(tb_test_out, "1448") && strstr(tb_test_out, "9313") &&
+           strstr(tb_test_out, "6288") && strstr(tb_test_out, "1248"));
+  TB_CHECK(strstr(tb_test_out, "| liver |") && strstr(tb_test_out, "NO") == NULL);
 }
 
 /* tools/setup.sh with fake dpkg-query and id on PATH: a missing package as
@@ -119,13 +116,13 @@ static void setup_script(void) {
   TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
   snprintf(cmd, sizeof cmd, "PATH=%s/fakebin:$PATH sh %s/tools/setup.sh", dir,
            tb_test_source_root());
-  TB_CHECK(tb_test_run(cmd, out, sizeof out) != 0);
-  TB_CHECK_MSG(strstr(out, "apt-get install -y libcgal-dev") != NULL, "%s", out);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) != 0);
+  TB_CHECK_MSG(strstr(tb_test_out, "apt-get install -y libcgal-dev") != NULL, "%s", tb_test_out);
   snprintf(cmd, sizeof cmd, "sed -i 's/libcgal-dev/none-such/' %s/fakebin/dpkg-query", dir);
   TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
   snprintf(cmd, sizeof cmd, "PATH=%s/fakebin:$PATH sh %s/tools/setup.sh", dir,
            tb_test_source_root());
-  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "%s", out);
+  TB_CHECK_MSG(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0, "%s", tb_test_out);
 }
 
 const tb_test_case tb_tests_cli[] = {

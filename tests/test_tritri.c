@@ -162,60 +162,58 @@ static void families_exact_and_deterministic(void) {
   TB_CHECK(tb_pair_family_find("near-miss") && !tb_pair_family_find("nonsense"));
 }
 
-static char out[1 << 16];
-static int cli(const char *args) {
-  char cmd[2048];
-  snprintf(cmd, sizeof cmd, "'%s' %s", tb_test_cli(), args);
-  return tb_test_run(cmd, out, sizeof out);
-}
-
 static void tritri_cli(void) {
-  TB_CHECK(cli("tritri --method list") == 0 && strstr(out, "moller") && strstr(out, "cgal"));
-  TB_CHECK(cli("tritri --method nonsense < /dev/null") == 2);
-  TB_CHECK(cli("tritri < /dev/null") == 2);
+  TB_CHECK(tb_test_cli_run("tritri --method list") == 0 && strstr(tb_test_out, "moller") &&
+           strstr(tb_test_out, "cgal"));
+  TB_CHECK(tb_test_cli_run("tritri --method nonsense < /dev/null") == 2);
+  TB_CHECK(tb_test_cli_run("tritri < /dev/null") == 2);
   char args[1024];
   snprintf(args, sizeof args, "tritri --method exact --input %s 2>/dev/null", DESIGNED);
-  TB_CHECK(cli(args) == 0);
+  TB_CHECK(tb_test_cli_run(args) == 0);
   tb_pairset s;
   tb_error err;
   TB_CHECK(tb_pairs_read_file(DESIGNED, &s, &err) == 0);
   char want[200] = "";
   for (int i = 0; i < s.n; i++) strcat(want, s.expect[i] ? "1\n" : "0\n");
-  TB_CHECK_MSG(!strcmp(out, want), "got:\n%s", out);
+  TB_CHECK_MSG(!strcmp(tb_test_out, want), "got:\n%s", tb_test_out);
   tb_pairs_free(&s);
-  TB_CHECK(cli("tritri --method cgal <<'E'\n"
+  TB_CHECK(tb_test_cli_run(
+               "tritri --method cgal <<'E'\n"
                "0 0 0 1 0 0 0 1 0  0 0 0 1 0 0 0 1 0\n0 0 0 1 0 0 0 1 0  0 0 1 1 0 1 0 1 1\nE\n") ==
            0);
-  TB_CHECK(!strcmp(out, "1\n0\n"));
+  TB_CHECK(!strcmp(tb_test_out, "1\n0\n"));
   const char *bad = tb_test_file("bad.txt", "0 0 0 1 0 0 0 1 0 0 0 0 1 0 0 0 1\n", -1);
   snprintf(args, sizeof args, "tritri --method moller --input %s", bad);
-  TB_CHECK(cli(args) == 2);
+  TB_CHECK(tb_test_cli_run(args) == 2);
   char where[700];
   snprintf(where, sizeof where, "%s:1:", bad);
-  TB_CHECK_MSG(strstr(out, where), "%s", out);
+  TB_CHECK_MSG(strstr(tb_test_out, where), "%s", tb_test_out);
   snprintf(args, sizeof args, "tritri --method guigue --repeat 3 --input %s", DESIGNED);
-  TB_CHECK(cli(args) == 0 && strstr(out, "ns/pair over 3 repetitions of 40 pairs"));
-  TB_CHECK(cli("tritri --method exact --repeat 0 < /dev/null") == 2);
+  TB_CHECK(tb_test_cli_run(args) == 0 &&
+           strstr(tb_test_out, "ns/pair over 3 repetitions of 40 pairs"));
+  TB_CHECK(tb_test_cli_run("tritri --method exact --repeat 0 < /dev/null") == 2);
 }
 
 static void tables_end_to_end(void) {
   char args[1024], cmd[1024];
   snprintf(args, sizeof args, "table correctness --scale 0.002 --results %s/r", tb_test_tmpdir());
-  TB_CHECK_MSG(cli(args) == 0, "%s", out);
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   snprintf(cmd, sizeof cmd, "cat %s/r/correctness/table.md", tb_test_tmpdir());
-  TB_CHECK(tb_test_run(cmd, out, sizeof out) == 0);
-  TB_CHECK(strstr(out, "| exact |") && strstr(out, "near-miss") && strstr(out, "designed 40"));
-  TB_CHECK(strstr(out, "agrees with the labels of designed 40 on 40 of 40"));
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK(strstr(tb_test_out, "| exact |") && strstr(tb_test_out, "near-miss") &&
+           strstr(tb_test_out, "designed 40"));
+  TB_CHECK(strstr(tb_test_out, "agrees with the labels of designed 40 on 40 of 40"));
   snprintf(args, sizeof args, "table 4.1 --scale 0.001 --results %s/r", tb_test_tmpdir());
-  TB_CHECK_MSG(cli(args) == 0, "%s", out);
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   snprintf(cmd, sizeof cmd, "cat %s/r/table-4.1/table.md", tb_test_tmpdir());
-  TB_CHECK(tb_test_run(cmd, out, sizeof out) == 0);
-  TB_CHECK(strstr(out, "1256") && strstr(out, "739") && strstr(out, "improved (ms)"));
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK(strstr(tb_test_out, "1256") && strstr(tb_test_out, "739") &&
+           strstr(tb_test_out, "improved (ms)"));
   snprintf(cmd, sizeof cmd,
            "test -s %s/r/table-4.1/table41.png && test -s %s/r/table-4.1/table41.svg",
            tb_test_tmpdir(), tb_test_tmpdir());
   TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
-  TB_CHECK(cli("table nonsense") == 2);
+  TB_CHECK(tb_test_cli_run("table nonsense") == 2);
 }
 
 const tb_test_case tb_tests_tritri[] = {
