@@ -17,6 +17,11 @@ static const tb_suite_entry suites[] = {
      tb_suite_correctness},
     {"table-4.1", "4.1", "thesis table 4.1: time for 0.1-2 million tests; ns/pair on the JGT pairs",
      tb_suite_table41},
+    {"table-4.2", "4.2",
+     "thesis table 4.2: queries/s against intersecting pairs, liver against instrument",
+     tb_suite_table42},
+    {"refit", "refit", "the deforming liver: refit, rebuild, FCL refit, Bullet update, query",
+     tb_suite_refit},
 };
 static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
 

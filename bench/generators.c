@@ -42,7 +42,7 @@ static int instrument_paper(const double *p, tb_gen_counts *c, const char **src)
 
 /* ---- sphere ---- */
 static int sphere_run(const double *p, tb_gen_result *r, tb_error *err) {
-  return tb_sphere((int)p[0], p[1], &r->surface, err);
+  return tb_geosphere((int)p[0], p[1], &r->surface, err);
 }
 static int sphere_paper(const double *p, tb_gen_counts *c, const char **src) {
   *src = "Bao 2006 table 1";

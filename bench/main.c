@@ -26,8 +26,10 @@ static const tb_command commands[] = {
      "tissuebench test [SUBSTRING...]\n"
      "  runs the test cases whose \"suite/name\" contains any SUBSTRING (all without)",
      cmd_test},
-    {"table", "make one table of the reproduction (correctness, 4.1, meshes)",
+    {"table", "make one table of the reproduction (correctness, 4.1, 4.2, refit, meshes)",
      "tissuebench table NAME [--quick|--full] [--seed N] [--results DIR]\n"
+     "  4.2          thesis table 4.2: queries/s against intersecting pairs, liver vs instrument\n"
+     "  refit        the deforming liver: refit, rebuild, FCL refit, Bullet update, query\n"
      "  correctness  triangle tests' wrong answers against the exact oracle, per family\n"
      "  4.1          thesis table 4.1: ms for 0.1-2 million tests, ns/pair on the JGT pairs\n"
      "  meshes       generated meshes beside the documents' counts",
@@ -39,6 +41,16 @@ static const tb_command commands[] = {
      "  --repeat K  also classify the whole set K times; median ns/pair on stderr\n"
      "  --method list  prints the methods",
      tb_cmd_tritri},
+    {"collide", "all intersecting triangle pairs of two meshes with one BVH method",
+     "tissuebench collide --bvh NAME [--tritest NAME] A B [--xform-b M] [--pairs] [--repeat K]\n"
+     "  NAME: sphere, aabb, composite (ours), fcl-aabb, fcl-obbrss, bullet-gimpact,\n"
+     "        bullet-gimpact-exact (Bullet's candidates, our exact test), brute\n"
+     "  A, B: mesh files (triangles; a tet mesh without triangles uses all its tet faces)\n"
+     "  --xform-b M  B moved by the row-major 3x4 matrix \"r00 r01 r02 t0 r10 ... r22 t2\"\n"
+     "  --tritest    the triangle test for ours and brute (default exact; tritri --method list)\n"
+     "  --pairs      print every intersecting pair \"i j\" (0-based, sorted) on stdout\n"
+     "  a summary (pairs, volume tests, triangle tests, build and query time) goes to stderr",
+     tb_cmd_collide},
     {"mesh", "mesh info FILE, or generate a mesh (liver, instrument, sphere, beam)",
      "tissuebench mesh info FILE\n"
      "  counts, bounding box, closed/manifold, Euler characteristic and volume of a mesh file\n"

@@ -19,6 +19,7 @@ int tb_cmd_mesh(int argc, char **argv);
 int tb_cmd_reproduce(int argc, char **argv);
 int tb_cmd_table(int argc, char **argv);
 int tb_cmd_tritri(int argc, char **argv);
+int tb_cmd_collide(int argc, char **argv);
 
 /* Options every suite receives. */
 typedef struct tb_suite_opts {
@@ -39,6 +40,8 @@ typedef struct tb_suite_entry {
 int tb_suite_meshes(const tb_suite_opts *opts);
 int tb_suite_correctness(const tb_suite_opts *opts);
 int tb_suite_table41(const tb_suite_opts *opts);
+int tb_suite_table42(const tb_suite_opts *opts);
+int tb_suite_refit(const tb_suite_opts *opts);
 
 /* Helpers shared by the commands. */
 int tb_cli_has_help(int argc, char **argv);

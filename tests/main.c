@@ -93,6 +93,8 @@ static const struct {
     {"tritri_exact", tb_tests_tritri_exact},
     {"refs", tb_tests_refs},
     {"tritri", tb_tests_tritri},
+    {"bvh", tb_tests_bvh},         {"refbvh", tb_tests_refbvh},
+    {"collide", tb_tests_collide},
 };
 
 static int selected(const char *id, int argc, char **argv) {

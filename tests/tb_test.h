@@ -59,5 +59,8 @@ extern const tb_test_case tb_tests_tritri_fast[];
 extern const tb_test_case tb_tests_tritri_exact[];
 extern const tb_test_case tb_tests_refs[];
 extern const tb_test_case tb_tests_tritri[];
+extern const tb_test_case tb_tests_bvh[];
+extern const tb_test_case tb_tests_refbvh[];
+extern const tb_test_case tb_tests_collide[];
 
 #endif

@@ -19,7 +19,7 @@ static void spheres_bao2006(void) {
   for (int k = 0; k < 2; k++) {
     tb_mesh m;
     tb_error err;
-    TB_CHECK(tb_sphere(nv[k], 2.0, &m, &err) == 0);
+    TB_CHECK(tb_geosphere(nv[k], 2.0, &m, &err) == 0);
     TB_CHECK(m.nv == nv[k] && m.ntri == nt[k]);
     tb_mesh_topo t = surface_topology(&m);
     TB_CHECK(t.closed && t.manifold && t.euler == 2 && t.components == 1 && !t.misoriented_edges);
@@ -30,8 +30,8 @@ static void spheres_bao2006(void) {
   }
   tb_mesh m;
   tb_error err;
-  TB_CHECK(tb_sphere(250, 1, &m, &err) != 0 && strstr(err.msg, "10 f^2 + 2"));
-  TB_CHECK(tb_sphere(252, -1, &m, &err) != 0);
+  TB_CHECK(tb_geosphere(250, 1, &m, &err) != 0 && strstr(err.msg, "10 f^2 + 2"));
+  TB_CHECK(tb_geosphere(252, -1, &m, &err) != 0);
 }
 
 static void beam_conforming(void) {
@@ -75,7 +75,7 @@ static void instrument_counts(void) {
 static void tetgen_sphere(void) {
   tb_mesh s, t;
   tb_error err;
-  TB_CHECK(tb_sphere(252, 1.0, &s, &err) == 0);
+  TB_CHECK(tb_geosphere(252, 1.0, &s, &err) == 0);
   TB_CHECK(tb_tetgen(&s, "pq1.4Y", &t, &err) == 0);
   TB_CHECK(t.ntet > 0 && tb_mesh_min_tet_volume(&t) > 0);
   TB_CHECK(t.ntri == s.ntri); /* Y: the boundary is kept */

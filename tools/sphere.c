@@ -73,7 +73,7 @@ static int lattice_vertex(lattice *L, tb_mesh *m, const tb_vec3 *ico, const int 
   }
 }
 
-int tb_sphere(int nv, double radius, tb_mesh *out, tb_error *err) {
+int tb_geosphere(int nv, double radius, tb_mesh *out, tb_error *err) {
   memset(out, 0, sizeof *out);
   int f = 1;
   while (10 * f * f + 2 < nv) f++;

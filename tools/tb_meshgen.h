@@ -81,7 +81,7 @@ int tb_instrument(const tb_instrument_def *def, tb_mesh *out, tb_error *err);
 
 /* Geodesic sphere of nv = 10 f^2 + 2 vertices and 20 f^2 triangles (f = 5
  * and 10 give Bao 2006's 252/500 and 1002/2000); other nv is an error. */
-int tb_sphere(int nv, double radius, tb_mesh *out, tb_error *err);
+int tb_geosphere(int nv, double radius, tb_mesh *out, tb_error *err);
 
 /* Box cantilever [0,lx]x[0,ly]x[0,lz] split into nx*ny*nz cubes of 6 tets
  * each (conforming), boundary triangles included. */

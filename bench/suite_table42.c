@@ -1,0 +1,219 @@
+/* Thesis table 4.2 and fig. 4.22: the liver's collision model (all tet
+ * faces) fixed, the instrument moving along a scripted path into it
+ * (bench/scene.c); at the poses whose intersecting-pair counts are nearest
+ * the thesis's rows (0, 32, 97, 279, 534, 733, 925, 1106), queries per
+ * second of: the thesis's three groups (composite + improved projection
+ * test, Sphere + Moller, AABB + Moller; liver 11 levels 3/3/5, instrument 9
+ * levels 2/2/5, leaves <= 10 triangles), our hierarchies with the exact
+ * test, and FCL (AABB, OBBRSS) and Bullet GImpact. Every method's pair set
+ * is checked against brute force with the exact test at every row. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_cli.h"
+#include "tb_collider.h"
+#include "tb_results.h"
+#include "tb_scene.h"
+#include "tb_timer.h"
+
+#define NROWS 8
+static const int thesis_pairs[NROWS] = {0, 32, 97, 279, 534, 733, 925, 1106};
+static const double thesis_fps[NROWS][3] = {
+    {263.2, 263.2, 254.7}, {260.3, 259.7, 251.6}, {253.6, 250.1, 244.8}, {217.9, 211.2, 214.6},
+    {163.2, 148.4, 158.9}, {129.4, 95.6, 119.4},  {89.6, 47.3, 73.1},    {53.2, 17.2, 42.7}};
+
+typedef struct group {
+  const char *label, *method, *tritest;
+} group;
+static const group groups[] = {
+    {"composite+improved", "composite", "improved"},
+    {"sphere+moller", "sphere", "moller"},
+    {"aabb+moller", "aabb", "moller"},
+    {"composite+exact", "composite", "exact"},
+    {"sphere+exact", "sphere", "exact"},
+    {"aabb+exact", "aabb", "exact"},
+    {"fcl-aabb", "fcl-aabb", NULL},
+    {"fcl-obbrss", "fcl-obbrss", NULL},
+    {"bullet-gimpact", "bullet-gimpact", NULL},
+};
+#define NGROUPS ((int)(sizeof groups / sizeof groups[0]))
+
+/* The thesis's hierarchies: liver 11 levels, instrument 9, leaves <= 10. */
+static void thesis_defs(const char *kind, tb_bvh_def *liver, tb_bvh_def *inst) {
+  *liver = tb_bvh_kind_def(kind), *inst = tb_bvh_kind_def(kind);
+  liver->max_depth = 10, inst->max_depth = 8;
+  liver->max_leaf = inst->max_leaf = 10;
+  if (!strcmp(kind, "composite")) {
+    liver->sphere_layers = 3, liver->both_layers = 3;
+    inst->sphere_layers = 2, inst->both_layers = 2;
+  }
+}
+
+int tb_suite_table42(const tb_suite_opts *o) {
+  char dir[900];
+  tb_error err;
+  if (snprintf(dir, sizeof dir, "%s/table-4.2", o->results) >= (int)sizeof dir) return 1;
+  tb_suite *s =
+      tb_suite_begin(dir, "table-4.2", "Thesis table 4.2: liver against instrument", o->seed, &err);
+  if (!s) return fprintf(stderr, "table 4.2: %s\n", err.msg), 1;
+  tb_mesh liver, inst;
+  if (tb_scene_make(o->seed, &liver, &inst, &err)) {
+    fprintf(stderr, "table 4.2: %s\n", err.msg);
+    tb_suite_end(s, &err);
+    return 1;
+  }
+  int failed = 0, npose = o->scale < 1 ? 21 : (o->full ? 351 : 141), reps = o->full ? 11 : 5;
+  /* pair counts along the path (our composite + exact), then the rows */
+  tb_bvh_def dl, di;
+  thesis_defs("composite", &dl, &di);
+  tb_collider *ref = tb_collider_new("composite", &liver, &inst, &dl, &di, NULL, &err);
+  int *count = malloc(sizeof(int) * (size_t)npose), row_pose[NROWS];
+  tb_pairlist pl = {0, 0, NULL}, truth[NROWS];
+  memset(truth, 0, sizeof truth);
+  for (int k = 0; ref && count && k < npose; k++) {
+    tb_mat3 R;
+    tb_vec3 t;
+    tb_scene_pose((double)k / (npose - 1), &R, &t);
+    if (tb_collider_pose(ref, R, t, &err) || tb_collider_query(ref, &pl, NULL, &err)) break;
+    count[k] = pl.n;
+  }
+  tb_collider_free(ref);
+  for (int r = 0; r < NROWS; r++) {
+    int best = 0;
+    for (int k = 1; k < npose; k++)
+      if (abs(count[k] - thesis_pairs[r]) < abs(count[best] - thesis_pairs[r])) best = k;
+    row_pose[r] = best;
+  }
+  /* brute force with the exact test at every row: the truth */
+  tb_collider *brute = tb_collider_new("brute", &liver, &inst, NULL, NULL, NULL, &err);
+  for (int r = 0; brute && r < NROWS; r++) {
+    tb_progress("table 4.2 (brute force)", r, NROWS);
+    tb_mat3 R;
+    tb_vec3 t;
+    tb_scene_pose((double)row_pose[r] / (npose - 1), &R, &t);
+    if (tb_collider_pose(brute, R, t, &err) || tb_collider_query(brute, &truth[r], NULL, &err))
+      failed = 1;
+  }
+  tb_collider_free(brute);
+  double qps[NROWS][NGROUPS];
+  int wrong[NGROUPS];
+  double *ms = malloc(sizeof(double) * (size_t)reps);
+  for (int g = 0; g < NGROUPS && ms && !failed; g++) {
+    tb_progress("table 4.2", g, NGROUPS);
+    wrong[g] = 0;
+    tb_bvh_def da, db;
+    if (tb_collider_is_ours(groups[g].method)) thesis_defs(groups[g].method, &da, &db);
+    const tb_tritri_method *tm = groups[g].tritest ? tb_tritri_find(groups[g].tritest) : NULL;
+    tb_collider *c = tb_collider_new(groups[g].method, &liver, &inst, tm ? &da : NULL,
+                                     tm ? &db : NULL, tm ? tm->test : NULL, &err);
+    if (!c) {
+      fprintf(stderr, "table 4.2: %s: %s\n", groups[g].label, err.msg);
+      failed = 1;
+      break;
+    }
+    for (int r = 0; r < NROWS; r++) {
+      tb_mat3 R;
+      tb_vec3 t;
+      tb_scene_pose((double)row_pose[r] / (npose - 1), &R, &t);
+      if (tb_collider_pose(c, R, t, &err)) failed = 1;
+      tb_collider_query(c, &pl, NULL, &err); /* warm-up */
+      for (int k = 0; k < reps && !failed; k++) {
+        uint64_t t0 = tb_time_ns(), c0 = tb_cpu_time_ns();
+        if (tb_collider_query(c, &pl, NULL, &err)) failed = 1;
+        ms[k] = (double)(tb_time_ns() - t0) * 1e-6;
+        (void)c0;
+      }
+      wrong[g] += tb_pairlist_difference(&pl, &truth[r]);
+      double med = tb_stats_of(ms, reps).median;
+      qps[r][g] = med > 0 ? 1000.0 / med : 0;
+      char bname[128];
+      snprintf(bname, sizeof bname, "table4.2/%s/pairs:%d", groups[g].label, truth[r].n);
+      tb_suite_bench(s, bname, ms, ms, reps, "ms");
+    }
+    tb_collider_free(c);
+  }
+  tb_progress("table 4.2", NGROUPS, NGROUPS);
+  free(ms);
+  if (!failed) {
+    const char *cols[5 + NGROUPS];
+    char names[NGROUPS][64];
+    cols[0] = "thesis pairs";
+    cols[1] = "our pairs";
+    cols[2] = "thesis composite (FPS)";
+    cols[3] = "thesis Sphere (FPS)";
+    cols[4] = "thesis AABB (FPS)";
+    for (int g = 0; g < NGROUPS; g++) {
+      snprintf(names[g], sizeof names[g], "%s (queries/s)", groups[g].label);
+      cols[5 + g] = names[g];
+    }
+    tb_table *t = tb_table_new(
+        "table4.2", "Table 4.2: queries per second against intersecting pairs", 5 + NGROUPS, cols);
+    char body[16384];
+    int len = 0;
+    for (int r = 0; r < NROWS; r++) {
+      tb_table_row(t);
+      tb_table_cell(t, "%d", thesis_pairs[r]);
+      tb_table_cell(t, "%d", truth[r].n);
+      for (int k = 0; k < 3; k++) tb_table_cell(t, "%.1f", thesis_fps[r][k]);
+      len += snprintf(body + len, sizeof body - (size_t)len, "%d", truth[r].n);
+      for (int g = 0; g < NGROUPS; g++) {
+        tb_table_cell(t, "%.1f", qps[r][g]);
+        len += snprintf(body + len, sizeof body - (size_t)len, ",%.3f", qps[r][g]);
+      }
+      len += snprintf(body + len, sizeof body - (size_t)len, "\n");
+    }
+    tb_suite_table(s, t);
+    static const char *ccols[] = {"method", "pairs differing from brute force (all rows)"};
+    tb_table *ct =
+        tb_table_new("check", "Pair sets against brute force with the exact test", 2, ccols);
+    for (int g = 0; g < NGROUPS; g++) {
+      tb_table_row(ct);
+      tb_table_cell(ct, "%s", groups[g].label);
+      tb_table_cell(ct, "%d", wrong[g]);
+      if (strstr(groups[g].label, "exact") && wrong[g]) failed = 1;
+    }
+    tb_suite_table(s, ct);
+    /* the target: our best at least 2x fcl-obbrss and bullet-gimpact at every row */
+    int met = 1;
+    double worst = 1e300;
+    for (int r = 0; r < NROWS; r++) {
+      double best = 0, other = 0;
+      for (int g = 3; g < 6; g++) best = qps[r][g] > best ? qps[r][g] : best;
+      for (int g = 7; g < 9; g++) other = qps[r][g] > other ? qps[r][g] : other;
+      double ratio = other > 0 ? best / other : 0;
+      worst = ratio < worst ? ratio : worst;
+      met &= ratio >= 2;
+    }
+    tb_suite_note(
+        s,
+        "The thesis measured whole-frame FPS on an i3-2100 (rendering included); ours are "
+        "collision queries per second (medians of %d), pose update excluded: ours moves "
+        "the instrument's hierarchy by the rotated-AABB update, FCL and Bullet get models "
+        "rebuilt from world-space vertices (identity transforms, so FCL's collide() "
+        "copies nothing). Path: %d poses; each row is the pose whose pair count is "
+        "nearest the thesis's. Target (issue 4): our best hierarchy (with exact) at least "
+        "2x fcl-obbrss and bullet-gimpact at every row: worst ratio %.2fx, %s.",
+        reps, npose, worst, met ? "met" : "NOT met");
+    char header[1024] = "pairs";
+    for (int g = 0; g < NGROUPS; g++) {
+      strncat(header, ",", sizeof header - strlen(header) - 1);
+      strncat(header, groups[g].label, sizeof header - strlen(header) - 1);
+    }
+    if (tb_suite_write_data(s, "table42.csv", header, body, &err) ||
+        tb_suite_chart_vars(s, "chart_lines.gp", "table42.csv", "table42",
+                            "title='Fig. 4.22: queries per second against intersecting pairs'; "
+                            "xlabel='intersecting triangle pairs'; ylabel='queries/s'; logy=1; "
+                            "points=1",
+                            &err)) {
+      fprintf(stderr, "table 4.2: %s\n", err.msg);
+      failed = 1;
+    }
+  }
+  for (int r = 0; r < NROWS; r++) tb_pairlist_free(&truth[r]);
+  tb_pairlist_free(&pl);
+  free(count);
+  tb_mesh_free(&liver), tb_mesh_free(&inst);
+  if (tb_suite_end(s, &err)) return fprintf(stderr, "table 4.2: %s\n", err.msg), 1;
+  return failed;
+}

@@ -1,0 +1,22 @@
+/* The collision scene of thesis §4.5: the liver's collision model (every
+ * face of its tet mesh) fixed, the instrument moving along a scripted path
+ * into it; and the smooth time-varying displacement that deforms the liver
+ * in the refit suite. */
+#ifndef TB_SCENE_H
+#define TB_SCENE_H
+
+#include <stdint.h>
+
+#include "tb_error.h"
+#include "tb_mesh.h"
+
+/* liver: the collision triangles over the tet-mesh vertices; instrument:
+ * the grasper (tip at the origin, shaft along +z). */
+int tb_scene_make(uint64_t seed, tb_mesh *liver, tb_mesh *instrument, tb_error *err);
+/* The path, s in [0, 1]: the grasper lying nearly along x, its jaws ahead,
+ * the tip moving from x = 7 (clear of the liver) to x = 3.5 (deep inside). */
+void tb_scene_pose(double s, tb_mat3 *R, tb_vec3 *t);
+/* The liver's rest positions x0 displaced at time t (smooth, amplitude amp). */
+void tb_scene_deform(const tb_vec3 *x0, int n, double t, double amp, tb_vec3 *out);
+
+#endif

@@ -1,0 +1,257 @@
+/* Mesh-mesh queries: every intersecting triangle pair of two meshes, by
+ * simultaneous descent of their hierarchies (thesis §4.3.2, fig. 4.4), and
+ * by brute force.
+ *
+ * Descent: a stack of node pairs (no recursion, no depth limit). A popped
+ * pair's volumes are tested by the rule of fig. 4.4 on the two nodes' layer
+ * kinds: both carry a sphere (top/top, top/middle, middle/middle) ->
+ * sphere-sphere; else both carry a box (middle/bottom, bottom/bottom) ->
+ * AABB-AABB; else (top/bottom) the top node's sphere against the other's
+ * box. An overlapping pair descends the node that is not a leaf, or when
+ * both are inner nodes the larger one (sphere radius, A on a tie). Two
+ * overlapping leaves: each leaf's triangles whose boxes miss the other
+ * leaf's box are dropped, then every remaining pair whose triangle boxes
+ * overlap goes to the triangle test. Each triangle belongs to one leaf, so
+ * every pair is met at most once: the output has no duplicates.
+ * Counters: bv_tests counts node volume tests, tri_tests calls of the
+ * triangle test (triangle box checks are not counted). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_bvh.h"
+
+/* ---- pair lists ---- */
+void tb_pairlist_free(tb_pairlist *p) {
+  if (!p) return;
+  free(p->ij);
+  p->ij = NULL, p->n = p->cap = 0;
+}
+
+int tb_pairlist_push(tb_pairlist *p, int i, int j) {
+  if (p->n == p->cap) {
+    if (p->cap > (1 << 28)) return -1;
+    int cap = p->cap ? 2 * p->cap : 256;
+    int *ij = realloc(p->ij, (size_t)cap * 2 * sizeof *ij);
+    if (!ij) return -1;
+    p->ij = ij, p->cap = cap;
+  }
+  p->ij[2 * p->n] = i, p->ij[2 * p->n + 1] = j;
+  p->n++;
+  return 0;
+}
+
+static int cmp_pair(const void *x, const void *y) {
+  const int *a = x, *b = y;
+  if (a[0] != b[0]) return (a[0] > b[0]) - (a[0] < b[0]);
+  return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+void tb_pairlist_sort_unique(tb_pairlist *p) {
+  if (!p || p->n < 2) return;
+  qsort(p->ij, (size_t)p->n, 2 * sizeof *p->ij, cmp_pair);
+  int m = 1;
+  for (int k = 1; k < p->n; k++)
+    if (p->ij[2 * k] != p->ij[2 * m - 2] || p->ij[2 * k + 1] != p->ij[2 * m - 1])
+      p->ij[2 * m] = p->ij[2 * k], p->ij[2 * m + 1] = p->ij[2 * k + 1], m++;
+  p->n = m;
+}
+
+/* ---- the descent ---- */
+/* The volume tests of bv.c, inlined here (plain comparisons, no fmin). */
+/* Bitwise and: no branch per comparison (they mispredict in leaf loops). */
+static inline int box_box(const tb_aabb *a, const tb_aabb *b) {
+  return (a->lo.x <= b->hi.x) & (b->lo.x <= a->hi.x) & (a->lo.y <= b->hi.y) &
+         (b->lo.y <= a->hi.y) & (a->lo.z <= b->hi.z) & (b->lo.z <= a->hi.z);
+}
+static inline int sph_sph(const tb_sphere *a, const tb_sphere *b) {
+  double dx = a->c.x - b->c.x, dy = a->c.y - b->c.y, dz = a->c.z - b->c.z, r = a->r + b->r;
+  return dx * dx + dy * dy + dz * dz <= r * r;
+}
+static inline double excess(double v, double lo, double hi) {
+  return v < lo ? lo - v : (v > hi ? v - hi : 0.0);
+}
+static inline int sph_box(const tb_sphere *s, const tb_aabb *b) {
+  double dx = excess(s->c.x, b->lo.x, b->hi.x), dy = excess(s->c.y, b->lo.y, b->hi.y);
+  double dz = excess(s->c.z, b->lo.z, b->hi.z);
+  return dx * dx + dy * dy + dz * dz <= s->r * s->r;
+}
+static inline double min3(double a, double b, double c) {
+  double m = a < b ? a : b;
+  return m < c ? m : c;
+}
+static inline double max3(double a, double b, double c) {
+  double m = a > b ? a : b;
+  return m > c ? m : c;
+}
+
+static inline int overlap(const tb_bvh *A, int i, const tb_bvh *B, int j) {
+  unsigned ka = A->kind[i], kb = B->kind[j];
+  if (ka & kb & TB_BV_SPHERE) return sph_sph(A->sph + i, B->sph + j);
+  if (ka & kb & TB_BV_AABB) return box_box(A->box + i, B->box + j);
+  if (ka & TB_BV_SPHERE) return sph_box(A->sph + i, B->box + j);
+  return sph_box(B->sph + j, A->box + i);
+}
+
+/* A leaf's triangles gathered in chunks of up to CHUNK: numbers, vertices,
+ * boxes. The descent meets one leaf with many leaves of the other
+ * hierarchy in a row, so the last gathered chunk of each side is kept. */
+#define CHUNK 32
+typedef struct gathered {
+  int node, k0, n; /* the chunk held: node's triangles ord[k0..k0+n) */
+  int id[CHUNK];
+  tb_vec3 v[3 * CHUNK];
+  tb_aabb box[CHUNK];
+} gathered;
+
+static void gather(gathered *g, const tb_vec3 *x, const int *tri, const int *ord, int node, int k0,
+                   int k1) {
+  if (g->node == node && g->k0 == k0) return;
+  g->node = node, g->k0 = k0, g->n = k1 - k0;
+  for (int k = k0; k < k1; k++) {
+    int t = ord[k], u = k - k0;
+    tb_vec3 p = x[tri[3 * t]], q = x[tri[3 * t + 1]], r = x[tri[3 * t + 2]];
+    g->box[u].lo = tb_v3(min3(p.x, q.x, r.x), min3(p.y, q.y, r.y), min3(p.z, q.z, r.z));
+    g->box[u].hi = tb_v3(max3(p.x, q.x, r.x), max3(p.y, q.y, r.y), max3(p.z, q.z, r.z));
+    g->id[u] = t;
+    g->v[3 * u] = p, g->v[3 * u + 1] = q, g->v[3 * u + 2] = r;
+  }
+}
+
+/* Positions in g of the triangles whose boxes meet `other`; returns how many. */
+static int select_meeting(const gathered *g, const tb_aabb *other, unsigned char *sel) {
+  int m = 0;
+  for (int u = 0; u < g->n; u++) sel[m] = (unsigned char)u, m += box_box(g->box + u, other);
+  return m;
+}
+
+typedef struct query {
+  const tb_bvh *A, *B;
+  const tb_vec3 *xa, *xb;
+  tb_tritri_fn test;
+  tb_pairlist *out;
+  long tri_tests;
+  gathered ga, gb;
+} query;
+
+static int leaf_pair(query *Q, int i, int j) {
+  const tb_bvh *A = Q->A, *B = Q->B;
+  int a0 = A->first[i], a1 = a0 + A->count[i], b0 = B->first[j], b1 = b0 + B->count[j];
+  unsigned char sa[CHUNK], sb[CHUNK];
+  for (int ka = a0; ka < a1; ka += CHUNK) {
+    gather(&Q->ga, Q->xa, A->tri, A->tri_index, i, ka, ka + CHUNK < a1 ? ka + CHUNK : a1);
+    int na = select_meeting(&Q->ga, B->box + j, sa);
+    if (!na) continue;
+    for (int kb = b0; kb < b1; kb += CHUNK) {
+      gather(&Q->gb, Q->xb, B->tri, B->tri_index, j, kb, kb + CHUNK < b1 ? kb + CHUNK : b1);
+      int nb = select_meeting(&Q->gb, A->box + i, sb);
+      for (int u = 0; u < na; u++)
+        for (int v = 0; v < nb; v++) {
+          const gathered *ga = &Q->ga, *gb = &Q->gb;
+          int pu = sa[u], pv = sb[v];
+          if (!box_box(ga->box + pu, gb->box + pv)) continue;
+          Q->tri_tests++;
+          if (Q->test(ga->v + 3 * pu, gb->v + 3 * pv) &&
+              tb_pairlist_push(Q->out, ga->id[pu], gb->id[pv]))
+            return -1;
+        }
+    }
+  }
+  return 0;
+}
+
+int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb_vec3 *xb,
+                   tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats) {
+  if (stats) stats->bv_tests = stats->tri_tests = 0;
+  if (!a || !b || !test || !out) return -1;
+  if (a->nnodes == 0 || b->nnodes == 0) return 0;
+  query *Q = malloc(sizeof *Q);
+  int local[2 * 256], cap = 256, sp = 0, rc = 0;
+  int *stack = local;
+  long bv = 0;
+  if (!Q) return -1;
+  Q->A = a, Q->B = b, Q->xa = xa, Q->xb = xb, Q->test = test, Q->out = out, Q->tri_tests = 0;
+  Q->ga.node = Q->gb.node = -1;
+  stack[0] = 0, stack[1] = 0, sp = 1;
+  while (sp > 0) {
+    sp--;
+    int i = stack[2 * sp], j = stack[2 * sp + 1];
+    bv++;
+    if (!overlap(a, i, b, j)) continue;
+    int ci = a->child[i], cj = b->child[j];
+    if (ci < 0 && cj < 0) {
+      if ((rc = leaf_pair(Q, i, j))) break;
+      continue;
+    }
+    if (sp + 2 > cap) {
+      int *s = malloc((size_t)cap * 4 * sizeof *s);
+      if (!s) {
+        rc = -1;
+        break;
+      }
+      memcpy(s, stack, (size_t)sp * 2 * sizeof *s);
+      if (stack != local) free(stack);
+      stack = s, cap *= 2;
+    }
+    if (cj < 0 || (ci >= 0 && a->sph[i].r >= b->sph[j].r)) {
+      stack[2 * sp] = ci + 1, stack[2 * sp + 1] = j;
+      stack[2 * sp + 2] = ci, stack[2 * sp + 3] = j;
+    } else {
+      stack[2 * sp] = i, stack[2 * sp + 1] = cj + 1;
+      stack[2 * sp + 2] = i, stack[2 * sp + 3] = cj;
+    }
+    sp += 2;
+  }
+  if (stats) stats->bv_tests = bv, stats->tri_tests = Q->tri_tests;
+  if (stack != local) free(stack);
+  free(Q);
+  return rc;
+}
+
+/* ---- brute force ---- */
+/* A method that claims exactness never reports triangles whose boxes are
+ * disjoint, so for those the box prefilter changes nothing; any other test
+ * is called on every pair. */
+static int claims_exact(tb_tritri_fn test) {
+  int n;
+  const tb_tritri_method *m = tb_tritri_methods(&n);
+  for (int k = 0; k < n; k++)
+    if (m[k].test == test) return m[k].exact;
+  return 0;
+}
+
+int tb_collide_brute(const tb_vec3 *xa, const int *ta, int na, const tb_vec3 *xb, const int *tb,
+                     int nb, tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats) {
+  if (stats) stats->bv_tests = stats->tri_tests = 0;
+  if (!test || !out || na < 0 || nb < 0) return -1;
+  if (na == 0 || nb == 0) return 0;
+  int filter = claims_exact(test);
+  tb_aabb *bb = malloc((size_t)nb * sizeof *bb);
+  if (!bb) return -1;
+  for (int j = 0; j < nb; j++) {
+    tb_vec3 p = xb[tb[3 * j]], q = xb[tb[3 * j + 1]], r = xb[tb[3 * j + 2]];
+    bb[j].lo = tb_v3(min3(p.x, q.x, r.x), min3(p.y, q.y, r.y), min3(p.z, q.z, r.z));
+    bb[j].hi = tb_v3(max3(p.x, q.x, r.x), max3(p.y, q.y, r.y), max3(p.z, q.z, r.z));
+  }
+  long tests = 0;
+  int rc = 0;
+  for (int i = 0; i < na && !rc; i++) {
+    tb_vec3 P[3] = {xa[ta[3 * i]], xa[ta[3 * i + 1]], xa[ta[3 * i + 2]]};
+    tb_aabb ba;
+    ba.lo = tb_v3(min3(P[0].x, P[1].x, P[2].x), min3(P[0].y, P[1].y, P[2].y),
+                  min3(P[0].z, P[1].z, P[2].z));
+    ba.hi = tb_v3(max3(P[0].x, P[1].x, P[2].x), max3(P[0].y, P[1].y, P[2].y),
+                  max3(P[0].z, P[1].z, P[2].z));
+    for (int j = 0; j < nb; j++) {
+      if (filter && !box_box(&ba, bb + j)) continue;
+      tb_vec3 Q[3] = {xb[tb[3 * j]], xb[tb[3 * j + 1]], xb[tb[3 * j + 2]]};
+      tests++;
+      if (test(P, Q) && tb_pairlist_push(out, i, j)) {
+        rc = -1;
+        break;
+      }
+    }
+  }
+  if (stats) stats->tri_tests = tests;
+  free(bb);
+  return rc;
+}

@@ -1,0 +1,144 @@
+/* Moving and deforming hierarchies (thesis §4.3.3 parts 3 and 5).
+ *
+ * Rigid motion: the rotated-AABB update (the thesis's method (3), after
+ * Ericson 2005 §4.2.6): the box of the rotated rest box has centre R c + t
+ * and half extents |R| h (|R| elementwise), always computed from the rest
+ * box -- never from an already rotated one, which would grow without
+ * bound. Spheres move with their centres and keep their radii (R must be a
+ * rotation). Both are widened by 16 ulps of the coordinate magnitudes
+ * sum_j |R_ij| (|c_j| + h_j) + |t_i|, which covers the rounding of this
+ * update and of any ordinary evaluation of R x + t by the caller, so the
+ * moved volumes contain the moved triangles and queries stay exact.
+ *
+ * Deformation: bottom-up refit (part 5). Leaf boxes are recomputed from
+ * the vertices; an inner node whose children both kept their boxes keeps
+ * its own; otherwise its new box B' is the union of its children's boxes.
+ * With B the stored box, the thesis replaces B by B' when
+ *   ||Min' - Min||_2 + ||Max' - Max||_2 > delta
+ * and otherwise keeps B. Kept as is, B could miss the moved geometry (the
+ * thesis accepts the lost accuracy); here a kept box is grown to B u B',
+ * which holds the geometry, is never farther than B from B' in the measure
+ * above (so every stored box stays within delta of the exact one), and
+ * equals B whenever B already contains B' -- the thesis's "no update". With
+ * delta = 0 every box is exact. A node's sphere is recomputed from its box
+ * when the box changed, or when it no longer contains it (after a rigid
+ * motion the moved sphere is tighter than the moved box). */
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_bvh.h"
+
+void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t) {
+  if (!b || b->nnodes == 0) return;
+  double A[3][3], T[3] = {t.x, t.y, t.z};
+  int finite = tb_isfinite3(t);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) A[i][j] = fabs(R.m[i][j]), finite &= isfinite(R.m[i][j]) != 0;
+  const double slack = 16.0 * DBL_EPSILON;
+  for (int k = 0; k < b->nnodes; k++) {
+    if (!finite) { /* no finite motion: volumes that meet everything */
+      b->box[k].lo = tb_v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+      b->box[k].hi = tb_v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
+      b->sph[k].c = tb_v3(0, 0, 0), b->sph[k].r = HUGE_VAL;
+      continue;
+    }
+    tb_aabb a = b->box0[k];
+    double c[3] = {0.5 * (a.lo.x + a.hi.x), 0.5 * (a.lo.y + a.hi.y), 0.5 * (a.lo.z + a.hi.z)};
+    double h[3] = {0.5 * (a.hi.x - a.lo.x), 0.5 * (a.hi.y - a.lo.y), 0.5 * (a.hi.z - a.lo.z)};
+    tb_sphere s = b->sph0[k];
+    double sc[3] = {s.c.x, s.c.y, s.c.z}, lo[3], hi[3], nc[3], se = 0.0;
+    for (int i = 0; i < 3; i++) {
+      double cc = T[i], hh = 0.0, e = fabs(T[i]), sm = T[i];
+      for (int j = 0; j < 3; j++) {
+        cc += R.m[i][j] * c[j];
+        hh += A[i][j] * h[j];
+        e += A[i][j] * (fabs(c[j]) + h[j]);
+        sm += R.m[i][j] * sc[j];
+        se += A[i][j] * (fabs(sc[j]) + s.r);
+      }
+      se += fabs(T[i]);
+      hh += slack * e;
+      lo[i] = cc - hh, hi[i] = cc + hh, nc[i] = sm;
+    }
+    b->box[k].lo = tb_v3(lo[0], lo[1], lo[2]), b->box[k].hi = tb_v3(hi[0], hi[1], hi[2]);
+    b->sph[k].c = tb_v3(nc[0], nc[1], nc[2]);
+    b->sph[k].r = s.r + slack * se;
+  }
+}
+
+/* Farthest corner of box from the sphere's centre within its radius? */
+static int sphere_holds_box(tb_sphere s, tb_aabb b) {
+  double dx = fmax(fabs(b.lo.x - s.c.x), fabs(b.hi.x - s.c.x));
+  double dy = fmax(fabs(b.lo.y - s.c.y), fabs(b.hi.y - s.c.y));
+  double dz = fmax(fabs(b.lo.z - s.c.z), fabs(b.hi.z - s.c.z));
+  return dx * dx + dy * dy + dz * dz <= s.r * s.r * (1.0 - 1e-13);
+}
+
+static int same_box(tb_aabb a, tb_aabb b) {
+  return a.lo.x == b.lo.x && a.lo.y == b.lo.y && a.lo.z == b.lo.z && a.hi.x == b.hi.x &&
+         a.hi.y == b.hi.y && a.hi.z == b.hi.z;
+}
+
+#define CHANGED 0x80 /* scratch bit in kind[] during a refit */
+
+/* Plain comparisons: fmin/fmax are library calls here (NaN rules). */
+static inline tb_vec3 vmin(tb_vec3 a, tb_vec3 b) {
+  return tb_v3(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z);
+}
+static inline tb_vec3 vmax(tb_vec3 a, tb_vec3 b) {
+  return tb_v3(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
+}
+
+/* 1 when every vertex of every triangle is finite: v * 0 is 0 for finite v
+ * and NaN for an infinity or a NaN. */
+static int all_finite(const tb_bvh *b, const tb_vec3 *x) {
+  double z = 0.0;
+  for (int k = 0; k < 3 * b->ntri; k++) {
+    tb_vec3 p = x[b->tri[k]];
+    z += p.x * 0.0 + p.y * 0.0 + p.z * 0.0;
+  }
+  return z == 0.0;
+}
+
+int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta) {
+  if (!b || b->nnodes == 0) return 0;
+  if (!x || !all_finite(b, x)) return -1;
+  if (!(delta > 0)) delta = 0; /* negative or NaN: exact */
+  int nchanged = 0;
+  for (int k = b->nnodes - 1; k >= 0; k--) {
+    int c = b->child[k];
+    tb_aabb nb, old = b->box[k];
+    if (c < 0) {
+      const int *ord = b->tri_index + b->first[k], *tri = b->tri;
+      nb.lo = nb.hi = x[tri[3 * ord[0]]];
+      for (int m = 0; m < b->count[k]; m++) {
+        const int *f = tri + 3 * ord[m];
+        tb_vec3 p = x[f[0]], q = x[f[1]], r = x[f[2]];
+        nb.lo = vmin(nb.lo, vmin(p, vmin(q, r))), nb.hi = vmax(nb.hi, vmax(p, vmax(q, r)));
+      }
+    } else if ((b->kind[c] | b->kind[c + 1]) & CHANGED) {
+      nb.lo = vmin(b->box[c].lo, b->box[c + 1].lo);
+      nb.hi = vmax(b->box[c].hi, b->box[c + 1].hi);
+    } else {
+      nb = old;
+    }
+    if (!same_box(nb, old) && delta > 0) {
+      double d = tb_dist(nb.lo, old.lo) + tb_dist(nb.hi, old.hi);
+      if (!(d > delta)) nb.lo = vmin(nb.lo, old.lo), nb.hi = vmax(nb.hi, old.hi);
+    }
+    if (!same_box(nb, old)) {
+      b->box[k] = nb;
+      b->sph[k] = tb_aabb_sphere(nb);
+      b->kind[k] |= CHANGED;
+      nchanged++;
+    } else if (!sphere_holds_box(b->sph[k], nb)) {
+      b->sph[k] = tb_aabb_sphere(nb);
+      nchanged++;
+    }
+  }
+  for (int k = 0; k < b->nnodes; k++) b->kind[k] &= (unsigned char)~CHANGED;
+  memcpy(b->box0, b->box, (size_t)b->nnodes * sizeof *b->box);
+  memcpy(b->sph0, b->sph, (size_t)b->nnodes * sizeof *b->sph);
+  return nchanged;
+}

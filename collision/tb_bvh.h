@@ -1,0 +1,126 @@
+/* Bounding volume hierarchies over triangle meshes (thesis §4.3): Sphere,
+ * AABB and the composite Sphere-AABB hierarchy (top layers Sphere, middle
+ * layers Sphere+AABB with the sphere circumscribing the box, bottom layers
+ * AABB; test rules of fig. 4.4), built top-down; all intersecting triangle
+ * pairs between two meshes; rigid motion by the rotated-AABB update and
+ * refit after deformation with the thesis's threshold delta. Nodes live in
+ * flat arrays (hot: boxes, spheres, children; cold: build bookkeeping). */
+#ifndef TB_BVH_H
+#define TB_BVH_H
+
+#include "tb_error.h"
+#include "tb_math.h"
+#include "tb_tritri.h"
+
+/* ---- bounding volumes ---- */
+typedef struct tb_aabb {
+  tb_vec3 lo, hi;
+} tb_aabb;
+typedef struct tb_sphere {
+  tb_vec3 c;
+  double r;
+} tb_sphere;
+
+int tb_sphere_sphere(tb_sphere a, tb_sphere b);
+int tb_sphere_aabb(tb_sphere s, tb_aabb b); /* closest point on the box */
+int tb_aabb_aabb(tb_aabb a, tb_aabb b);
+/* The sphere circumscribing a box: centre the box centre, radius half the
+ * diagonal (thesis §4.3.3), rounded outward so it contains the box. */
+tb_sphere tb_aabb_sphere(tb_aabb b);
+
+/* ---- building ---- */
+typedef enum tb_split_axis {
+  TB_SPLIT_LONGEST,   /* longest extent of the triangle centroids */
+  TB_SPLIT_VARIANCE,  /* largest variance of the centroids */
+  TB_SPLIT_MIN_VOLUME /* smallest sum of the children's volumes */
+} tb_split_axis;
+typedef enum tb_split_point { TB_SPLIT_MEAN, TB_SPLIT_MEDIAN } tb_split_point;
+
+/* Layer kinds: a node at depth d is Sphere when d < sphere_layers, Sphere+AABB
+ * when d < sphere_layers + both_layers, else AABB. All-Sphere: sphere_layers
+ * >= the depth; all-AABB: 0, 0. */
+typedef struct tb_bvh_def {
+  tb_split_axis axis;
+  tb_split_point point;
+  int max_depth;     /* stop: depth limit (root depth 0) */
+  int min_leaf;      /* stop: no child gets fewer triangles than this... */
+  int max_leaf;      /* ...and a node with at most max_leaf triangles is a leaf */
+  int sphere_layers; /* composite layer depths */
+  int both_layers;
+} tb_bvh_def;
+/* AABB, longest, median, leaves <= 10, min_leaf 1, max_depth 40. */
+tb_bvh_def tb_bvh_default_def(void);
+/* The default with the layers of "sphere", "aabb" or "composite" (3/3);
+ * any other name gives a zeroed def, which tb_bvh_build refuses. */
+tb_bvh_def tb_bvh_kind_def(const char *kind);
+
+enum { TB_BV_SPHERE = 1, TB_BV_AABB = 2 }; /* bits of tb_bvh.kind[] */
+
+typedef struct tb_bvh {
+  int nnodes, ntri, depth;
+  /* hot, per node */
+  tb_aabb *box;
+  tb_sphere *sph;
+  int *child;         /* first child (the second is child+1), -1 for a leaf */
+  int *first, *count; /* range in tri_index (every node, children split it) */
+  unsigned char *kind;
+  /* rest volumes: those of the positions the hierarchy was built or last
+   * refit for; tb_bvh_transform maps them, never the moved ones */
+  tb_aabb *box0;
+  tb_sphere *sph0;
+  /* per triangle */
+  int *tri_index; /* triangle numbers in leaf order */
+  const int *tri; /* the mesh's triangles (3 per), not owned */
+} tb_bvh;
+
+int tb_bvh_build(tb_bvh *b, const tb_vec3 *x, const int *tri, int ntri, const tb_bvh_def *def,
+                 tb_error *err);
+void tb_bvh_free(tb_bvh *b);
+
+/* ---- motion and deformation ---- */
+/* Rigid motion x' = R x + t of the mesh, (R, t) taken from the rest
+ * positions (build or last refit), so calls replace each other instead of
+ * composing and boxes never grow without bound (thesis §4.3.3 part 3):
+ * boxes by the rotated-AABB update (centre R c + t, half extents |R| h),
+ * spheres move with their centres (radius kept); both widened by a few ulps
+ * of the coordinates so they contain x' however the caller rounds it. */
+void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t);
+/* Bottom-up refit from the (deformed) vertices x: leaf boxes rebuilt, a box
+ * replaced only when ||Min'-Min||_2 + ||Max'-Max||_2 > delta (delta = 0:
+ * exact boxes); a kept box is grown to contain the new one (so it stays
+ * within delta of the exact box and queries stay exact). The refit volumes
+ * become the rest volumes. Returns the number of nodes whose volume
+ * changed. */
+int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta);
+
+/* ---- queries ---- */
+typedef struct tb_pairlist {
+  int n, cap;
+  int *ij; /* 2 per pair: triangle of A, triangle of B */
+} tb_pairlist;
+void tb_pairlist_free(tb_pairlist *p);
+/* Appends (i, j); returns 0 or -1 out of memory (p unchanged). */
+int tb_pairlist_push(tb_pairlist *p, int i, int j);
+/* Sorts by (i, j) and removes duplicates. */
+void tb_pairlist_sort_unique(tb_pairlist *p);
+
+typedef struct tb_collide_stats {
+  long bv_tests;  /* volume-volume tests */
+  long tri_tests; /* triangle-triangle tests */
+} tb_collide_stats;
+
+/* Every intersecting pair (i of A, j of B): A's vertices xa, B's xb (world
+ * space, the positions the hierarchies were built/refit/transformed for).
+ * The pairs are appended to out unsorted, each once; returns 0 or -1 out of
+ * memory. tri_tests counts calls of test (pairs whose triangle boxes
+ * overlap, after each leaf's triangles were checked against the other
+ * leaf's box). */
+int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb_vec3 *xb,
+                   tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats);
+/* Brute force over all ntri_a * ntri_b pairs; for a test the method table
+ * marks exact, pairs with disjoint triangle boxes are skipped (such a test
+ * says 0 for them), any other test is called on every pair. */
+int tb_collide_brute(const tb_vec3 *xa, const int *ta, int na, const tb_vec3 *xb, const int *tb,
+                     int nb, tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats);
+
+#endif
