@@ -36,6 +36,7 @@ static const group groups[] = {
     {"fcl-aabb", "fcl-aabb", NULL},
     {"fcl-obbrss", "fcl-obbrss", NULL},
     {"bullet-gimpact", "bullet-gimpact", NULL},
+    {"bullet-gimpact-exact", "bullet-gimpact-exact", NULL},
 };
 #define NGROUPS ((int)(sizeof groups / sizeof groups[0]))
 
@@ -47,6 +48,21 @@ static void thesis_defs(const char *kind, tb_bvh_def *liver, tb_bvh_def *inst) {
   if (!strcmp(kind, "composite")) {
     liver->sphere_layers = 3, liver->both_layers = 3;
     inst->sphere_layers = 2, inst->both_layers = 2;
+  }
+}
+
+/* Lists the pairs of got not in truth (extra) and of truth not in got. */
+static void list_difference(FILE *f, const char *label, int row, const tb_pairlist *got,
+                            const tb_pairlist *truth) {
+  for (int k = 0; k < 2; k++) {
+    const tb_pairlist *a = k ? truth : got, *b = k ? got : truth;
+    for (int i = 0, j = 0; i < a->n; i++) {
+      long ka = (long)a->ij[2 * i] << 32 | a->ij[2 * i + 1];
+      while (j < b->n && ((long)b->ij[2 * j] << 32 | b->ij[2 * j + 1]) < ka) j++;
+      if (j < b->n && ((long)b->ij[2 * j] << 32 | b->ij[2 * j + 1]) == ka) continue;
+      fprintf(f, "%s %d %s %d %d\n", label, row, k ? "missing" : "extra", a->ij[2 * i],
+              a->ij[2 * i + 1]);
+    }
   }
 }
 
@@ -99,6 +115,13 @@ int tb_suite_table42(const tb_suite_opts *o) {
   double qps[NROWS][NGROUPS];
   int wrong[NGROUPS];
   double *ms = malloc(sizeof(double) * (size_t)reps);
+  char path[1024];
+  snprintf(path, sizeof path, "%s/mismatches.txt", dir);
+  FILE *list = fopen(path, "w");
+  if (list)
+    fprintf(list,
+            "# Pairs where a method differs from brute force with the exact test: "
+            "method, row (brute-force pairs), extra|missing, i (liver) j (instrument)\n");
   for (int g = 0; g < NGROUPS && ms && !failed; g++) {
     tb_progress("table 4.2", g, NGROUPS);
     wrong[g] = 0;
@@ -117,14 +140,22 @@ int tb_suite_table42(const tb_suite_opts *o) {
       tb_vec3 t;
       tb_scene_pose((double)row_pose[r] / (npose - 1), &R, &t);
       if (tb_collider_pose(c, R, t, &err)) failed = 1;
-      tb_collider_query(c, &pl, NULL, &err); /* warm-up */
-      for (int k = 0; k < reps && !failed; k++) {
-        uint64_t t0 = tb_time_ns(), c0 = tb_cpu_time_ns();
-        if (tb_collider_query(c, &pl, NULL, &err)) failed = 1;
-        ms[k] = (double)(tb_time_ns() - t0) * 1e-6;
-        (void)c0;
+      /* warm-up, and enough queries per sample for at least 2 ms */
+      long iters = 1;
+      for (;;) {
+        uint64_t t0 = tb_time_ns();
+        for (long k = 0; k < iters; k++) failed |= tb_collider_query(c, &pl, NULL, &err) != 0;
+        if (failed || tb_time_ns() - t0 >= 2000000 || iters >= (1L << 24)) break;
+        iters *= 2;
       }
-      wrong[g] += tb_pairlist_difference(&pl, &truth[r]);
+      for (int k = 0; k < reps && !failed; k++) {
+        uint64_t t0 = tb_time_ns();
+        for (long n = 0; n < iters; n++) failed |= tb_collider_query(c, &pl, NULL, &err) != 0;
+        ms[k] = (double)(tb_time_ns() - t0) * 1e-6 / (double)iters;
+      }
+      int d = tb_pairlist_difference(&pl, &truth[r]);
+      wrong[g] += d;
+      if (d && list) list_difference(list, groups[g].label, truth[r].n, &pl, &truth[r]);
       double med = tb_stats_of(ms, reps).median;
       qps[r][g] = med > 0 ? 1000.0 / med : 0;
       char bname[128];
@@ -135,6 +166,7 @@ int tb_suite_table42(const tb_suite_opts *o) {
   }
   tb_progress("table 4.2", NGROUPS, NGROUPS);
   free(ms);
+  if (list) fclose(list);
   if (!failed) {
     const char *cols[5 + NGROUPS];
     char names[NGROUPS][64];
@@ -171,7 +203,7 @@ int tb_suite_table42(const tb_suite_opts *o) {
       tb_table_row(ct);
       tb_table_cell(ct, "%s", groups[g].label);
       tb_table_cell(ct, "%d", wrong[g]);
-      if (strstr(groups[g].label, "exact") && wrong[g]) failed = 1;
+      if (strstr(groups[g].label, "+exact") && wrong[g]) failed = 1; /* ours must be exact */
     }
     tb_suite_table(s, ct);
     /* the target: our best at least 2x fcl-obbrss and bullet-gimpact at every row */
@@ -180,7 +212,8 @@ int tb_suite_table42(const tb_suite_opts *o) {
     for (int r = 0; r < NROWS; r++) {
       double best = 0, other = 0;
       for (int g = 3; g < 6; g++) best = qps[r][g] > best ? qps[r][g] : best;
-      for (int g = 7; g < 9; g++) other = qps[r][g] > other ? qps[r][g] : other;
+      for (int g = 7; g < 9; g++)
+        other = qps[r][g] > other ? qps[r][g] : other; /* obbrss, gimpact */
       double ratio = other > 0 ? best / other : 0;
       worst = ratio < worst ? ratio : worst;
       met &= ratio >= 2;

@@ -172,19 +172,18 @@ static void split_point(const builder *B, int first, int n, int a, double *s, in
 static int goes_left(double v, double s, int on_left) { return v < s || (v == s && on_left); }
 
 /* Number of triangles the split puts on the left; with boxes != NULL also
- * the two children's boxes (when both sides are non-empty). */
+ * the two children's boxes (meaningful when both sides are non-empty). */
 static int count_left(const builder *B, int first, int n, int a, double s, int on_left,
                       tb_aabb *boxes) {
-  int nl = 0, nr = 0;
+  int nl = 0;
+  if (boxes) /* empty boxes: every union replaces them */
+    for (int c = 0; c < 2; c++)
+      boxes[c].lo = tb_v3(HUGE_VAL, HUGE_VAL, HUGE_VAL),
+      boxes[c].hi = tb_v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
   for (int k = 0; k < n; k++) {
-    int t = B->ord[first + k];
-    if (goes_left(tb_comp(B->cen[t], a), s, on_left)) {
-      if (boxes) boxes[0] = nl ? box_union(boxes[0], B->tbox[t]) : B->tbox[t];
-      nl++;
-    } else {
-      if (boxes) boxes[1] = nr ? box_union(boxes[1], B->tbox[t]) : B->tbox[t];
-      nr++;
-    }
+    int t = B->ord[first + k], left = goes_left(tb_comp(B->cen[t], a), s, on_left);
+    if (boxes) boxes[!left] = box_union(boxes[!left], B->tbox[t]);
+    nl += left;
   }
   return nl;
 }
@@ -330,7 +329,7 @@ int tb_bvh_build(tb_bvh *b, const tb_vec3 *x, const int *tri, int ntri, const tb
     b->kind[i] = layer_kind(def, depth);
     b->child[i] = -1;
     if (depth > b->depth) b->depth = depth;
-    if (depth >= def->max_depth || n <= def->max_leaf || n < 2 * def->min_leaf) continue;
+    if (depth >= def->max_depth || n <= def->max_leaf || n < 2L * def->min_leaf) continue;
     int nl = split(&B, first, n), c = b->nnodes;
     b->nnodes += 2;
     b->child[i] = c;

@@ -60,8 +60,8 @@ void tb_pairlist_sort_unique(tb_pairlist *p) {
 /* The volume tests of bv.c, inlined here (plain comparisons, no fmin). */
 /* Bitwise and: no branch per comparison (they mispredict in leaf loops). */
 static inline int box_box(const tb_aabb *a, const tb_aabb *b) {
-  return (a->lo.x <= b->hi.x) & (b->lo.x <= a->hi.x) & (a->lo.y <= b->hi.y) &
-         (b->lo.y <= a->hi.y) & (a->lo.z <= b->hi.z) & (b->lo.z <= a->hi.z);
+  return (a->lo.x <= b->hi.x) & (b->lo.x <= a->hi.x) & (a->lo.y <= b->hi.y) & (b->lo.y <= a->hi.y) &
+         (a->lo.z <= b->hi.z) & (b->lo.z <= a->hi.z);
 }
 static inline int sph_sph(const tb_sphere *a, const tb_sphere *b) {
   double dx = a->c.x - b->c.x, dy = a->c.y - b->c.y, dz = a->c.z - b->c.z, r = a->r + b->r;
@@ -164,11 +164,10 @@ int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb
   if (stats) stats->bv_tests = stats->tri_tests = 0;
   if (!a || !b || !test || !out) return -1;
   if (a->nnodes == 0 || b->nnodes == 0) return 0;
-  query *Q = malloc(sizeof *Q);
+  query q, *Q = &q; /* about 9 KB: on the stack, no allocation per query */
   int local[2 * 256], cap = 256, sp = 0, rc = 0;
   int *stack = local;
   long bv = 0;
-  if (!Q) return -1;
   Q->A = a, Q->B = b, Q->xa = xa, Q->xb = xb, Q->test = test, Q->out = out, Q->tri_tests = 0;
   Q->ga.node = Q->gb.node = -1;
   stack[0] = 0, stack[1] = 0, sp = 1;
@@ -203,7 +202,6 @@ int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb
   }
   if (stats) stats->bv_tests = bv, stats->tri_tests = Q->tri_tests;
   if (stack != local) free(stack);
-  free(Q);
   return rc;
 }
 

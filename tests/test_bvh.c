@@ -13,8 +13,8 @@
 #include <string.h>
 
 #include "tb_bvh.h"
-#include "tb_generators.h"
 #include "tb_mesh_io.h"
+#include "tb_meshgen.h"
 #include "tb_rng.h"
 #include "tb_test.h"
 
@@ -165,57 +165,40 @@ static void soup(tb_mesh *m, int n, uint64_t seed) {
   }
 }
 
-/* Meshes from the generator table (tools/tb_meshgen.h cannot be included
- * beside tb_bvh.h: its tb_sphere() is the name of the bounding sphere type):
- * settings "key=value", NULL-terminated. */
-static int generate(const char *name, const char *const *sets, tb_mesh_part part, tb_mesh *out) {
-  const tb_generator *g = tb_generator_find(name);
-  double p[TB_GEN_MAX_PARAMS];
-  tb_gen_result r;
-  tb_error err;
-  memset(out, 0, sizeof *out);
-  if (!g) {
-    TB_CHECK_MSG(0, "no generator %s", name);
-    return -1;
-  }
-  tb_generator_defaults(g, p);
-  for (int k = 0; sets && sets[k]; k++)
-    if (tb_generator_set(g, p, sets[k])) {
-      TB_CHECK_MSG(0, "bad setting %s", sets[k]);
-      return -1;
-    }
-  if (tb_generator_run(g, p, &r, &err)) {
-    TB_CHECK_MSG(0, "%s: %s", name, err.msg);
-    return -1;
-  }
-  int rc = tb_gen_result_part(&r, part, out, &err);
-  TB_CHECK_MSG(!rc, "%s: %s", name, err.msg);
-  tb_gen_result_free(&r);
+/* Meshes from tools/ (the error goes to the test log). */
+static int made(int rc, const char *what, const tb_error *err) {
+  TB_CHECK_MSG(rc == 0, "%s: %s", what, err->msg);
   return rc;
 }
 static int geosphere(int nv, double radius, tb_mesh *m) {
-  char a[64], b[64];
-  snprintf(a, sizeof a, "verts=%d", nv), snprintf(b, sizeof b, "radius=%.17g", radius);
-  const char *sets[] = {a, b, NULL};
-  return generate("sphere", sets, TB_PART_SURFACE, m);
+  tb_error err;
+  return made(tb_geosphere(nv, radius, m, &err), "geosphere", &err);
 }
-/* Boundary of a beam lx x 0.5 x 0.5 of nx x 2 x 2 cells. */
+/* A beam lx x 0.5 x 0.5 of nx x 2 x 2 cells: its boundary triangles. */
 static int beam(double lx, int nx, tb_mesh *m) {
-  char a[64], b[64];
-  snprintf(a, sizeof a, "lx=%.17g", lx), snprintf(b, sizeof b, "nx=%d", nx);
-  const char *sets[] = {a, b, "ly=0.5", "lz=0.5", NULL};
-  return generate("beam", sets, TB_PART_SURFACE, m);
+  tb_error err;
+  return made(tb_beam(lx, 0.5, 0.5, nx, 2, 2, m, &err), "beam", &err);
 }
-static int instrument(tb_mesh *m) { return generate("instrument", NULL, TB_PART_SURFACE, m); }
+static int instrument(tb_mesh *m) {
+  tb_error err;
+  tb_instrument_def d = tb_instrument_default_def();
+  return made(tb_instrument(&d, m, &err), "instrument", &err);
+}
 /* The liver's collision model (every tet face) and its surface. */
 static int liver_faces(tb_mesh *faces, tb_mesh *surface) {
-  if (generate("liver", NULL, TB_PART_FACES, faces)) return -1;
-  if (generate("liver", NULL, TB_PART_SURFACE, surface)) {
-    tb_mesh_free(faces);
+  tb_error err;
+  tb_liver_def d = tb_liver_default_def();
+  if (made(tb_liver_surface(&d, surface, &err), "liver surface", &err)) return -1;
+  if (made(tb_liver_tets(&d, surface, faces, &err), "liver tets", &err)) {
+    tb_mesh_free(surface);
     return -1;
   }
+  free(faces->tri);
+  faces->ntri = tb_mesh_tet_faces(faces, &faces->tri);
   TB_CHECK(faces->ntri > 9000);
-  return 0;
+  if (faces->ntri > 0) return 0;
+  tb_mesh_free(faces), tb_mesh_free(surface);
+  return -1;
 }
 
 /* ---- volume tests ---- */
@@ -828,6 +811,36 @@ static void fcl_env_rob(void) {
   tb_mesh_free(&env), tb_mesh_free(&rob);
 }
 
+/* A chain: triangles near the planes x = 200^k 1e-300, so every mean split
+ * peels off the farthest one (the mean of m + 1 of them exceeds all but the
+ * last) and the hierarchy is N - 1 deep; a self-query then needs a
+ * traversal stack beyond its initial 256 pairs. */
+static void deep_chain(void) {
+  enum { N = 200 };
+  static tb_vec3 x[3 * N];
+  static int tri[3 * N];
+  double c = 1e-300;
+  for (int k = 0; k < N; k++, c *= 200) {
+    x[3 * k] = tb_v3(c, 0, 0), x[3 * k + 1] = tb_v3(c * (1 + 1e-9), 1, 0);
+    x[3 * k + 2] = tb_v3(c, 0, 1);
+  }
+  for (int k = 0; k < 3 * N; k++) tri[k] = k;
+  tb_bvh_def d = tb_bvh_default_def();
+  d.point = TB_SPLIT_MEAN, d.max_leaf = 1, d.max_depth = 1000;
+  tb_bvh b;
+  tb_error err;
+  TB_CHECK(tb_bvh_build(&b, x, tri, N, &d, &err) == 0);
+  TB_CHECK_MSG(b.depth == N - 1, "depth %d", b.depth);
+  check_structure(&b, x, &d, EXACT);
+  tb_pairlist ref = no_pairs();
+  TB_CHECK(tb_collide_brute(x, tri, N, x, tri, N, tb_tritri_exact, &ref, NULL) == 0);
+  tb_pairlist_sort_unique(&ref);
+  TB_CHECK_MSG(ref.n == N, "%d pairs", ref.n);
+  TB_CHECK(query_equals(&b, x, &b, x, &ref));
+  tb_pairlist_free(&ref);
+  tb_bvh_free(&b);
+}
+
 /* ---- bad input, empty meshes, pair lists ---- */
 static void errors_and_edges(void) {
   tb_vec3 x[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
@@ -889,5 +902,6 @@ const tb_test_case tb_tests_bvh[] = {{"volumes_hand", volumes_hand},
                                      {"transform_rules", transform_rules},
                                      {"refit_vs_brute", refit_vs_brute},
                                      {"fcl_env_rob", fcl_env_rob},
+                                     {"deep_chain", deep_chain},
                                      {"errors_and_edges", errors_and_edges},
                                      {0, 0}};
