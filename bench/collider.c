@@ -1,6 +1,7 @@
 /* The collider table behind `collide` and the collision suites (see
- * tb_collider.h). Ours keeps B's build-time hierarchy and moves a working
- * copy of its volumes to each pose by the thesis's rotated-AABB update; the
+ * tb_collider.h). Ours keeps B's build-time hierarchy and moves its rest
+ * volumes into a working copy at each pose by the thesis's rotated-AABB
+ * update (tb_bvh_transform maps box0/sph0, so poses never compound); the
  * references get B's world-space vertices (FCL's collide() would deep-copy
  * and rebuild both models on a non-identity transform). */
 #include <stdlib.h>
@@ -124,11 +125,9 @@ oom:
 
 int tb_collider_pose(tb_collider *c, tb_mat3 R, tb_vec3 t, tb_error *err) {
   for (int i = 0; i < c->b->nv; i++) c->xb[i] = tb_add(tb_m3_mulv(R, c->b->x[i]), t);
-  if (c->family == 0) { /* a view of B's hierarchy with its own volumes */
+  if (c->family == 0) { /* B's rest volumes (box0, sph0) moved into the view's own arrays */
     tb_bvh v = c->hb;
     v.box = c->box, v.sph = c->sph;
-    memcpy(v.box, c->hb.box, sizeof(tb_aabb) * (size_t)v.nnodes);
-    memcpy(v.sph, c->hb.sph, sizeof(tb_sphere) * (size_t)v.nnodes);
     tb_bvh_transform(&v, R, t);
   } else if (c->family == 1) {
     tb_ref_bvh_free(c->rb);
