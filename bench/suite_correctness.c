@@ -22,7 +22,7 @@ typedef struct named_set {
 } named_set;
 
 /* Loads the sets; returns how many (names of sets absent are noted). */
-static int load_sets(const tb_suite_opts *o, named_set *sets, tb_suite *s) {
+static int load_sets(const tb_suite_opts *o, named_set *sets, tb_suite *s, int *bad) {
   int n = 0;
   tb_error err;
   snprintf(sets[n].name, sizeof sets[n].name, "designed 40");
@@ -42,19 +42,17 @@ static int load_sets(const tb_suite_opts *o, named_set *sets, tb_suite *s) {
     else
       tb_pairs_free(&sets[n].set);
   }
-  const char *jgt = TB_SOURCE_ROOT "/../shared/data/jgt-shen2003";
-  char a[1024], b[1024];
-  snprintf(a, sizeof a, "%s/intersected.txt", jgt);
-  snprintf(b, sizeof b, "%s/separated.txt", jgt);
   tb_pairset sep;
-  if (tb_pairs_read_jgt(a, 1, &sets[n].set, &err) == 0 &&
-      tb_pairs_read_jgt(b, 0, &sep, &err) == 0) {
+  int jrc = tb_pairs_read_jgt_dir(TB_SHARED_DATA "/jgt-shen2003", &sets[n].set, &sep, &err);
+  if (jrc < 0) {
+    fprintf(stderr, "correctness: %s\n", err.msg);
+    *bad = 1;
+  } else if (jrc == 0) {
     for (int i = 0; i < sep.n; i++) tb_pairs_add(&sets[n].set, &sep.pairs[i], sep.expect[i]);
     tb_pairs_free(&sep);
     snprintf(sets[n].name, sizeof sets[n].name, "JGT Shen 2003");
     n++;
   } else {
-    tb_pairs_free(&sets[n].set);
     tb_suite_note(s, "JGT Shen-2003 pairs absent (%s): that column is left out.", err.msg);
   }
   return n;
@@ -83,7 +81,7 @@ int tb_suite_correctness(const tb_suite_opts *o) {
     return 1;
   }
   named_set sets[MAX_SETS];
-  int nsets = load_sets(o, sets, s), nm, failed = 0;
+  int failed = 0, nsets = load_sets(o, sets, s, &failed), nm;
   const tb_tritri_method *m = tb_tritri_methods(&nm), *oracle = tb_tritri_find("cgal");
   /* the oracle's answers, and its agreement with the hand-made and JGT labels */
   for (int k = 0; k < nsets; k++) {

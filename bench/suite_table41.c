@@ -114,18 +114,14 @@ static int table41(const tb_suite_opts *o, tb_suite *s, const tb_pairset *d40, i
 static int jgt(const tb_suite_opts *o, tb_suite *s, int reps) {
   tb_pairset in, sep;
   tb_error err;
-  const char *dir = TB_SOURCE_ROOT "/../shared/data/jgt-shen2003";
-  char a[1024], b[1024];
-  snprintf(a, sizeof a, "%s/intersected.txt", dir);
-  snprintf(b, sizeof b, "%s/separated.txt", dir);
-  if (tb_pairs_read_jgt(a, 1, &in, &err)) {
+  int jrc = tb_pairs_read_jgt_dir(TB_SHARED_DATA "/jgt-shen2003", &in, &sep, &err);
+  if (jrc < 0) {
+    fprintf(stderr, "table 4.1: %s\n", err.msg);
+    return 1;
+  }
+  if (jrc > 0) {
     tb_suite_note(s, "JGT Shen-2003 pairs absent (%s): no ns/pair benchmark in this run.", err.msg);
     return 0;
-  }
-  if (tb_pairs_read_jgt(b, 0, &sep, &err)) {
-    tb_pairs_free(&in);
-    tb_suite_note(s, "JGT Shen-2003 pairs unreadable (%s).", err.msg);
-    return 1;
   }
   static const int mix[4] = {0, 10, 50, 100};
   int nm, n = in.n < sep.n ? in.n : sep.n;

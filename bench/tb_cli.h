@@ -12,6 +12,9 @@ typedef struct tb_command {
   int (*run)(int argc, char **argv);
 } tb_command;
 
+/* Real data from the field, read at run time when present. */
+#define TB_SHARED_DATA TB_SOURCE_ROOT "/../shared/data"
+
 /* Exit codes. */
 enum { TB_EXIT_OK = 0, TB_EXIT_FAIL = 1, TB_EXIT_INPUT = 2 };
 

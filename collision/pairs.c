@@ -152,6 +152,29 @@ int tb_pairs_read_jgt(const char *path, int label, tb_pairset *set, tb_error *er
   return rc;
 }
 
+int tb_pairs_read_jgt_dir(const char *dir, tb_pairset *in, tb_pairset *sep, tb_error *err) {
+  char a[1024], b[1024];
+  memset(sep, 0, sizeof *sep);
+  if (snprintf(a, sizeof a, "%s/intersected.txt", dir) >= (int)sizeof a ||
+      snprintf(b, sizeof b, "%s/separated.txt", dir) >= (int)sizeof b) {
+    memset(in, 0, sizeof *in);
+    return tb_error_set(err, dir, 0, "path too long");
+  }
+  FILE *probe = fopen(a, "r");
+  if (!probe) {
+    memset(in, 0, sizeof *in);
+    tb_error_set(err, a, 0, "absent");
+    return 1;
+  }
+  fclose(probe);
+  if (tb_pairs_read_jgt(a, 1, in, err)) return -1;
+  if (tb_pairs_read_jgt(b, 0, sep, err)) {
+    tb_pairs_free(in);
+    return -1;
+  }
+  return 0;
+}
+
 void tb_pairs_write_line(FILE *f, const tb_tripair *pr) {
   const tb_vec3 *v[6] = {&pr->p[0], &pr->p[1], &pr->p[2], &pr->q[0], &pr->q[1], &pr->q[2]};
   for (int i = 0; i < 6; i++) fprintf(f, "%s%a %a %a", i ? "  " : "", v[i]->x, v[i]->y, v[i]->z);

@@ -28,6 +28,11 @@ int tb_pairs_read_file(const char *path, tb_pairset *set, tb_error *err);
 /* The JGT format; each pair gets expect = `label` (1 for intersected.txt,
  * 0 for separated.txt). */
 int tb_pairs_read_jgt(const char *path, int label, tb_pairset *set, tb_error *err);
+/* Both files of the JGT folder: intersected.txt (expect 1) into *in and
+ * separated.txt (expect 0) into *sep. Returns 0; 1 when the folder has no
+ * intersected.txt (data absent); -1 on a read error. On non-zero both are
+ * left empty and err says why. */
+int tb_pairs_read_jgt_dir(const char *dir, tb_pairset *in, tb_pairset *sep, tb_error *err);
 /* Appends one pair (expect -1 for unknown); -1 when out of memory. */
 int tb_pairs_add(tb_pairset *set, const tb_tripair *pair, int expect);
 void tb_pairs_free(tb_pairset *set);
