@@ -18,7 +18,6 @@ void tb_mesh_print_info(FILE *f, const char *name, const tb_mesh *m) {
     surf.ntri = tb_mesh_tet_boundary(m, &bnd);
     surf.tri = bnd;
   }
-  surf.ntet = 0;
   tb_mesh_topo t = tb_mesh_topology(&surf);
   tb_vec3 lo, hi;
   tb_mesh_bbox(m, &lo, &hi);

@@ -194,9 +194,7 @@ void tb_gen_result_print(FILE *f, const tb_generator *g, const double *p, const 
   row(f, "tet faces", c.faces, d.faces, has);
   row(f, "tet edges", c.edges, d.edges, has);
   const tb_mesh *m = r->surface.nv ? &r->surface : &r->volume;
-  tb_mesh s = *m;
-  s.ntet = 0;
-  tb_mesh_topo t = tb_mesh_topology(&s);
+  tb_mesh_topo t = tb_mesh_topology(m);
   fprintf(f, "  surface: %s, %s, %d component(s), Euler %d", t.closed ? "closed" : "open",
           t.manifold ? "manifold" : "NOT manifold", t.components, t.euler);
   if (r->volume.ntet) fprintf(f, "; min tet volume %.3g", tb_mesh_min_tet_volume(&r->volume));

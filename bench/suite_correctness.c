@@ -26,7 +26,7 @@ static int load_sets(const tb_suite_opts *o, named_set *sets, tb_suite *s, int *
   int n = 0;
   tb_error err;
   snprintf(sets[n].name, sizeof sets[n].name, "designed 40");
-  if (tb_pairs_read_file(TB_SOURCE_ROOT "/tests/data/designed40.txt", &sets[n].set, &err))
+  if (tb_pairs_read_file(TB_DESIGNED_PAIRS, &sets[n].set, &err))
     tb_suite_note(s, "designed pairs not read: %s", err.msg);
   else
     n++;

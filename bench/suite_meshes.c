@@ -152,9 +152,7 @@ int tb_suite_meshes(const tb_suite_opts *o) {
     const char *src;
     if (!jb->paper || !g->paper || !g->paper(p, &d, &src)) memset(&d, 0, sizeof d);
     const tb_mesh *m = first.surface.nv ? &first.surface : &first.volume;
-    tb_mesh surf = *m;
-    surf.ntet = 0;
-    tb_mesh_topo topo = tb_mesh_topology(&surf);
+    tb_mesh_topo topo = tb_mesh_topology(m);
     tb_table_row(t);
     tb_table_cell(t, "%s", jb->label);
     tb_table_cell(t, "%s", *jb->settings ? jb->settings : "defaults");

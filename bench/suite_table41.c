@@ -184,7 +184,7 @@ int tb_suite_table41(const tb_suite_opts *o) {
     return 1;
   }
   tb_pairset d40;
-  int rc = tb_pairs_read_file(TB_SOURCE_ROOT "/tests/data/designed40.txt", &d40, &err);
+  int rc = tb_pairs_read_file(TB_DESIGNED_PAIRS, &d40, &err);
   if (rc) fprintf(stderr, "table 4.1: %s\n", err.msg);
   int reps = o->full ? 11 : 5;
   if (!rc) rc = table41(o, s, &d40, reps) || jgt(o, s, o->full ? 51 : 21);

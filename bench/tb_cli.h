@@ -14,6 +14,8 @@ typedef struct tb_command {
 
 /* Real data from the field, read at run time when present. */
 #define TB_SHARED_DATA TB_SOURCE_ROOT "/../shared/data"
+/* The 40 designed triangle pairs (thesis §4.4.2; ours, hand-verified). */
+#define TB_DESIGNED_PAIRS TB_SOURCE_ROOT "/tests/data/designed40.txt"
 
 /* Exit codes. */
 enum { TB_EXIT_OK = 0, TB_EXIT_FAIL = 1, TB_EXIT_INPUT = 2 };

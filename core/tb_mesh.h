@@ -45,6 +45,7 @@ double tb_mesh_volume(const tb_mesh *m);
 double tb_mesh_area(const tb_mesh *m);
 /* Smallest signed tet volume (0 when there are no tets). */
 double tb_mesh_min_tet_volume(const tb_mesh *m);
+/* Topology of the triangles only; tets are ignored. */
 tb_mesh_topo tb_mesh_topology(const tb_mesh *m);
 
 /* Distinct undirected edges of the tets (or, with no tets, of the

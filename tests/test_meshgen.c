@@ -8,12 +8,6 @@
 #include "tb_meshgen.h"
 #include "tb_test.h"
 
-static tb_mesh_topo surface_topology(const tb_mesh *m) {
-  tb_mesh s = *m;
-  s.ntet = 0;
-  return tb_mesh_topology(&s);
-}
-
 static void spheres_bao2006(void) {
   static const int nv[2] = {252, 1002}, nt[2] = {500, 2000};
   for (int k = 0; k < 2; k++) {
@@ -21,7 +15,7 @@ static void spheres_bao2006(void) {
     tb_error err;
     TB_CHECK(tb_geosphere(nv[k], 2.0, &m, &err) == 0);
     TB_CHECK(m.nv == nv[k] && m.ntri == nt[k]);
-    tb_mesh_topo t = surface_topology(&m);
+    tb_mesh_topo t = tb_mesh_topology(&m);
     TB_CHECK(t.closed && t.manifold && t.euler == 2 && t.components == 1 && !t.misoriented_edges);
     for (int i = 0; i < m.nv; i++) TB_CHECK_NEAR(tb_len(m.x[i]), 2.0, 1e-12);
     double v = tb_mesh_volume(&m), exact = 4.0 / 3 * M_PI * 8;
@@ -41,7 +35,7 @@ static void beam_conforming(void) {
   TB_CHECK(m.nv == 11 * 3 * 4 && m.ntet == 6 * 60);
   TB_CHECK(tb_mesh_min_tet_volume(&m) > 0);
   TB_CHECK_NEAR(tb_mesh_volume(&m), 20, 1e-12);
-  tb_mesh_topo t = surface_topology(&m);
+  tb_mesh_topo t = tb_mesh_topology(&m);
   TB_CHECK(t.closed && t.manifold && t.euler == 2 && !t.misoriented_edges);
   int *e = NULL, *f = NULL;
   int ne = tb_mesh_edges(&m, &e), nf = tb_mesh_tet_faces(&m, &f);
@@ -61,7 +55,7 @@ static void instrument_counts(void) {
   tb_error err;
   TB_CHECK(tb_instrument(&d, &m, &err) == 0);
   TB_CHECK(m.nv == 628 && m.ntri == 1248); /* the thesis's instrument */
-  tb_mesh_topo t = surface_topology(&m);
+  tb_mesh_topo t = tb_mesh_topology(&m);
   TB_CHECK(t.closed && t.manifold && t.components == 2 && t.euler == 4 && !t.misoriented_edges);
   TB_CHECK(tb_mesh_volume(&m) > 0);
   /* the shaft volume dominates: pi r^2 L within 10% */
@@ -80,7 +74,7 @@ static void tetgen_sphere(void) {
   TB_CHECK(t.ntet > 0 && tb_mesh_min_tet_volume(&t) > 0);
   TB_CHECK(t.ntri == s.ntri); /* Y: the boundary is kept */
   TB_CHECK_NEAR(tb_mesh_volume(&t), tb_mesh_volume(&s), 1e-9);
-  tb_mesh_topo topo = surface_topology(&t);
+  tb_mesh_topo topo = tb_mesh_topology(&t);
   TB_CHECK(topo.closed && topo.manifold && topo.euler == 2);
   tb_mesh_free(&t);
   /* two overlapping spheres in one surface: TetGen fails (it crashes in
@@ -111,7 +105,7 @@ static void liver_tets_thesis(void) {
   TB_CHECK_MSG(abs(t.ntet - 4230) <= 423, "tets %d", t.ntet);
   TB_CHECK(tb_mesh_min_tet_volume(&t) > 0);
   TB_CHECK_NEAR(tb_mesh_volume(&t), tb_mesh_volume(&s), 1e-9 * tb_mesh_volume(&s));
-  tb_mesh_topo topo = surface_topology(&t);
+  tb_mesh_topo topo = tb_mesh_topology(&t);
   TB_CHECK(topo.closed && topo.manifold && topo.euler == 2 && topo.components == 1);
   int *e = NULL, *f = NULL;
   int ne = tb_mesh_edges(&t, &e), nf = tb_mesh_tet_faces(&t, &f);
