@@ -10,18 +10,24 @@
 #include "tb_timer.h"
 
 static const tb_suite_entry suites[] = {
-    {"meshes", "meshes", "generated meshes: counts beside the documents' (thesis §2.5, Bao 2006)",
-     tb_suite_meshes},
-    {"correctness", "correctness",
+    {"meshes", "meshes", NULL,
+     "generated meshes: counts beside the documents' (thesis §2.5, Bao 2006)", tb_suite_meshes},
+    {"correctness", "correctness", NULL,
      "triangle tests: wrong answers against the exact oracle, per family of pairs",
      tb_suite_correctness},
-    {"table-4.1", "4.1", "thesis table 4.1: time for 0.1-2 million tests; ns/pair on the JGT pairs",
-     tb_suite_table41},
-    {"table-4.2", "4.2",
+    {"table-4.1", "4.1", NULL,
+     "thesis table 4.1: time for 0.1-2 million tests; ns/pair on the JGT pairs", tb_suite_table41},
+    {"table-4.2", "4.2", NULL,
      "thesis table 4.2: queries/s against intersecting pairs, liver against instrument",
      tb_suite_table42},
-    {"refit", "refit", "the deforming liver: refit, rebuild, FCL refit, Bullet update, query",
+    {"refit", "refit", NULL, "the deforming liver: refit, rebuild, FCL refit, Bullet update, query",
      tb_suite_refit},
+    {"table-3.5", "3.5", NULL,
+     "thesis §3.5: steps/s of msm, fem, fem-corot, sm on the liver; recovery after a far stretch",
+     tb_suite_table35},
+    {"figure-3.10", NULL, "3.10",
+     "thesis fig. 3.10: shape-matching time per frame against particles, clusters, variant",
+     tb_suite_fig310},
 };
 static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
 
@@ -104,16 +110,22 @@ int tb_cmd_reproduce(int argc, char **argv) {
   return failed ? TB_EXIT_FAIL : TB_EXIT_OK;
 }
 
-/* `table NAME [options]`: reproduce --only the suite that makes table NAME. */
-int tb_cmd_table(int argc, char **argv) {
+/* `table NAME` / `figure NAME` [options]: reproduce --only the suite that
+ * makes it. */
+static int run_alias(const char *kind, int argc, char **argv) {
+  int fig = !strcmp(kind, "figure");
   if (argc < 2 || argv[1][0] == '-') {
-    fprintf(stderr, "usage: tissuebench table NAME [--quick|--full] [--seed N] [--results DIR]\n");
-    for (int s = 0; s < nsuites; s++)
-      if (suites[s].table) fprintf(stderr, "  %-12s %s\n", suites[s].table, suites[s].summary);
+    fprintf(stderr, "usage: tissuebench %s NAME [--quick|--full] [--seed N] [--results DIR]\n",
+            kind);
+    for (int s = 0; s < nsuites; s++) {
+      const char *alias = fig ? suites[s].figure : suites[s].table;
+      if (alias) fprintf(stderr, "  %-12s %s\n", alias, suites[s].summary);
+    }
     return TB_EXIT_INPUT;
   }
   for (int s = 0; s < nsuites; s++) {
-    if (!suites[s].table || strcmp(suites[s].table, argv[1])) continue;
+    const char *alias = fig ? suites[s].figure : suites[s].table;
+    if (!alias || strcmp(alias, argv[1])) continue;
     char *args[64];
     int n = 0;
     args[n++] = "reproduce";
@@ -123,7 +135,10 @@ int tb_cmd_table(int argc, char **argv) {
     args[n] = NULL;
     return tb_cmd_reproduce(n, args);
   }
-  fprintf(stderr, "tissuebench table: unknown table '%s' (tissuebench table lists them)\n",
-          argv[1]);
+  fprintf(stderr, "tissuebench %s: unknown %s '%s' (tissuebench %s lists them)\n", kind, kind,
+          argv[1], kind);
   return TB_EXIT_INPUT;
 }
+
+int tb_cmd_table(int argc, char **argv) { return run_alias("table", argc, argv); }
+int tb_cmd_figure(int argc, char **argv) { return run_alias("figure", argc, argv); }

@@ -26,14 +26,19 @@ static const tb_command commands[] = {
      "tissuebench test [SUBSTRING...]\n"
      "  runs the test cases whose \"suite/name\" contains any SUBSTRING (all without)",
      cmd_test},
-    {"table", "make one table of the reproduction (correctness, 4.1, 4.2, refit, meshes)",
+    {"table", "make one table of the reproduction (correctness, 4.1, 4.2, refit, meshes, 3.5)",
      "tissuebench table NAME [--quick|--full] [--seed N] [--results DIR]\n"
      "  4.2          thesis table 4.2: queries/s against intersecting pairs, liver vs instrument\n"
      "  refit        the deforming liver: refit, rebuild, FCL refit, Bullet update, query\n"
      "  correctness  triangle tests' wrong answers against the exact oracle, per family\n"
      "  4.1          thesis table 4.1: ms for 0.1-2 million tests, ns/pair on the JGT pairs\n"
-     "  meshes       generated meshes beside the documents' counts",
+     "  meshes       generated meshes beside the documents' counts\n"
+     "  3.5          thesis §3.5: steps/s of the deformation models on the liver; recovery",
      tb_cmd_table},
+    {"figure", "make one figure of the reproduction (3.10)",
+     "tissuebench figure NAME [--quick|--full] [--seed N] [--results DIR]\n"
+     "  3.10         thesis fig. 3.10: shape-matching time per frame against particle count",
+     tb_cmd_figure},
     {"tritri", "classify triangle pairs with one method (0/1 per pair)",
      "tissuebench tritri --method NAME [--input FILE] [--repeat K]\n"
      "  reads pairs from FILE or stdin, one per line: 18 numbers p0 p1 p2 q0 q1 q2 (x y z each;\n"
@@ -51,6 +56,17 @@ static const tb_command commands[] = {
      "  --pairs      print every intersecting pair \"i j\" (0-based, sorted) on stdout\n"
      "  a summary (pairs, volume tests, triangle tests, build and query time) goes to stderr",
      tb_cmd_collide},
+    {"simulate", "run one deformation model on one scene",
+     "tissuebench simulate --model NAME --scene NAME [--steps N] [--dt X] [--set key=value ...]\n"
+     "                    [--vtk DIR] [--every K] | --list\n"
+     "  models: msm, fem, fem-corot, sm; scenes: liver-stretch, liver-press, beam, drop\n"
+     "  --set  a scene key (dt duration amplitude release nodes gravity vmax inversion drag) or a "
+     "model key\n"
+     "         (--list shows each model's keys), e.g. --set ks=180 --set sm_mode=linear\n"
+     "  --vtk  write the surface every K steps (default: 30 frames per simulated second)\n"
+     "  prints the median time per step and the final state's metrics; a run that blows up\n"
+     "  prints \"status: unstable (reason)\" and exits 1",
+     tb_cmd_simulate},
     {"mesh", "mesh info FILE, or generate a mesh (liver, instrument, sphere, beam)",
      "tissuebench mesh info FILE\n"
      "  counts, bounding box, closed/manifold, Euler characteristic and volume of a mesh file\n"

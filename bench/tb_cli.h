@@ -23,8 +23,10 @@ enum { TB_EXIT_OK = 0, TB_EXIT_FAIL = 1, TB_EXIT_INPUT = 2 };
 int tb_cmd_mesh(int argc, char **argv);
 int tb_cmd_reproduce(int argc, char **argv);
 int tb_cmd_table(int argc, char **argv);
+int tb_cmd_figure(int argc, char **argv);
 int tb_cmd_tritri(int argc, char **argv);
 int tb_cmd_collide(int argc, char **argv);
+int tb_cmd_simulate(int argc, char **argv);
 
 /* Options every suite receives. */
 typedef struct tb_suite_opts {
@@ -36,8 +38,9 @@ typedef struct tb_suite_opts {
 
 /* A suite of the reproduction: writes results/<name>/. Returns 0 or 1. */
 typedef struct tb_suite_entry {
-  const char *name;  /* results/<name>/ */
-  const char *table; /* `tissuebench table NAME` (NULL: none) */
+  const char *name;   /* results/<name>/ */
+  const char *table;  /* `tissuebench table NAME` (NULL: none) */
+  const char *figure; /* `tissuebench figure NAME` (NULL: none) */
   const char *summary;
   int (*run)(const tb_suite_opts *opts);
 } tb_suite_entry;
@@ -47,6 +50,8 @@ int tb_suite_correctness(const tb_suite_opts *opts);
 int tb_suite_table41(const tb_suite_opts *opts);
 int tb_suite_table42(const tb_suite_opts *opts);
 int tb_suite_refit(const tb_suite_opts *opts);
+int tb_suite_table35(const tb_suite_opts *opts);
+int tb_suite_fig310(const tb_suite_opts *opts);
 
 /* Helpers shared by the commands. */
 int tb_cli_has_help(int argc, char **argv);

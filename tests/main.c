@@ -93,8 +93,13 @@ static const struct {
     {"tritri_exact", tb_tests_tritri_exact},
     {"refs", tb_tests_refs},
     {"tritri", tb_tests_tritri},
-    {"bvh", tb_tests_bvh},         {"refbvh", tb_tests_refbvh},
+    {"bvh", tb_tests_bvh},
+    {"refbvh", tb_tests_refbvh},
     {"collide", tb_tests_collide},
+    {"models", tb_tests_models},
+    {"msm", tb_tests_msm},
+    {"fem", tb_tests_fem},
+    {"sm", tb_tests_sm},
 };
 
 static int selected(const char *id, int argc, char **argv) {

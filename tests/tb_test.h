@@ -62,5 +62,9 @@ extern const tb_test_case tb_tests_tritri[];
 extern const tb_test_case tb_tests_bvh[];
 extern const tb_test_case tb_tests_refbvh[];
 extern const tb_test_case tb_tests_collide[];
+extern const tb_test_case tb_tests_models[];
+extern const tb_test_case tb_tests_msm[];
+extern const tb_test_case tb_tests_fem[];
+extern const tb_test_case tb_tests_sm[];
 
 #endif

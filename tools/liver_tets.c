@@ -3,8 +3,8 @@
  * maximum tet volume ("a") is searched by bisection so that the relative
  * errors of the vertex and tet counts against the targets (thesis §2.5:
  * 1206 vertices, 4230 tets) balance: V/V* + T/T* = 2. Both must end within
- * 10%. (The thesis's QTetraMesher also remeshed the boundary; with the
- * surface kept, vertices and tets cannot both be matched exactly.) */
+ * 10%. With tets < 0 only the vertex count is targeted. (The thesis's QTetraMesher also remeshed
+ * the boundary; with the surface kept, vertices and tets cannot both be matched exactly.) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,11 +19,12 @@ static int run(const tb_mesh *surf, double maxvol, tb_mesh *out, tb_error *err) 
 
 /* Signed balance V/V* + T/T* - 2: decreasing as the volume bound grows. */
 static double balance(const tb_mesh *m, double tv, double tt) {
-  return m->nv / tv + m->ntet / tt - 2;
+  return tt > 0 ? m->nv / tv + m->ntet / tt - 2 : m->nv / tv - 1;
 }
 
 int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, tb_error *err) {
   double tv = def->tet_verts, tt = def->tets > 0 ? def->tets : def->tet_verts * 4230.0 / 1206.0;
+  if (def->tets < 0) tt = -1; /* vertices only */
   double volume = tb_mesh_volume(surf);
   if (def->tet_verts < surf->nv || !(volume > 0))
     return tb_error_set(err, "liver", 0,
@@ -51,7 +52,7 @@ int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, t
     else
       hi = mid;
   }
-  if (fabs(best.nv / tv - 1) <= 0.1 && fabs(best.ntet / tt - 1) <= 0.1) {
+  if (fabs(best.nv / tv - 1) <= 0.1 && (tt < 0 || fabs(best.ntet / tt - 1) <= 0.1)) {
     *tets = best;
     return 0;
   }
@@ -59,6 +60,6 @@ int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, t
   tb_mesh_free(&best);
   return tb_error_set(
       err, "liver", 0,
-      "TetGen gives no mesh within 10%% of %g vertices and %g tets (closest: %d, %d)", tv, tt, nv,
-      nt);
+      "TetGen gives no mesh within 10%% of %g vertices and %g tets (closest: %d, %d)", tv,
+      tt > 0 ? tt : NAN, nv, nt);
 }

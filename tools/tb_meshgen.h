@@ -49,7 +49,7 @@ int tb_tetgen(const tb_mesh *surface, const char *switches, tb_mesh *out, tb_err
 typedef struct tb_liver_def {
   int surface_verts; /* target surface vertices (thesis: 725) */
   int tet_verts;     /* target tet-mesh vertices (thesis: 1206) */
-  int tets;          /* target tets (thesis: 4230; 0: tet_verts * 4230 / 1206) */
+  int tets;          /* target tets (thesis: 4230; 0: tet_verts * 4230 / 1206; < 0: any) */
   double length;     /* extent along x (SOFA's liver is about 10) */
   double noise;      /* amplitude of the grey-value noise, relative */
   uint64_t seed;

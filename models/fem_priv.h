@@ -1,0 +1,84 @@
+/* Private to models/fem*.c: the state the linear (fem.c) and corotational
+ * (fem_corot.c) tetrahedral FEM models share, and the shared steps
+ * (fem_core.c): element stiffness K_e = V B^T D B (thesis §3.3.2), the node
+ * block pattern, the fixed CHOLMOD pattern, Dirichlet elimination and one
+ * implicit-Euler (or quasi-static) solve. */
+#ifndef TB_FEM_PRIV_H
+#define TB_FEM_PRIV_H
+
+#include <cholmod.h>
+
+#include "tb_model.h"
+
+typedef struct tb_fem {
+  /* hot state: current and rest positions, velocities (nv each) */
+  tb_vec3 *x, *v, *X;
+  int nv, ntet;
+  int corot;        /* 1: element rotations from the polar decomposition */
+  const char *name; /* "fem" or "fem-corot", for errors */
+  double a, b;      /* Rayleigh factors: C = a M + b K */
+  int quasistatic;
+
+  /* per tet */
+  int *tet;        /* 4*ntet node indices */
+  tb_mat3 *dm_inv; /* D_m^-1 (rest edge matrix inverse), for F = D_s D_m^-1 */
+  double *ke;      /* 144 per tet: K_e, node blocks (a,b) of 3x3 row-major at 9*(4a+b) */
+  int *tet_blk;    /* 16 per tet: the block (row e[a], column e[b]) in the pattern */
+
+  /* node-block pattern, both triangles (block CSR): node n couples to
+   * col[row[n] .. row[n+1]-1], ascending, itself included at diag[n] */
+  int nblk;
+  int *row, *col, *diag;
+  double *kb; /* 9 per block: K (fem) or R K_e R^T summed (fem-corot) */
+  double *mb; /* 1 per block: the mass block is mb * I (lumped: diagonal only) */
+
+  /* scratch, nv each */
+  tb_vec3 *fel; /* elastic node forces (fem-corot) */
+  tb_vec3 *yc;  /* prescribed unknowns (velocity or increment) at fixed nodes, 0 elsewhere */
+  unsigned char *fixed; /* 1 for prescribed nodes */
+  int *fixed_list;      /* the prescribed set of the current factor */
+  int nfixed;
+
+  /* CHOLMOD: A = alpha M + beta K with identity rows/columns for the
+   * prescribed dofs, upper triangle (stype 1), pattern fixed at create */
+  cholmod_common cc;
+  cholmod_sparse *A;
+  int *a_blk;  /* per entry of A: 9*block + 3*r + c (the K entry) */
+  int *a_mass; /* per entry of A: the mass block, or -1 off the block diagonal */
+  int *a_diag; /* per dof: its diagonal entry in A */
+  cholmod_factor *L;
+  cholmod_dense *B, *Xs, *Y, *E; /* right-hand side, solution, solve workspaces */
+  int factored;                  /* L holds the factor of the current A */
+  double f_alpha, f_beta;        /* the coefficients A was built with */
+  int nfactor;                   /* numeric factorisations done */
+  long nsolve;
+} tb_fem;
+
+/* Builds everything but the rotations: masses (lumped, or consistent when
+ * def->consistent_mass and no node_mass), K_e, the patterns, the symbolic
+ * analysis, workspaces. Returns NULL with err filled. */
+tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_model_def *def, int corot, const char *name,
+                      tb_error *err);
+void tb_fem_destroy(tb_fem *f);
+
+/* Adds the 12x12 element matrix k (node blocks, 144 doubles) of tet t into kb. */
+void tb_fem_add_element(tb_fem *f, int t, const double *k);
+/* y = K u over the node-block pattern (both triangles). */
+void tb_fem_kmul(const tb_fem *f, const tb_vec3 *u, tb_vec3 *y);
+
+/* One step: checks the prescribed set, rebuilds A and refactors when the
+ * set, the coefficients or (corot) the matrix changed, assembles the
+ * right-hand side with the prescribed columns moved to it, solves, and
+ * advances x, v. Linear fem passes lin = 1 (elastic force -K(x - X) from kb);
+ * fem-corot passes lin = 0 with f->fel filled and kb rotated, and
+ * refactor = 1. */
+int tb_fem_advance(tb_fem *f, const tb_step *in, int lin, int refactor, tb_error *err);
+
+/* 1/2 v^T M v. */
+double tb_fem_kinetic(const tb_fem *f);
+
+/* The element matrices of one tet with rest edge inverse dm_inv and volume
+ * vol (lambda, mu Lamé): k (144) as in tb_fem.ke. */
+void tb_fem_element_k(tb_mat3 dm_inv, double vol, double lambda, double mu, double *k);
+
+#endif

@@ -1,0 +1,158 @@
+/* Helpers the models share: lumped masses, the symmetric 3x3
+ * eigen-decomposition (cyclic Jacobi), the polar decomposition's rotation
+ * (through the eigenvectors of A^T A, det R = +1 even for inverted A, as in
+ * Irving et al. 2004), the 3x3 inverse, and the blow-up detector. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "tb_model.h"
+
+int tb_lumped_masses(const tb_mesh *mesh, const tb_model_def *def, double *mass, tb_error *err) {
+  if (def->node_mass > 0) {
+    for (int i = 0; i < mesh->nv; i++) mass[i] = def->node_mass;
+    return 0;
+  }
+  memset(mass, 0, sizeof(double) * (size_t)mesh->nv);
+  for (int t = 0; t < mesh->ntet; t++) {
+    const int *e = mesh->tet + 4 * t;
+    double vol = tb_tet_volume(mesh->x[e[0]], mesh->x[e[1]], mesh->x[e[2]], mesh->x[e[3]]);
+    if (!(vol > 0)) return tb_error_set(err, "mesh", 0, "tet %d has volume %g <= 0", t, vol);
+    for (int k = 0; k < 4; k++) mass[e[k]] += def->density * vol / 4.0;
+  }
+  for (int i = 0; i < mesh->nv; i++)
+    if (!(mass[i] > 0))
+      return tb_error_set(err, "mesh", 0, "node %d belongs to no tet (no mass; set node_mass)", i);
+  return 0;
+}
+
+void tb_m3_sym_eigen(tb_mat3 a, double w[3], tb_mat3 *v) {
+  tb_mat3 V = tb_m3_identity();
+  for (int sweep = 0; sweep < 50; sweep++) {
+    double off = a.m[0][1] * a.m[0][1] + a.m[0][2] * a.m[0][2] + a.m[1][2] * a.m[1][2];
+    double diag = a.m[0][0] * a.m[0][0] + a.m[1][1] * a.m[1][1] + a.m[2][2] * a.m[2][2];
+    if (off <= 1e-30 * diag || off == 0.0) break;
+    for (int p = 0; p < 2; p++)
+      for (int q = p + 1; q < 3; q++) {
+        double apq = a.m[p][q];
+        if (apq == 0.0) continue;
+        double theta = (a.m[q][q] - a.m[p][p]) / (2.0 * apq);
+        double t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+        double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
+        for (int k = 0; k < 3; k++) { /* a <- a J (columns p, q) */
+          double akp = a.m[k][p], akq = a.m[k][q];
+          a.m[k][p] = c * akp - s * akq, a.m[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; k++) { /* a <- J^T a (rows p, q) */
+          double apk = a.m[p][k], aqk = a.m[q][k];
+          a.m[p][k] = c * apk - s * aqk, a.m[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 3; k++) {
+          double vkp = V.m[k][p], vkq = V.m[k][q];
+          V.m[k][p] = c * vkp - s * vkq, V.m[k][q] = s * vkp + c * vkq;
+        }
+      }
+  }
+  int idx[3] = {0, 1, 2};
+  for (int i = 0; i < 2; i++) /* sort ascending */
+    for (int j = i + 1; j < 3; j++)
+      if (a.m[idx[j]][idx[j]] < a.m[idx[i]][idx[i]]) {
+        int t = idx[i];
+        idx[i] = idx[j], idx[j] = t;
+      }
+  for (int j = 0; j < 3; j++) {
+    w[j] = a.m[idx[j]][idx[j]];
+    for (int k = 0; k < 3; k++) v->m[k][j] = V.m[k][idx[j]];
+  }
+}
+
+static tb_vec3 column(tb_mat3 a, int j) { return tb_v3(a.m[0][j], a.m[1][j], a.m[2][j]); }
+
+/* Any unit vector orthogonal to a unit vector n. */
+static tb_vec3 orthogonal(tb_vec3 n) {
+  tb_vec3 t = fabs(n.x) < 0.6 ? tb_v3(1, 0, 0) : tb_v3(0, 1, 0);
+  return tb_normalize(tb_cross(n, t));
+}
+
+tb_mat3 tb_m3_polar(tb_mat3 a) {
+  /* A = U S V^T: V from A^T A, U's columns A v_j / s_j, completed when s_j is tiny. */
+  double w[3];
+  tb_mat3 v;
+  tb_m3_sym_eigen(tb_m3_mul(tb_m3_transpose(a), a), w, &v);
+  double scale = sqrt(fmax(w[2], 0.0));
+  if (!(scale > 0) || !isfinite(scale)) return tb_m3_identity();
+  tb_vec3 u[3];
+  for (int j = 2; j >= 0; j--) u[j] = tb_m3_mulv(a, column(v, j)); /* s_j u_j */
+  double eps = 1e-12 * scale;
+  /* largest two from A when they are well defined, the rest by cross products */
+  if (tb_len(u[2]) <= eps) return tb_m3_identity();
+  u[2] = tb_normalize(u[2]);
+  u[1] = tb_sub(u[1], tb_scale(u[2], tb_dot(u[1], u[2])));
+  u[1] = tb_len(u[1]) > eps ? tb_normalize(u[1]) : orthogonal(u[2]);
+  u[0] = tb_cross(u[1], u[2]); /* right-handed with v's orientation fixed below */
+  /* U V^T with det +1: make V right-handed first, then u0 follows from u1 x u2. */
+  tb_vec3 v0 = column(v, 0), v1 = column(v, 1), v2 = column(v, 2);
+  if (tb_dot(tb_cross(v1, v2), v0) < 0) v0 = tb_scale(v0, -1.0);
+  tb_mat3 r;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      r.m[i][j] = tb_comp(u[0], i) * tb_comp(v0, j) + tb_comp(u[1], i) * tb_comp(v1, j) +
+                  tb_comp(u[2], i) * tb_comp(v2, j);
+  return r;
+}
+
+int tb_m3_inverse(tb_mat3 a, tb_mat3 *inv) {
+  double det = tb_m3_det(a), s = 0;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) s = fmax(s, fabs(a.m[i][j]));
+  if (!(fabs(det) > 1e-14 * s * s * s)) return 0;
+  tb_mat3 r;
+  r.m[0][0] = a.m[1][1] * a.m[2][2] - a.m[1][2] * a.m[2][1];
+  r.m[0][1] = a.m[0][2] * a.m[2][1] - a.m[0][1] * a.m[2][2];
+  r.m[0][2] = a.m[0][1] * a.m[1][2] - a.m[0][2] * a.m[1][1];
+  r.m[1][0] = a.m[1][2] * a.m[2][0] - a.m[1][0] * a.m[2][2];
+  r.m[1][1] = a.m[0][0] * a.m[2][2] - a.m[0][2] * a.m[2][0];
+  r.m[1][2] = a.m[0][2] * a.m[1][0] - a.m[0][0] * a.m[1][2];
+  r.m[2][0] = a.m[1][0] * a.m[2][1] - a.m[1][1] * a.m[2][0];
+  r.m[2][1] = a.m[0][1] * a.m[2][0] - a.m[0][0] * a.m[2][1];
+  r.m[2][2] = a.m[0][0] * a.m[1][1] - a.m[0][1] * a.m[1][0];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) r.m[i][j] /= det;
+  *inv = r;
+  return 1;
+}
+
+tb_health tb_model_health(const tb_mesh *rest, const tb_vec3 *x, const tb_vec3 *v, double vmax,
+                          int inversion) {
+  tb_health h;
+  h.ok = 1, h.reason[0] = 0;
+  for (int i = 0; i < rest->nv; i++)
+    if (!tb_isfinite3(x[i]) || (v && !tb_isfinite3(v[i]))) {
+      h.ok = 0;
+      snprintf(h.reason, sizeof h.reason, "NaN or inf (node %d)", i);
+      return h;
+    }
+  if (v && vmax > 0)
+    for (int i = 0; i < rest->nv; i++)
+      if (tb_len(v[i]) > vmax) {
+        h.ok = 0;
+        snprintf(h.reason, sizeof h.reason, "velocity %.3g beyond bound %.3g (node %d)",
+                 tb_len(v[i]), vmax, i);
+        return h;
+      }
+  int inverted = 0, first = -1;
+  for (int t = 0; inversion && t < rest->ntet; t++) {
+    const int *e = rest->tet + 4 * t;
+    double v0 = tb_tet_volume(rest->x[e[0]], rest->x[e[1]], rest->x[e[2]], rest->x[e[3]]);
+    double v1 = tb_tet_volume(x[e[0]], x[e[1]], x[e[2]], x[e[3]]);
+    if (v0 > 0 && !(v1 > 0)) {
+      if (first < 0) first = t;
+      inverted++;
+    }
+  }
+  if (inverted) {
+    h.ok = 0;
+    snprintf(h.reason, sizeof h.reason, "inverted elements (%d, first tet %d)", inverted, first);
+  }
+  return h;
+}

@@ -1,0 +1,244 @@
+/* Mass-spring model (thesis §3.2.1, eqs 3-1..3-6; SPEC §2.1).
+ *
+ * One spring per distinct tet edge, rest length from the rest mesh. The
+ * Kelvin spring-damper of eq. 3-2 acts on node i as
+ *   f_ij = k_e (|x_ij| - l_ij) x_ij / |x_ij| + kd (v_j - v_i),  x_ij = x_j - x_i,
+ * summed per node (eq. 3-3), plus m_i g and the external forces (eq. 3-1),
+ * integrated by symplectic Euler: v first (eq. 3-5), then x with the new v
+ * (eq. 3-6). Lumped masses from density (or node_mass). A prescribed node
+ * ends the step at fixed_x with velocity (fixed_x - x_old) / dt.
+ *
+ * calibrated=1: per-spring stiffness after Van Gelder 1998 ("Approximate
+ * simulation of elastic membranes by triangulated spring meshes"), in its
+ * tetrahedral form
+ *   k_e = E * (sum of the volumes of the tets containing e) / l_e^2.
+ * Normalisation: under an affine strain eps every edge stretches by
+ * l (n^T eps n), so a tet stores (E V / 2) sum_{its 6 edges} (n^T eps n)^2.
+ * Averaged over isotropically oriented edges, sum (n^T eps n)^2 =
+ * 6 (tr(eps)^2 + 2 eps:eps) / 15, i.e. Lame mu = lambda = 0.4 E: Young's
+ * modulus E exactly and Poisson ratio 1/4. nu cannot be set: central springs
+ * obey the Cauchy relation (lambda = mu), so nu is not read. Exact for any
+ * mesh: a dilation by s stores 3 E V_total (s - 1)^2 (bulk modulus 2E/3).
+ * Real meshes are not isotropic and their nodes relax non-affinely, so the
+ * effective modulus differs from E (measured in tests/test_msm.c). kd is
+ * the same for every spring in both modes.
+ *
+ * Hot data are flat arrays: x, v, f, 1/m per node; (i, j), l0, k per spring.
+ * A step allocates nothing. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_model.h"
+
+typedef struct msm {
+  int nv, ns;
+  tb_vec3 *x, *v, *f; /* positions, velocities, force accumulator */
+  double *mass, *invm;
+  int *ij;        /* 2*ns node pairs, i < j */
+  double *l0, *k; /* rest lengths, stiffnesses */
+  double kd;
+} msm;
+
+static double edge_len(tb_vec3 a, tb_vec3 b) {
+  double dx = b.x - a.x, dy = b.y - a.y, dz = b.z - a.z;
+  return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+static void destroy(void *self) {
+  msm *s = self;
+  if (!s) return;
+  free(s->x), free(s->v), free(s->f), free(s->mass), free(s->invm);
+  free(s->ij), free(s->l0), free(s->k);
+  free(s);
+}
+
+/* Index of edge (a, b), a < b, in the lexicographically sorted pairs, or -1. */
+static int find_edge(const int *ij, int ns, int a, int b) {
+  int lo = 0, hi = ns - 1;
+  while (lo <= hi) {
+    int mid = lo + (hi - lo) / 2;
+    int c = ij[2 * mid] != a ? (ij[2 * mid] < a ? -1 : 1)
+                             : (ij[2 * mid + 1] != b ? (ij[2 * mid + 1] < b ? -1 : 1) : 0);
+    if (!c) return mid;
+    if (c < 0)
+      lo = mid + 1;
+    else
+      hi = mid - 1;
+  }
+  return -1;
+}
+
+/* Van Gelder stiffness: k_e = E * sum of adjacent tet volumes / l_e^2. */
+static int calibrate(msm *s, const tb_mesh *mesh, double E, tb_error *err) {
+  if (mesh->ntet < 1) return tb_error_set(err, "msm", 0, "calibrated springs need tets");
+  memset(s->k, 0, sizeof(double) * (size_t)s->ns);
+  static const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  for (int t = 0; t < mesh->ntet; t++) {
+    const int *n = mesh->tet + 4 * t;
+    double vol = tb_tet_volume(mesh->x[n[0]], mesh->x[n[1]], mesh->x[n[2]], mesh->x[n[3]]);
+    for (int p = 0; p < 6; p++) {
+      int a = n[pairs[p][0]], b = n[pairs[p][1]];
+      int e = a < b ? find_edge(s->ij, s->ns, a, b) : find_edge(s->ij, s->ns, b, a);
+      if (e < 0) return tb_error_set(err, "msm", 0, "tet %d: edge %d-%d not found", t, a, b);
+      s->k[e] += vol;
+    }
+  }
+  for (int e = 0; e < s->ns; e++) s->k[e] *= E / (s->l0[e] * s->l0[e]);
+  return 0;
+}
+
+static void *create(const tb_mesh *mesh, const tb_model_def *def, tb_error *err) {
+  for (int t = 0; t < mesh->ntet; t++) { /* also with node_mass, which skips the volumes */
+    const int *n = mesh->tet + 4 * t;
+    for (int k = 0; k < 4; k++)
+      if (n[k] < 0 || n[k] >= mesh->nv) {
+        tb_error_set(err, "mesh", 0, "tet %d refers to node %d (nv = %d)", t, n[k], mesh->nv);
+        return NULL;
+      }
+    double vol = tb_tet_volume(mesh->x[n[0]], mesh->x[n[1]], mesh->x[n[2]], mesh->x[n[3]]);
+    if (!(vol > 0)) {
+      tb_error_set(err, "mesh", 0, "tet %d has volume %g <= 0", t, vol);
+      return NULL;
+    }
+  }
+  msm *s = calloc(1, sizeof *s);
+  if (!s) {
+    tb_error_set(err, "msm", 0, "out of memory");
+    return NULL;
+  }
+  s->nv = mesh->nv;
+  s->kd = def->kd;
+  size_t nv = (size_t)mesh->nv;
+  s->x = malloc(sizeof(tb_vec3) * nv);
+  s->v = calloc(nv, sizeof(tb_vec3));
+  s->f = calloc(nv, sizeof(tb_vec3));
+  s->mass = malloc(sizeof(double) * nv);
+  s->invm = malloc(sizeof(double) * nv);
+  if (!s->x || !s->v || !s->f || !s->mass || !s->invm) {
+    tb_error_set(err, "msm", 0, "out of memory");
+    goto fail;
+  }
+  memcpy(s->x, mesh->x, sizeof(tb_vec3) * nv);
+  if (tb_lumped_masses(mesh, def, s->mass, err)) goto fail;
+  for (int i = 0; i < s->nv; i++) s->invm[i] = 1.0 / s->mass[i];
+
+  s->ns = tb_mesh_edges(mesh, &s->ij);
+  if (s->ns < 0) {
+    s->ns = 0;
+    tb_error_set(err, "msm", 0, "out of memory");
+    goto fail;
+  }
+  size_t ns = (size_t)s->ns;
+  s->l0 = malloc(sizeof(double) * (ns ? ns : 1));
+  s->k = malloc(sizeof(double) * (ns ? ns : 1));
+  if (!s->l0 || !s->k) {
+    tb_error_set(err, "msm", 0, "out of memory");
+    goto fail;
+  }
+  for (int e = 0; e < s->ns; e++) {
+    int i = s->ij[2 * e], j = s->ij[2 * e + 1];
+    if (i < 0 || j >= s->nv) { /* triangles of a mesh without tets are not checked above */
+      tb_error_set(err, "mesh", 0, "edge %d-%d refers to a node outside [0, %d)", i, j, s->nv);
+      goto fail;
+    }
+    s->l0[e] = edge_len(mesh->x[i], mesh->x[j]);
+    if (!(s->l0[e] > 0) || !isfinite(s->l0[e])) {
+      tb_error_set(err, "mesh", 0, "edge %d-%d has rest length %g (coincident nodes)", i, j,
+                   s->l0[e]);
+      goto fail;
+    }
+    s->k[e] = def->ks;
+  }
+  if (def->calibrated && calibrate(s, mesh, def->E, err)) goto fail;
+  return s;
+fail:
+  destroy(s);
+  return NULL;
+}
+
+/* Kelvin springs (eqs 3-2, 3-3) accumulated into f. (Summing f_i in
+ * registers over i's run of sorted springs, or packing sqrt/div two at a
+ * time with SSE2, gained at most 12% on the liver: not worth the code.) */
+static void spring_forces(int ns, const int *restrict ij, const double *restrict l0,
+                          const double *restrict k, double kd, const tb_vec3 *restrict x,
+                          const tb_vec3 *restrict v, tb_vec3 *restrict f) {
+  for (int e = 0; e < ns; e++) {
+    const int i = ij[2 * e], j = ij[2 * e + 1];
+    const double dx = x[j].x - x[i].x, dy = x[j].y - x[i].y, dz = x[j].z - x[i].z;
+    const double len = sqrt(dx * dx + dy * dy + dz * dz);
+    const double c = len > 0 ? k[e] * (len - l0[e]) / len : 0.0; /* no direction: no spring force */
+    const double fx = c * dx + kd * (v[j].x - v[i].x);
+    const double fy = c * dy + kd * (v[j].y - v[i].y);
+    const double fz = c * dz + kd * (v[j].z - v[i].z);
+    f[i].x += fx, f[i].y += fy, f[i].z += fz;
+    f[j].x -= fx, f[j].y -= fy, f[j].z -= fz;
+  }
+}
+
+static int step(void *self, const tb_step *in, tb_error *err) {
+  msm *s = self;
+  const int nv = s->nv, nfixed = in->nfixed;
+  if (nfixed < 0 || (nfixed > 0 && (!in->fixed || !in->fixed_x)))
+    return tb_error_set(err, "msm", 0, "bad prescribed set (nfixed %d)", nfixed);
+  for (int p = 0; p < nfixed; p++)
+    if (in->fixed[p] < 0 || in->fixed[p] >= nv || (p > 0 && in->fixed[p] <= in->fixed[p - 1]))
+      return tb_error_set(err, "msm", 0,
+                          "prescribed nodes must be strictly ascending in [0, %d): entry %d is %d",
+                          nv, p, in->fixed[p]);
+  tb_vec3 *x = s->x, *v = s->v, *f = s->f;
+  const double *invm = s->invm, dt = in->dt;
+
+  /* external forces (eq. 3-1); gravity is added as an acceleration below */
+  if (in->force)
+    memcpy(f, in->force, sizeof(tb_vec3) * (size_t)nv);
+  else
+    memset(f, 0, sizeof(tb_vec3) * (size_t)nv);
+  spring_forces(s->ns, s->ij, s->l0, s->k, s->kd, x, v, f);
+
+  /* symplectic Euler (eqs 3-4..3-6), prescribed nodes merged in (ascending);
+   * fixed_x may alias the positions (holding nodes where they are) */
+  const tb_vec3 g = in->gravity;
+  int p = 0, next = nfixed > 0 ? in->fixed[0] : nv;
+  for (int i = 0; i < nv; i++) {
+    if (i == next) {
+      const tb_vec3 xe = in->fixed_x[p];
+      v[i].x = (xe.x - x[i].x) / dt, v[i].y = (xe.y - x[i].y) / dt, v[i].z = (xe.z - x[i].z) / dt;
+      x[i] = xe;
+      p++;
+      next = p < nfixed ? in->fixed[p] : nv;
+      continue;
+    }
+    v[i].x += dt * (g.x + f[i].x * invm[i]);
+    v[i].y += dt * (g.y + f[i].y * invm[i]);
+    v[i].z += dt * (g.z + f[i].z * invm[i]);
+    x[i].x += dt * v[i].x, x[i].y += dt * v[i].y, x[i].z += dt * v[i].z;
+  }
+  return 0;
+}
+
+static const tb_vec3 *positions(const void *self) { return ((const msm *)self)->x; }
+static const tb_vec3 *velocities(const void *self) { return ((const msm *)self)->v; }
+
+/* sum 1/2 k (|x_ij| - l_ij)^2 + sum 1/2 m |v|^2 (no gravity potential) */
+static double energy(const void *self) {
+  const msm *s = self;
+  double w = 0, t = 0;
+  for (int e = 0; e < s->ns; e++) {
+    double d = edge_len(s->x[s->ij[2 * e]], s->x[s->ij[2 * e + 1]]) - s->l0[e];
+    w += 0.5 * s->k[e] * d * d;
+  }
+  for (int i = 0; i < s->nv; i++) t += 0.5 * s->mass[i] * tb_dot(s->v[i], s->v[i]);
+  return w + t;
+}
+
+const tb_model_class tb_model_msm = {
+    "msm",
+    "mass-spring: Kelvin springs on the tet edges, symplectic Euler (thesis eqs 3-1..3-6)",
+    "density node_mass ks kd calibrated E",
+    create,
+    step,
+    positions,
+    velocities,
+    energy,
+    destroy};

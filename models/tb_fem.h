@@ -1,0 +1,24 @@
+/* Test and benchmark hooks of the fem and fem-corot models (models/fem_core.c):
+ * solver statistics, the residual of the last CHOLMOD solve, and setting
+ * the state (e.g. a rigidly rotated body) without stepping. */
+#ifndef TB_FEM_H
+#define TB_FEM_H
+
+#include "tb_model.h"
+
+typedef struct tb_fem_stats {
+  int factorizations; /* numeric factorisations so far */
+  long solves;        /* solves so far */
+  double residual;    /* ||A y - b|| / ||b|| of the last solve (cholmod_sdmult), NAN before any */
+  int supernodal;     /* 1: supernodal L L^T, 0: simplicial L D L^T */
+  int ordering;       /* CHOLMOD_AMD, CHOLMOD_METIS, ... (cholmod.h) */
+  double nnz_factor;  /* entries of L (CHOLMOD's lnz) */
+  int dofs;           /* 3 * nodes */
+} tb_fem_stats;
+
+/* Fills *s for a fem or fem-corot model; anything else is an error. */
+int tb_fem_get_stats(tb_model *m, tb_fem_stats *s, tb_error *err);
+/* Replaces positions and velocities (nv each; v may be NULL for zero). */
+int tb_fem_set_state(tb_model *m, const tb_vec3 *x, const tb_vec3 *v, tb_error *err);
+
+#endif

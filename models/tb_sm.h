@@ -1,0 +1,36 @@
+/* Meshless shape matching (models/sm.c): the clusters it matches and the
+ * queries suites print (mean particles per cluster, thesis §3.5: 96). */
+#ifndef TB_SM_H
+#define TB_SM_H
+
+#include "tb_error.h"
+#include "tb_mesh.h"
+#include "tb_model.h"
+
+/* Clusters as a CSR list: cluster c holds node[start[c]] .. node[start[c+1]-1],
+ * ascending. Every node is in at least one cluster. */
+typedef struct tb_sm_clusters {
+  int n;
+  int *start; /* n + 1 offsets */
+  int *node;  /* start[n] member node indices */
+} tb_sm_clusters;
+
+/* Builds the clusters def->cluster_mode asks for (models/sm_clusters.c):
+ * TB_CLUSTER_REGIONS: min(def->clusters, nv) centres by farthest-point
+ * sampling from the node nearest the centroid, members within def->radius of
+ * a centre, nodes in no region added to the nearest centre's cluster;
+ * def->clusters == 1 is one cluster of all nodes. TB_CLUSTER_TETS: one
+ * cluster per node, the node and its tet neighbours (a mesh without tets is
+ * an error). Same input, same clusters.
+ * Note: two regions that share fewer than 3 non-collinear nodes are joined
+ * by a hinge (a zero-energy mode: the body need not return to its rest
+ * shape); on the liver, radius 1 with 50 centres overlaps widely. */
+int tb_sm_clusters_build(const tb_mesh *mesh, const tb_model_def *def, tb_sm_clusters *out,
+                         tb_error *err);
+void tb_sm_clusters_free(tb_sm_clusters *c);
+
+/* Number of clusters and mean members per cluster of an sm model; -1 when m
+ * is not an sm model. */
+int tb_sm_cluster_stats(const tb_model *m, int *nclusters, double *mean_members);
+
+#endif
