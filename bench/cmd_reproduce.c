@@ -28,6 +28,15 @@ static const tb_suite_entry suites[] = {
     {"figure-3.10", NULL, "3.10",
      "thesis fig. 3.10: shape-matching time per frame against particles, clusters, variant",
      tb_suite_fig310},
+    {"calibration", "calibration", NULL,
+     "model parameters fitted to the reference solution; errors with documents' vs fitted values",
+     tb_suite_calibration},
+    {"pareto", NULL, "pareto",
+     "error against the reference vs steps/s: every model x resolution x key parameter (--scene)",
+     tb_suite_pareto},
+    {"stability", NULL, "stability",
+     "stable/unstable over dt x stiffness per model (--model); large-deformation tests",
+     tb_suite_stability},
 };
 static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
 
@@ -44,7 +53,7 @@ static int listed(const char *list, const char *name) {
 }
 
 int tb_cmd_reproduce(int argc, char **argv) {
-  tb_suite_opts o = {0, 1.0, 1, TB_SOURCE_ROOT "/results"};
+  tb_suite_opts o = {0, 1.0, 1, TB_SOURCE_ROOT "/results", NULL, NULL};
   const char *only = NULL;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -59,6 +68,10 @@ int tb_cmd_reproduce(int argc, char **argv) {
       only = argv[++i];
     else if (!strcmp(a, "--results") && i + 1 < argc)
       o.results = argv[++i];
+    else if (!strcmp(a, "--model") && i + 1 < argc)
+      o.model = argv[++i];
+    else if (!strcmp(a, "--scene") && i + 1 < argc)
+      o.scene = argv[++i];
     else if (!strcmp(a, "--scale") && i + 1 < argc) {
       double v;
       if (tb_cli_parse_double("--scale", argv[++i], &v)) return TB_EXIT_INPUT;

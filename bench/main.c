@@ -67,6 +67,12 @@ static const tb_command commands[] = {
      "  prints the median time per step and the final state's metrics; a run that blows up\n"
      "  prints \"status: unstable (reason)\" and exits 1",
      tb_cmd_simulate},
+    {"advise", "the cheapest model for a scene and an error tolerance",
+     "tissuebench advise --scene NAME --tol X [--budget-ms Y] [--points FILE]\n"
+     "  from measured points (results/pareto/<scene>/points.csv, or FILE), the cheapest model +\n"
+     "  resolution + parameters whose error is within X; with --budget-ms, the most accurate\n"
+     "  within Y ms per step; prints the evidence rows",
+     tb_cmd_advise},
     {"mesh", "mesh info FILE, or generate a mesh (liver, instrument, sphere, beam)",
      "tissuebench mesh info FILE\n"
      "  counts, bounding box, closed/manifold, Euler characteristic and volume of a mesh file\n"

@@ -146,20 +146,25 @@ int tb_sim_create(tb_sim *s, const char *scene, const tb_sim_def *def, const cha
   return 0;
 }
 
-int tb_sim_step(tb_sim *s, tb_error *err) {
-  double t = s->t + s->def.dt;
+int tb_sim_loads(tb_sim *s, double t, tb_error *err) {
   memset(s->mark, 0, (size_t)s->mesh.nv);
   memset(s->force, 0, sizeof(tb_vec3) * (size_t)s->mesh.nv);
   s->gravity = tb_v3(0, 0, -s->def.gravity);
   if (s->scene->inputs(s, t, err)) return -1;
+  s->nfixed = 0;
+  for (int i = 0; i < s->mesh.nv; i++)
+    if (s->mark[i]) s->fixed[s->nfixed] = i, s->fixed_x[s->nfixed++] = s->target[i];
+  return 0;
+}
+
+int tb_sim_step(tb_sim *s, tb_error *err) {
+  double t = s->t + s->def.dt;
+  if (tb_sim_loads(s, t, err)) return -1;
   if (s->def.drag > 0) {
     const tb_vec3 *v = tb_model_velocities(&s->model);
     for (int i = 0; i < s->mesh.nv; i++)
       s->force[i] = tb_madd(s->force[i], -s->def.drag * s->mass[i], v[i]);
   }
-  s->nfixed = 0;
-  for (int i = 0; i < s->mesh.nv; i++)
-    if (s->mark[i]) s->fixed[s->nfixed] = i, s->fixed_x[s->nfixed++] = s->target[i];
   tb_step in;
   in.dt = s->def.dt;
   in.gravity = s->gravity;

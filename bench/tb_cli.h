@@ -27,6 +27,7 @@ int tb_cmd_figure(int argc, char **argv);
 int tb_cmd_tritri(int argc, char **argv);
 int tb_cmd_collide(int argc, char **argv);
 int tb_cmd_simulate(int argc, char **argv);
+int tb_cmd_advise(int argc, char **argv);
 
 /* Options every suite receives. */
 typedef struct tb_suite_opts {
@@ -34,6 +35,8 @@ typedef struct tb_suite_opts {
   double scale; /* multiplies pair and test counts (--scale; smoke tests) */
   uint64_t seed;
   const char *results; /* results/ folder */
+  const char *model;   /* --model: the suites that take one (NULL: their default) */
+  const char *scene;   /* --scene: likewise */
 } tb_suite_opts;
 
 /* A suite of the reproduction: writes results/<name>/. Returns 0 or 1. */
@@ -52,6 +55,9 @@ int tb_suite_table42(const tb_suite_opts *opts);
 int tb_suite_refit(const tb_suite_opts *opts);
 int tb_suite_table35(const tb_suite_opts *opts);
 int tb_suite_fig310(const tb_suite_opts *opts);
+int tb_suite_stability(const tb_suite_opts *opts);
+int tb_suite_pareto(const tb_suite_opts *opts);
+int tb_suite_calibration(const tb_suite_opts *opts);
 
 /* Helpers shared by the commands. */
 int tb_cli_has_help(int argc, char **argv);

@@ -82,6 +82,10 @@ int tb_sim_mesh(const char *scene, const tb_sim_def *def, tb_mesh *out, tb_error
  * ("unstable: NaN or inf (node 12)" or the model's own error). */
 int tb_sim_step(tb_sim *s, tb_error *err);
 void tb_sim_destroy(tb_sim *s);
+/* The scene's loads at time t without stepping: fills gravity, force
+ * (scene forces only, no drag), nfixed/fixed/fixed_x (e.g. to pose the
+ * same static problem to the reference solver). */
+int tb_sim_loads(tb_sim *s, double t, tb_error *err);
 
 /* Metrics of the current state against the rest mesh. */
 typedef struct tb_sim_metrics {

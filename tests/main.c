@@ -100,6 +100,9 @@ static const struct {
     {"msm", tb_tests_msm},
     {"fem", tb_tests_fem},
     {"sm", tb_tests_sm},
+    {"reference", tb_tests_reference},
+    {"fidelity", tb_tests_fidelity},
+    {"stability", tb_tests_stability},
 };
 
 static int selected(const char *id, int argc, char **argv) {
