@@ -1,10 +1,289 @@
-/* Placeholder: `tissuebench advise` is being written. */
+/* `tissuebench advise`: from the measured points of `figure pareto`
+ * (results/pareto/<scene>/points.csv), the cheapest model + resolution +
+ * parameters whose error against the reference is within a tolerance (a
+ * model no more than the scene needs), or the most accurate within a time
+ * budget per step; with the evidence: every point within the tolerance by
+ * cost, and the best points rejected. Also the points file's format
+ * (written by bench/suite_pareto.c, read here) and the choice itself
+ * (tb_advise_pick, tested on synthetic tables). */
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "tb_cli.h"
+#include "tb_fidelity.h"
+
+#define NFIELDS 13
+
+/* ---- the points file ---- */
+
+static void clean(char *dst, size_t cap, const char *src) {
+  snprintf(dst, cap, "%s", src);
+  for (char *p = dst; *p; p++)
+    if (*p == ',' || *p == '\n' || *p == '\r') *p = ';';
+}
+
+static int num(char *buf, int cap, double v) {
+  return isfinite(v) ? snprintf(buf, (size_t)cap, "%.6g", v) : snprintf(buf, (size_t)cap, "nan");
+}
+
+int tb_point_format(const tb_point *p, char *buf, int cap) {
+  char model[32], params[160], state[192], v[8][32];
+  clean(model, sizeof model, p->model);
+  clean(params, sizeof params, p->params);
+  clean(state, sizeof state, p->state);
+  const double vals[8] = {p->steps_per_s,   p->ms_step,      p->rms_err,     p->max_err,
+                          p->volume_change, p->reaction_err, p->settle_time, p->recovery_err};
+  for (int k = 0; k < 8; k++) num(v[k], 32, vals[k]);
+  return snprintf(buf, (size_t)cap, "%s,%d,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s", model, p->resolution,
+                  p->nodes, params, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], state);
+}
+
+static int parse_num(const char *s, double *out) {
+  char *end;
+  errno = 0;
+  if (!strcmp(s, "nan") || !strcmp(s, "-")) return *out = NAN, 0;
+  *out = strtod(s, &end);
+  return *s && !*end && errno != ERANGE ? 0 : -1;
+}
+
+static int parse_line(char *line, tb_point *p, const char *path, long ln, tb_error *err) {
+  char *f[NFIELDS];
+  int n = 0;
+  for (char *s = line;;) {
+    if (n == NFIELDS) return tb_error_set(err, path, ln, "more than %d fields", NFIELDS);
+    f[n++] = s;
+    char *c = strchr(s, ',');
+    if (!c) break;
+    *c = 0, s = c + 1;
+  }
+  if (n != NFIELDS) return tb_error_set(err, path, ln, "%d fields, expected %d", n, NFIELDS);
+  memset(p, 0, sizeof *p);
+  p->line = (int)ln;
+  if (!*f[0] || strlen(f[0]) >= sizeof p->model)
+    return tb_error_set(err, path, ln, "bad model name '%s'", f[0]);
+  strcpy(p->model, f[0]);
+  double r, nd;
+  if (parse_num(f[1], &r) || r != floor(r) || r < 0 || r > 1e9 || parse_num(f[2], &nd) ||
+      nd != floor(nd) || nd < 0 || nd > 1e9)
+    return tb_error_set(err, path, ln, "resolution and nodes must be whole numbers");
+  p->resolution = (int)r, p->nodes = (int)nd;
+  snprintf(p->params, sizeof p->params, "%s", f[3]);
+  double *vals[8] = {&p->steps_per_s,   &p->ms_step,      &p->rms_err,     &p->max_err,
+                     &p->volume_change, &p->reaction_err, &p->settle_time, &p->recovery_err};
+  static const char *names[8] = {"steps/s",         "ms/step",       "rms error",
+                                 "max error",       "volume change", "reaction error",
+                                 "settle time (s)", "recovery error"};
+  for (int k = 0; k < 8; k++)
+    if (parse_num(f[4 + k], vals[k]))
+      return tb_error_set(err, path, ln, "%s: '%s' is not a number", names[k], f[4 + k]);
+  if (!*f[12]) return tb_error_set(err, path, ln, "empty state");
+  snprintf(p->state, sizeof p->state, "%s", f[12]);
+  return 0;
+}
+
+int tb_points_read(const char *path, tb_point **out, int *n, tb_error *err) {
+  *out = NULL, *n = 0;
+  FILE *fp = fopen(path, "r");
+  if (!fp) return tb_error_set(err, path, 0, "cannot read: %s", strerror(errno));
+  char line[2048];
+  long ln = 0;
+  int cap = 0, rc = 0;
+  tb_point *pts = NULL;
+  while (fgets(line, sizeof line, fp)) {
+    ln++;
+    size_t len = strlen(line);
+    if (len == sizeof line - 1 && line[len - 1] != '\n') {
+      rc = tb_error_set(err, path, ln, "line too long");
+      break;
+    }
+    while (len && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = 0;
+    if (ln == 1) {
+      if (strcmp(line, TB_POINTS_HEADER)) {
+        rc = tb_error_set(err, path, ln, "not a points file (expected the header \"%s\")",
+                          TB_POINTS_HEADER);
+        break;
+      }
+      continue;
+    }
+    if (!len) continue;
+    if (*n == cap) {
+      cap = cap ? 2 * cap : 64;
+      tb_point *q = realloc(pts, sizeof *pts * (size_t)cap);
+      if (!q) {
+        rc = tb_error_set(err, path, ln, "out of memory");
+        break;
+      }
+      pts = q;
+    }
+    if ((rc = parse_line(line, &pts[*n], path, ln, err))) break;
+    (*n)++;
+  }
+  if (!rc && ferror(fp)) rc = tb_error_set(err, path, ln, "read error");
+  if (!rc && ln == 0) rc = tb_error_set(err, path, 0, "empty file (no header)");
+  fclose(fp);
+  if (rc) {
+    free(pts);
+    *n = 0;
+    return -1;
+  }
+  *out = pts;
+  return 0;
+}
+
+int tb_point_usable(const tb_point *p) {
+  return !strcmp(p->state, "settled") && isfinite(p->rms_err) && isfinite(p->steps_per_s) &&
+         p->steps_per_s > 0 && isfinite(p->ms_step);
+}
+
+/* ---- the choice ---- */
+
+int tb_advise_pick(const tb_point *p, int n, double tol, double budget_ms) {
+  int best = -1;
+  for (int k = 0; k < n; k++) {
+    if (!tb_point_usable(&p[k])) continue;
+    if (tol > 0 && !(p[k].rms_err <= tol)) continue;
+    if (budget_ms > 0 && !(p[k].ms_step <= budget_ms)) continue;
+    if (best < 0) {
+      best = k;
+      continue;
+    }
+    const tb_point *a = &p[k], *b = &p[best];
+    int better = tol > 0 ? (a->steps_per_s > b->steps_per_s ||
+                            (a->steps_per_s == b->steps_per_s && a->rms_err < b->rms_err))
+                         : (a->rms_err < b->rms_err ||
+                            (a->rms_err == b->rms_err && a->steps_per_s > b->steps_per_s));
+    if (better) best = k;
+  }
+  return best;
+}
+
+/* ---- the command ---- */
+
+static void print_row(const tb_point *p, const char *mark) {
+  printf("%-2s %-10s %6d %6d  %-34s %10.0f %9.4f %9.3f%% %9.3f%%  %s\n", mark, p->model,
+         p->resolution, p->nodes, p->params, p->steps_per_s, p->ms_step, 100 * p->rms_err,
+         100 * p->max_err, p->state);
+}
+
+static void print_header(void) {
+  printf("   %-10s %6s %6s  %-34s %10s %9s %10s %10s  %s\n", "model", "res", "nodes", "params",
+         "steps/s", "ms/step", "rms err", "max err", "state");
+}
+
+/* Sort keys for the evidence lists. */
+static const tb_point *sort_base;
+static int by_cost(const void *a, const void *b) {
+  const tb_point *p = &sort_base[*(const int *)a], *q = &sort_base[*(const int *)b];
+  if (p->ms_step != q->ms_step) return p->ms_step < q->ms_step ? -1 : 1;
+  return *(const int *)a - *(const int *)b;
+}
+static int by_error(const void *a, const void *b) {
+  const tb_point *p = &sort_base[*(const int *)a], *q = &sort_base[*(const int *)b];
+  if (p->rms_err != q->rms_err) return p->rms_err < q->rms_err ? -1 : 1;
+  return *(const int *)a - *(const int *)b;
+}
+
+static int usage(const char *msg) {
+  fprintf(stderr,
+          "tissuebench advise: %s\n"
+          "usage: tissuebench advise --scene NAME (--tol X | --budget-ms Y | both) "
+          "[--points FILE] [--results DIR]\n",
+          msg);
+  return TB_EXIT_INPUT;
+}
 
 int tb_cmd_advise(int argc, char **argv) {
-  (void)argc, (void)argv;
-  fprintf(stderr, "advise: not written yet\n");
-  return TB_EXIT_FAIL;
+  const char *scene = NULL, *points = NULL, *results = TB_SOURCE_ROOT "/results";
+  double tol = 0, budget = 0;
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    if (i + 1 >= argc) return usage("an option without its value (or unknown)");
+    if (!strcmp(a, "--scene"))
+      scene = argv[++i];
+    else if (!strcmp(a, "--points"))
+      points = argv[++i];
+    else if (!strcmp(a, "--results"))
+      results = argv[++i];
+    else if (!strcmp(a, "--tol") || !strcmp(a, "--budget-ms")) {
+      double v;
+      /* tb_cli_parse_double lives in main.c: the tests link this file without it */
+      if (parse_num(argv[++i], &v) || !(v > 0) || !isfinite(v))
+        return usage("--tol and --budget-ms take a number > 0");
+      *(!strcmp(a, "--tol") ? &tol : &budget) = v;
+    } else
+      return usage("unknown option");
+  }
+  if (!scene && !points) return usage("--scene NAME (or --points FILE) is required");
+  if (!(tol > 0) && !(budget > 0)) return usage("--tol X or --budget-ms Y is required");
+  char path[1024];
+  if (!points) {
+    if (snprintf(path, sizeof path, "%s/pareto/%s/points.csv", results, scene) >= (int)sizeof path)
+      return usage("path too long");
+    points = path;
+  }
+  tb_point *p;
+  int n;
+  tb_error err;
+  if (tb_points_read(points, &p, &n, &err)) {
+    fprintf(stderr, "tissuebench advise: %s\n", err.msg);
+    if (strstr(err.msg, "cannot read"))
+      fprintf(stderr, "  (make the points with: tissuebench figure pareto --scene %s)\n",
+              scene ? scene : "NAME");
+    return TB_EXIT_INPUT;
+  }
+  int *idx = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1)), nusable = 0;
+  if (!idx) return free(p), TB_EXIT_FAIL;
+  for (int k = 0; k < n; k++) nusable += tb_point_usable(&p[k]);
+  int pick = tb_advise_pick(p, n, tol, budget);
+  printf("points: %s (%d, %d settled)\n", points, n, nusable);
+  if (tol > 0)
+    printf("tolerance: rms surface error <= %g%% of the largest displacement\n", 100 * tol);
+  if (budget > 0) printf("budget: <= %g ms per step\n", budget);
+  sort_base = p;
+  int rc = TB_EXIT_OK;
+  if (pick < 0) {
+    printf("\nno settled point qualifies.\n");
+    rc = TB_EXIT_FAIL;
+  } else {
+    printf("\nchoice (%s):\n",
+           tol > 0 ? "the cheapest within the tolerance" : "the most accurate within the budget");
+    print_header();
+    print_row(&p[pick], "=>");
+  }
+  /* evidence: the qualifying points (by cost, or by error for a budget) */
+  int m = 0;
+  for (int k = 0; k < n; k++)
+    if (tb_point_usable(&p[k]) && (!(tol > 0) || p[k].rms_err <= tol) &&
+        (!(budget > 0) || p[k].ms_step <= budget))
+      idx[m++] = k;
+  qsort(idx, (size_t)m, sizeof *idx, tol > 0 ? by_cost : by_error);
+  printf("\nevidence: %d point(s) qualify, %s:\n", m,
+         tol > 0 ? "cheapest first" : "most accurate first");
+  if (m) print_header();
+  for (int k = 0; k < m; k++) print_row(&p[idx[k]], idx[k] == pick ? "=>" : "");
+  /* the best rejected: settled points that miss, by what they missed on */
+  m = 0;
+  for (int k = 0; k < n; k++)
+    if (tb_point_usable(&p[k]) &&
+        ((tol > 0 && p[k].rms_err > tol) || (budget > 0 && p[k].ms_step > budget)))
+      idx[m++] = k;
+  qsort(idx, (size_t)m, sizeof *idx, tol > 0 ? by_error : by_cost);
+  printf("\nrejected: %d settled point(s) miss (%s first; at most 5 shown):\n", m,
+         tol > 0 ? "the most accurate" : "the cheapest");
+  if (m) print_header();
+  for (int k = 0; k < m && k < 5; k++) print_row(&p[idx[k]], "x");
+  if (n - nusable)
+    printf("\nnot considered: %d unstable or unsettled point(s) (no equilibrium to compare)\n",
+           n - nusable);
+  if (rc) {
+    printf("\n");
+    fprintf(stderr, "tissuebench advise: no settled point has %s%s%s\n",
+            tol > 0 ? "rms error within the tolerance" : "", tol > 0 && budget > 0 ? " and " : "",
+            budget > 0 ? "ms/step within the budget" : "");
+  }
+  free(idx), free(p);
+  return rc;
 }

@@ -68,10 +68,14 @@ static const tb_command commands[] = {
      "  prints \"status: unstable (reason)\" and exits 1",
      tb_cmd_simulate},
     {"advise", "the cheapest model for a scene and an error tolerance",
-     "tissuebench advise --scene NAME --tol X [--budget-ms Y] [--points FILE]\n"
-     "  from measured points (results/pareto/<scene>/points.csv, or FILE), the cheapest model +\n"
-     "  resolution + parameters whose error is within X; with --budget-ms, the most accurate\n"
-     "  within Y ms per step; prints the evidence rows",
+     "tissuebench advise --scene NAME (--tol X | --budget-ms Y | both) [--points FILE]\n"
+     "                   [--results DIR]\n"
+     "  from measured points (DIR/pareto/<scene>/points.csv, DIR = results/, or FILE; made by\n"
+     "  `figure pareto`), the cheapest model + resolution + parameters whose rms surface error\n"
+     "  is within X (relative to the largest reference displacement, e.g. 0.05); with only\n"
+     "  --budget-ms, the most accurate within Y ms per step; with both, the cheapest within X\n"
+     "  and Y. Only settled runs count. Prints the choice and the evidence rows; exit 1 when\n"
+     "  no point qualifies, 2 for a missing or malformed points file (FILE:LINE: reason)",
      tb_cmd_advise},
     {"mesh", "mesh info FILE, or generate a mesh (liver, instrument, sphere, beam)",
      "tissuebench mesh info FILE\n"

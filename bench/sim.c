@@ -12,8 +12,13 @@
 #include "sim_priv.h"
 #include "tb_mesh_io.h"
 
-static const tb_sim_scene *const scenes[] = {&tb_scene_liver_stretch, &tb_scene_liver_press,
-                                             &tb_scene_beam, &tb_scene_drop};
+/* Energy-growth detector defaults (see energy_check). */
+#define ENERGY_FACTOR 100.0
+#define ENERGY_EVERY 16
+
+static const tb_sim_scene *const scenes[] = {
+    &tb_scene_liver_stretch, &tb_scene_liver_press, &tb_scene_beam,      &tb_scene_drop,
+    &tb_scene_beam_stretch,  &tb_scene_beam_twist,  &tb_scene_beam_crush};
 #define NSCENES ((int)(sizeof scenes / sizeof scenes[0]))
 
 static const tb_sim_scene *find(const char *name) {
@@ -49,6 +54,8 @@ int tb_sim_def_set(tb_sim_def *def, const char *kv, tb_error *err) {
       {"vmax", offsetof(tb_sim_def, vmax), 0},
       {"inversion", offsetof(tb_sim_def, inversion), 1},
       {"drag", offsetof(tb_sim_def, drag), 0},
+      {"energy_factor", offsetof(tb_sim_def, energy_factor), 0},
+      {"energy_every", offsetof(tb_sim_def, energy_every), 1},
   };
   const char *eq = strchr(kv, '=');
   if (!eq) return 1;
@@ -99,7 +106,9 @@ int tb_sim_select(const tb_mesh *m, int (*keep)(tb_vec3 x, const void *data), co
 int tb_sim_mesh(const char *scene, const tb_sim_def *def, tb_mesh *out, tb_error *err) {
   const tb_sim_scene *sc = find(scene);
   if (!sc)
-    return tb_error_set(err, scene, 0, "unknown scene (liver-stretch, liver-press, beam, drop)");
+    return tb_error_set(err, scene, 0,
+                        "unknown scene (liver-stretch, liver-press, beam, drop, beam-stretch, "
+                        "beam-twist, beam-crush)");
   tb_sim_def d = with_defaults(sc, def);
   return sc->mesh(&d, out, err);
 }
@@ -109,7 +118,9 @@ int tb_sim_create(tb_sim *s, const char *scene, const tb_sim_def *def, const cha
   memset(s, 0, sizeof *s);
   const tb_sim_scene *sc = find(scene);
   if (!sc)
-    return tb_error_set(err, scene, 0, "unknown scene (liver-stretch, liver-press, beam, drop)");
+    return tb_error_set(err, scene, 0,
+                        "unknown scene (liver-stretch, liver-press, beam, drop, beam-stretch, "
+                        "beam-twist, beam-crush)");
   s->scene = sc;
   s->def = with_defaults(sc, def);
   if (s->def.release > s->def.duration) s->def.release = s->def.duration;
@@ -137,11 +148,15 @@ int tb_sim_create(tb_sim *s, const char *scene, const tb_sim_def *def, const cha
   tb_mesh_bbox(&s->mesh, &lo, &hi);
   s->size = tb_dist(lo, hi);
   if (!(s->def.vmax > 0)) s->def.vmax = 100.0 * s->size / s->def.duration;
+  if (!(s->def.energy_factor > 0)) s->def.energy_factor = ENERGY_FACTOR;
+  if (s->def.energy_every <= 0) s->def.energy_every = ENERGY_EVERY;
   if (tb_model_create(&s->model, model, &s->mesh, mdef, err) ||
       tb_lumped_masses(&s->mesh, mdef, s->mass, err) || sc->setup(s, err)) {
     tb_sim_destroy(s);
     return -1;
   }
+  for (int i = 0; i < s->mesh.nv; i++) s->total_mass += s->mass[i];
+  s->energy0 = s->energy = tb_model_energy(&s->model);
   s->health.ok = 1;
   return 0;
 }
@@ -157,9 +172,78 @@ int tb_sim_loads(tb_sim *s, double t, tb_error *err) {
   return 0;
 }
 
+/* ---- the energy-growth detector ----
+ * A stable run of a dissipative model never holds more energy than it
+ * started with plus the work done on it. That work is not observable
+ * through the model interface (the reactions at prescribed nodes are not
+ * reported), so the reference is an a-priori scale of what the scene can
+ * put in, and the bound a large factor (def.energy_factor, 100) times it:
+ *   E_ref = max(E(0), E_char, E_driven),
+ *   E_char = 1/2 M (size / T)^2 + P size + (P T)^2 / (2 M):
+ *     the kinetic energy of the whole mass M moving the scene's size in the
+ *     run's time T; the work of the loads (P = largest sum |f_i| + M |g|)
+ *     over a displacement of the scene's size (deformation) or over free
+ *     motion for time T (P's impulse P T given to M, e.g. a drop);
+ *   E_driven = the largest energy reached while prescribed nodes were being
+ *     moved (a pulled patch, a pushed tool, a ramped end face): their work
+ *     depends on the model's stiffness and cannot be known in advance, so
+ *     while they move the energy only raises the reference and is not
+ *     checked; once they are held or let go (hold, release, recovery) the
+ *     energy can only fall, and any growth beyond the bound is a blow-up.
+ * The factor leaves room for the energy swings of symplectic Euler near its
+ * stability limit (its measured energy oscillates about the true one) and
+ * for the a-priori terms being rough; an unstable mode grows exponentially
+ * and crosses any such bound within a few dozen steps. The energy costs up
+ * to a third of a step (msm), so it is evaluated on the first energy_every
+ * steps (short runs are checked every step) and then every energy_every-th
+ * step; NaN/inf and the velocity bound are checked every step. */
+
+/* Did any prescribed node's target move away from where the node is? */
+static int prescribed_moving(const tb_sim *s) {
+  const tb_vec3 *x = tb_model_positions(&s->model);
+  double tol = 1e-12 * s->size;
+  for (int k = 0; k < s->nfixed; k++) {
+    tb_vec3 d = tb_sub(s->fixed_x[k], x[s->fixed[k]]);
+    if (fabs(d.x) > tol || fabs(d.y) > tol || fabs(d.z) > tol) return 1;
+  }
+  return 0;
+}
+
+/* Largest scene load so far: sum |f_i| (scene forces, before drag) + M |g|. */
+static void track_loads(tb_sim *s) {
+  double p = s->total_mass * tb_len(s->gravity);
+  for (int i = 0; i < s->mesh.nv; i++) p += tb_len(s->force[i]);
+  if (p > s->load_max) s->load_max = p;
+}
+
+/* The energy check after a step (see above); 0 when healthy. */
+static int energy_check(tb_sim *s) {
+  double e = tb_model_energy(&s->model);
+  s->energy = e, s->energy_bound = 0;
+  if (isnan(e)) return 0; /* the model has no energy (sm) */
+  if (s->moving) {
+    s->moving = 0;
+    if (e > s->energy_driven) s->energy_driven = e;
+    return 0;
+  }
+  double m = s->total_mass > 0 ? s->total_mass : 1, T = s->def.duration, p = s->load_max;
+  double ref = 0.5 * m * (s->size / T) * (s->size / T) + p * s->size + 0.5 * (p * T) * (p * T) / m;
+  if (s->energy0 > ref) ref = s->energy0;
+  if (s->energy_driven > ref) ref = s->energy_driven;
+  s->energy_bound = s->def.energy_factor * ref;
+  if (e <= s->energy_bound) return 0;
+  s->health.ok = 0;
+  snprintf(s->health.reason, sizeof s->health.reason, "energy growth (E = %.3g, bound %.3g)", e,
+           s->energy_bound);
+  return -1;
+}
+
 int tb_sim_step(tb_sim *s, tb_error *err) {
   double t = s->t + s->def.dt;
   if (tb_sim_loads(s, t, err)) return -1;
+  int check = s->steps < s->def.energy_every || (s->steps + 1) % s->def.energy_every == 0;
+  if (check) track_loads(s);
+  if (!s->moving) s->moving = prescribed_moving(s);
   if (s->def.drag > 0) {
     const tb_vec3 *v = tb_model_velocities(&s->model);
     for (int i = 0; i < s->mesh.nv; i++)
@@ -177,6 +261,7 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
   s->steps++;
   s->health = tb_model_health(&s->mesh, tb_model_positions(&s->model),
                               tb_model_velocities(&s->model), s->def.vmax, s->def.inversion);
+  if (s->health.ok && check) energy_check(s);
   if (!s->health.ok)
     return tb_error_set(err, s->model.cls->name, 0, "unstable at t = %g: %s", s->t,
                         s->health.reason);

@@ -20,6 +20,7 @@ struct tb_sim_scene {
 
 extern const tb_sim_scene tb_scene_liver_stretch, tb_scene_liver_press, tb_scene_beam,
     tb_scene_drop;
+extern const tb_sim_scene tb_scene_beam_stretch, tb_scene_beam_twist, tb_scene_beam_crush;
 
 /* Indices of nodes selected by keep(x, data), malloc'ed; returns the count or -1. */
 int tb_sim_select(const tb_mesh *m, int (*keep)(tb_vec3 x, const void *data), const void *data,

@@ -214,6 +214,15 @@ static int recovery(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver, 
     }
   tb_progress("table 3.5 recovery", 1, 1);
   tb_suite_table(su, t);
+  tb_suite_note(su,
+                "State: `recovered` when the largest displacement left is under 5%% of the "
+                "stretch; otherwise `still recovering` when the rms displacement fell by more "
+                "than 1%% in the last second, else `stuck distorted`. The drag (a force -%g m v "
+                "on every node, the same for every model) makes the motion die out in the time "
+                "simulated; without it the undamped shape-matching oscillation never settles "
+                "(eq. 3-42 has no damping). Inverted tets are counted, not treated as a failure, "
+                "in this table (shape matching does not know the tets).",
+                DRAG);
   if (!series) return 1;
   size_t cap = (size_t)npts * 160 + 64;
   char *body = malloc(cap), header[256];

@@ -23,17 +23,23 @@ typedef struct tb_sim_def {
   double vmax;      /* health: velocity bound (0: 100 * scene size / duration) */
   int inversion;    /* 1: an inverted tet stops the run (else it is only counted) */
   double drag;      /* ambient viscous drag: force -drag * m_i * v_i on every node (0: none) */
+  /* health: energy growth (models with an energy; see tb_sim_step) */
+  double energy_factor; /* the bound is this times the reference energy (0: 100) */
+  int energy_every;     /* the energy is checked on the first this-many steps, then on every
+                           this-many-th (0: 16; 1: every step) */
   uint64_t seed;
 } tb_sim_def;
 
 /* Sets one of the fields above from "key=value" (dt, duration, amplitude,
- * release, nodes, gravity, vmax, inversion, drag). Returns 1 when the key is not a scene
- * key (the caller then tries the model's keys), 0 when set, -1 on a bad value. */
+ * release, nodes, gravity, vmax, inversion, drag, energy_factor,
+ * energy_every). Returns 1 when the key is not a scene key (the caller
+ * then tries the model's keys), 0 when set, -1 on a bad value. */
 int tb_sim_def_set(tb_sim_def *def, const char *key_eq_value, tb_error *err);
 
 typedef struct tb_sim_scene tb_sim_scene; /* private: bench/sim_priv.h */
 
-/* The scenes, by name: liver-stretch, liver-press, beam, drop. */
+/* The scenes, by name: liver-stretch, liver-press, beam, drop, beam-stretch,
+ * beam-twist, beam-crush. */
 const char *const *tb_sim_scene_names(int *count);
 const char *tb_sim_scene_summary(const char *name);
 
@@ -69,6 +75,14 @@ typedef struct tb_sim {
   tb_vec3 tool_tip; /* world position of the tool's tip */
   /* health of the last step */
   tb_health health;
+  /* the energy-growth detector (tb_sim_step) */
+  double total_mass;    /* sum of the lumped masses */
+  double load_max;      /* largest scene load seen: sum |f_i| + M |g| */
+  double energy0;       /* the model's energy at creation */
+  double energy_driven; /* largest energy seen while prescribed nodes were moving */
+  int moving;           /* prescribed nodes moved since the last energy check */
+  double energy;        /* the model's energy at the last check (NAN: none) */
+  double energy_bound;  /* the bound it was held to (0: not checked: driven or no energy) */
 } tb_sim;
 
 /* Builds the scene's mesh (or copies `mesh` when not NULL), the model and
@@ -79,7 +93,14 @@ int tb_sim_create(tb_sim *s, const char *scene, const tb_sim_def *def, const cha
 int tb_sim_mesh(const char *scene, const tb_sim_def *def, tb_mesh *out, tb_error *err);
 /* One step: the scene's inputs at t, the model's step, the health check.
  * A failed step or an unhealthy state returns -1 with the reason in err
- * ("unstable: NaN or inf (node 12)" or the model's own error). */
+ * ("unstable: NaN or inf (node 12)" or the model's own error). The health
+ * check is tb_model_health (NaN/inf, velocity bound, inversion when
+ * def.inversion) and, for models with an energy, energy growth: on check
+ * steps (def.energy_every) the energy must stay within def.energy_factor
+ * times a reference, else s->health says "energy growth (E = .., bound ..)".
+ * The reference (bench/sim.c explains it) covers what the scene can put in:
+ * the start energy, the work its loads can do, and the largest energy seen
+ * while prescribed nodes were being moved (no check on such steps). */
 int tb_sim_step(tb_sim *s, tb_error *err);
 void tb_sim_destroy(tb_sim *s);
 /* The scene's loads at time t without stepping: fills gravity, force
