@@ -19,7 +19,9 @@ static void list_all(void) {
   for (int i = 0; i < tb_model_count; i++)
     printf("  %-14s %s\n    keys: %s\n", tb_model_classes[i]->name, tb_model_classes[i]->summary,
            tb_model_classes[i]->keys);
-  printf("scene keys: dt duration amplitude release nodes gravity vmax inversion drag\n");
+  printf(
+      "scene keys: dt duration amplitude release nodes gravity vmax inversion drag energy_factor "
+      "energy_every\n");
 }
 
 int tb_cmd_simulate(int argc, char **argv) {

@@ -415,7 +415,10 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const map_model *only
       memset(&sd, 0, sizeof sd);
       sd.nodes = g.cells[q];
       tb_mesh mesh;
-      if (tb_sim_mesh("beam", &sd, &mesh, err)) return -1;
+      if (tb_sim_mesh("beam", &sd, &mesh, err)) {
+        rc = -1;
+        break;
+      }
       rc = map_one(su, o, &g, mm, &mesh, g.cells[q], &csv, &bcsv, counts, err);
       tb_mesh_free(&mesh);
     }
