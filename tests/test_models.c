@@ -280,6 +280,13 @@ static void suites_smoke(void) {
   snprintf(cmd, sizeof cmd, "test -s %s/r/figure-3.10/fig310.svg", tb_test_tmpdir());
   TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
   TB_CHECK(tb_test_cli_run("figure 9.9") == 2);
+  snprintf(args, sizeof args, "table reference --scale 0.01 --results %s/r", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  snprintf(cmd, sizeof cmd, "cat %s/r/reference/table.md", tb_test_tmpdir());
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK_MSG(strstr(tb_test_out, "| 20 | T10 | Neo-Hookean | 0.0996") &&
+                   strstr(tb_test_out, "| 20 | T4 | Neo-Hookean | 0.05"),
+               "%s", tb_test_out);
 }
 
 const tb_test_case tb_tests_models[] = {
