@@ -3,17 +3,17 @@
  *
  * Part 1, stability maps: a grid of time step dt (log-spaced) x the model's
  * stiffness parameter (msm ks, fem and fem-corot E, log-spaced; sm alpha,
- * linear), per mesh size. Each cell runs the `beam` scene (cantilever
+ * linear), per mesh size. Each tb_stab_cell runs the `beam` scene (cantilever
  * 10 x 1 x 1 held at x = 0) for a fixed simulated time under a tip load
  * applied suddenly at t = 0: the step load excites every mode of the loaded
  * end at once, so an integrator that cannot follow the stiffest modes at
  * that dt shows it within the run, and nothing else disturbs the beam. The
  * load scales with the stiffness (the beam scene's 0.075 at msm ks 180 and
- * fem E 3000), so every cell asks for the same small static deflection
+ * fem E 3000), so every tb_stab_cell asks for the same small static deflection
  * (about 1% of L) and a failure is the integrator's, not a physically huge
  * deformation; sm's load is fixed. Unit node masses (node_mass = 1, as the
  * thesis's mass-spring demo and table 3.5), the thesis's other parameters.
- * Every cell is judged by the simulation driver's own detector (tb_sim_step:
+ * Every tb_stab_cell is judged by the simulation driver's own detector (tb_sim_step:
  * NaN/inf, velocity bound, energy growth, and inverted elements, which is
  * on here), checked every step. For msm the explicit bound of one spring,
  * dt < 2 sqrt(m / k) (symplectic Euler, m the smallest node mass, k = ks),
@@ -22,70 +22,49 @@
  * iteration on M^-1 K and M^-1 C: symplectic Euler on m x'' + c x' + k x = 0
  * is stable iff h^2 k / m + 2 h c / m < 4).
  *
- * Part 2, large deformations (bench/scene_deform.c): every model x {stretch
- * 100%, twist 180 deg, crush 50%} of a 4 x 1 x 1 beam, ramped, held, let
- * go: inverted tets and volume change at the peak, inverted tets and the
- * residual displacement after recovery. Inversion checking is off there
- * (inverted tets are counted, not a stop); NaN/inf, velocity and energy
- * growth still stop a run, printed as `unstable (reason)`. */
+ * Part 2, large deformations (bench/suite_deform.c, scenes in bench/scene_deform.c): every model x
+ * {stretch 100%, twist 180 deg, crush 50%} of a 4 x 1 x 1 beam, ramped, held, let go: inverted tets
+ * and volume change at the peak, inverted tets and the residual displacement after recovery.
+ * Inversion checking is off there (inverted tets are counted, not a stop); NaN/inf, velocity and
+ * energy growth still stop a run, printed as `unstable (reason)`. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_cli.h"
-#include "tb_results.h"
+#include "stability_priv.h"
 #include "tb_rng.h"
 #include "tb_sim.h"
 #include "tb_timer.h"
 
 /* ---- the models and their stiffness axes ---- */
-typedef struct map_model {
-  const char *name, *key, *label; /* model, tb_model_def key, axis label */
-  double lo, hi;
-  int logy;
-  double ref; /* stiffness at which the tip load is the beam's default (0: load fixed) */
-} map_model;
-
-static const map_model maps[] = {
+const tb_stab_model tb_stab_models[] = {
     {"msm", "ks", "spring stiffness ks", 10, 1e6, 1, 180},
     {"fem", "E", "Young modulus E", 10, 1e6, 1, 3000},
     {"fem-corot", "E", "Young modulus E", 10, 1e6, 1, 3000},
     {"sm", "alpha", "shape-matching stiffness alpha", 0.05, 1, 0, 0},
 };
-#define NMAPS ((int)(sizeof maps / sizeof maps[0]))
+const int tb_stab_nmodels = (int)(sizeof tb_stab_models / sizeof tb_stab_models[0]);
+#define NMAPS tb_stab_nmodels
+#define maps tb_stab_models
 
 #define TIP_LOAD 0.075 /* the beam scene's default tip load */
-#define NODE_MASS 1.0
+#define NODE_MASS TB_STAB_NODE_MASS
 #define DT_LO 1e-4
 #define DT_HI 0.1
-/* A cell runs the grid's simulated time or this many steps when that is
+/* A tb_stab_cell runs the grid's simulated time or this many steps when that is
  * longer: at dt 0.1, 0.5 s is 5 steps, too few for a growing mode to show
  * (msm at ks 10, dt 0.1 is caught after 11 steps). */
 #define MIN_STEPS 50
 
-/* Why a run stopped (the map's colours). */
-enum { ST_STABLE, ST_NAN, ST_ENERGY, ST_INVERTED, ST_VELOCITY, ST_FAILED, ST_COUNT };
 static const char *const status_names[ST_COUNT] = {
     "stable",     "NaN or inf", "energy growth", "inverted elements", "velocity beyond bound",
     "step failed"};
 
-typedef struct cell {
-  int code;
-  double t;         /* simulated time reached */
-  char reason[200]; /* the detector's or the model's words */
-} cell;
-
 /* ---- a growing text buffer for CSV bodies ---- */
-typedef struct text {
-  char *s;
-  size_t len, cap;
-  int bad;
-} text;
 
-static void text_add(text *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void text_add(text *b, const char *fmt, ...) {
+void tb_stab_text_add(tb_stab_text *b, const char *fmt, ...) {
   for (int tries = 0; tries < 2 && !b->bad; tries++) {
     va_list ap;
     va_start(ap, fmt);
@@ -111,7 +90,7 @@ static void text_add(text *b, const char *fmt, ...) {
 
 /* ---- one run ---- */
 
-static int classify(const char *reason) {
+int tb_stab_classify(const char *reason) {
   if (!strncmp(reason, "NaN", 3)) return ST_NAN;
   if (!strncmp(reason, "energy", 6)) return ST_ENERGY;
   if (!strncmp(reason, "inverted", 8)) return ST_INVERTED;
@@ -120,14 +99,14 @@ static int classify(const char *reason) {
 }
 
 /* Steps a created sim to its duration (or the first failure) into c. */
-static void run_to_end(tb_sim *s, cell *c) {
+static void run_to_end(tb_sim *s, tb_stab_cell *c) {
   long n = lround(s->def.duration / s->def.dt);
   c->code = ST_STABLE, c->t = 0, c->reason[0] = 0;
   for (long k = 0; k < n; k++) {
     tb_error e;
     if (!tb_sim_step(s, &e)) continue;
     if (!s->health.ok) {
-      c->code = classify(s->health.reason);
+      c->code = tb_stab_classify(s->health.reason);
       snprintf(c->reason, sizeof c->reason, "%s", s->health.reason);
     } else {
       c->code = ST_FAILED;
@@ -138,7 +117,7 @@ static void run_to_end(tb_sim *s, cell *c) {
   c->t = s->t;
 }
 
-static tb_model_def model_def(const map_model *mm, double stiffness, tb_error *err, int *bad) {
+static tb_model_def model_def(const tb_stab_model *mm, double stiffness, tb_error *err, int *bad) {
   tb_model_def md = tb_model_default_def();
   md.node_mass = NODE_MASS;
   char kv[64];
@@ -149,8 +128,8 @@ static tb_model_def model_def(const map_model *mm, double stiffness, tb_error *e
 
 /* One map cell: the beam scene at (dt, stiffness); -1 only when the scene
  * cannot be built (a bad setting), with err. */
-static int map_cell(const tb_mesh *mesh, const map_model *mm, int cells, double dt,
-                    double stiffness, double duration, cell *c, tb_error *err) {
+static int map_cell(const tb_mesh *mesh, const tb_stab_model *mm, int cells, double dt,
+                    double stiffness, double duration, tb_stab_cell *c, tb_error *err) {
   int bad;
   tb_model_def md = model_def(mm, stiffness, err, &bad);
   if (bad) return -1;
@@ -241,7 +220,7 @@ static grid make_grid(const tb_suite_opts *o) {
   return g;
 }
 
-static void stiffness_axis(const grid *g, const map_model *mm, double *k) {
+static void stiffness_axis(const grid *g, const tb_stab_model *mm, double *k) {
   for (int i = 0; i < g->nk; i++) {
     double u = (double)i / (g->nk - 1);
     k[i] = mm->logy ? mm->lo * pow(mm->hi / mm->lo, u) : mm->lo + (mm->hi - mm->lo) * u;
@@ -251,9 +230,9 @@ static void stiffness_axis(const grid *g, const map_model *mm, double *k) {
 /* The msm table: per ks, the largest stable dt (bisected between the grid's
  * last stable and first unstable dt) beside 2 sqrt(m / k) and the mesh's
  * linearised bounds. */
-static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cells, const cell *map,
-                      uint64_t seed, text *csv, tb_error *err) {
-  const map_model *mm = &maps[0];
+static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cells,
+                      const tb_stab_cell *map, uint64_t seed, tb_stab_text *csv, tb_error *err) {
+  const tb_stab_model *mm = &maps[0];
   static const char *cols[] = {"ks",
                                "largest stable dt (grid)",
                                "first unstable dt (grid)",
@@ -278,7 +257,7 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
     double lo = last >= 0 ? g->dt[last] : 0, hi = last + 1 < g->ndt ? g->dt[last + 1] : 0;
     for (int it = 0; lo > 0 && hi > 0 && it < g->bisect; it++) {
       double mid = sqrt(lo * hi);
-      cell c;
+      tb_stab_cell c;
       if (map_cell(mesh, mm, cells, mid, k, g->duration, &c, err)) {
         rc = -1;
         break;
@@ -327,8 +306,8 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
       tb_table_cell(t, "%.2f", lo / single);
     else
       tb_table_cell(t, "-");
-    text_add(csv, "%d,%.6g,%.6g,%.6g,%.6g,%.6g\n", cells, k, lo > 0 && hi > 0 ? lo : NAN, single,
-             hk, hkc);
+    tb_stab_text_add(csv, "%d,%.6g,%.6g,%.6g,%.6g,%.6g\n", cells, k, lo > 0 && hi > 0 ? lo : NAN,
+                     single, hk, hkc);
   }
   free(edges);
   tb_suite_table(su, t);
@@ -348,11 +327,11 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
 }
 
 /* The map of one model on one mesh: a table, CSV rows into csv, the chart. */
-static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const map_model *mm,
-                   const tb_mesh *mesh, int cells, text *csv, text *bcsv, int *counts,
-                   tb_error *err) {
+static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_model *mm,
+                   const tb_mesh *mesh, int cells, tb_stab_text *csv, tb_stab_text *bcsv,
+                   int *counts, tb_error *err) {
   stiffness_axis(g, mm, g->k);
-  cell *map = calloc((size_t)(g->nk * g->ndt), sizeof *map);
+  tb_stab_cell *map = calloc((size_t)(g->nk * g->ndt), sizeof *map);
   if (!map) return tb_error_set(err, "stability", 0, "out of memory");
   const char **cols = calloc((size_t)g->ndt + 1, sizeof *cols);
   char(*heads)[32] = calloc((size_t)g->ndt, sizeof *heads);
@@ -377,7 +356,7 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const map_mode
     tb_table_row(t);
     tb_table_cell(t, "%.3g", g->k[r]);
     for (int j = 0; j < g->ndt && !rc; j++) {
-      cell *c = &map[r * g->ndt + j];
+      tb_stab_cell *c = &map[r * g->ndt + j];
       if (map_cell(mesh, mm, cells, g->dt[j], g->k[r], g->duration, c, err)) {
         rc = -1;
         break;
@@ -391,7 +370,8 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const map_mode
       snprintf(detail, sizeof detail, "%s", c->reason);
       for (char *p = detail; *p; p++)
         if (*p == ',' || *p == '"') *p = ';';
-      text_add(csv, "%.6g,%.6g,%d,%d,%.6g,%s\n", g->dt[j], g->k[r], c->code, cells, c->t, detail);
+      tb_stab_text_add(csv, "%.6g,%.6g,%d,%d,%.6g,%s\n", g->dt[j], g->k[r], c->code, cells, c->t,
+                       detail);
     }
   }
   free(cols), free(heads);
@@ -401,12 +381,13 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const map_mode
   return rc;
 }
 
-static int maps_part(tb_suite *su, const tb_suite_opts *o, const map_model *only, tb_error *err) {
+static int maps_part(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *only,
+                     tb_error *err) {
   grid g = make_grid(o);
   for (int m = 0; m < NMAPS; m++) {
-    const map_model *mm = &maps[m];
+    const tb_stab_model *mm = &maps[m];
     if (only && only != mm) continue;
-    text csv = {0}, bcsv = {0};
+    tb_stab_text csv = {0}, bcsv = {0};
     int counts[ST_COUNT] = {0}, rc = 0;
     uint64_t t0 = tb_time_ns();
     for (int q = 0; q < g.nmesh && !rc; q++) {
@@ -465,179 +446,8 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const map_model *only
   return 0;
 }
 
-/* ---- part 2: large deformations ---- */
-
-static const struct {
-  const char *scene, *label;
-} tests[] = {
-    {"beam-stretch", "stretch 100%"}, {"beam-twist", "twist 180 deg"}, {"beam-crush", "crush 50%"}};
-#define NTESTS ((int)(sizeof tests / sizeof tests[0]))
-
-#define DEFORM_L 4.0    /* the deform scenes' beam length */
-#define DEFORM_DRAG 2.0 /* ambient drag so the motion dies out after release */
-#define RECOVERED 0.05  /* residual max displacement below this x L: recovered */
-#define VOLUME_LOSS 0.2 /* |volume change| at the peak named in the summary */
-
-typedef struct deform_result {
-  int run; /* 1 when this model x test ran */
-  cell c;
-  tb_sim_metrics peak, end;
-  double before; /* max displacement a second before the end */
-} deform_result;
-
-/* Runs one model on one deform scene into r; -1 when the scene cannot be built. */
-static int deform_run(const char *model, const char *scene, const tb_sim_def *sd, deform_result *r,
-                      tb_error *err) {
-  tb_model_def md = tb_model_default_def();
-  md.node_mass = NODE_MASS;
-  tb_sim s;
-  if (tb_sim_create(&s, scene, sd, model, &md, NULL, err)) return -1;
-  long n = lround(s.def.duration / s.def.dt), at_release = lround(s.def.release / s.def.dt);
-  memset(r, 0, sizeof *r);
-  r->run = 1;
-  r->c.code = ST_STABLE;
-  for (long q = 0; q < n; q++) {
-    tb_error e;
-    if (tb_sim_step(&s, &e)) {
-      r->c.code = s.health.ok ? ST_FAILED : classify(s.health.reason);
-      snprintf(r->c.reason, sizeof r->c.reason, "%.199s", s.health.ok ? e.msg : s.health.reason);
-      break;
-    }
-    if (q + 1 == at_release) r->peak = tb_sim_measure(&s);
-    if (q + 1 == n - lround(1.0 / s.def.dt)) r->before = tb_sim_measure(&s).max_disp;
-  }
-  r->c.t = s.t;
-  r->end = tb_sim_measure(&s);
-  tb_sim_destroy(&s);
-  return 0;
-}
-
-static int recovered(const deform_result *r) {
-  return r->end.max_disp / DEFORM_L < RECOVERED && r->end.inverted == 0;
-}
-
-/* "what: msm (twist 180 deg, crush 50%), fem (...)." for the results
- * where pick() holds, or "what: none." */
-static void summary(text *b, const char *what, deform_result r[][NTESTS],
-                    int (*pick)(const deform_result *)) {
-  text_add(b, "%s:", what);
-  int any = 0;
-  for (int m = 0; m < NMAPS; m++) {
-    int first = 1;
-    for (int k = 0; k < NTESTS; k++) {
-      if (!r[m][k].run || !pick(&r[m][k])) continue;
-      text_add(b, "%s%s%s", first ? (any ? "; " : " ") : ", ", first ? maps[m].name : "",
-               first ? " (" : "");
-      text_add(b, "%s", tests[k].label);
-      first = 0, any = 1;
-    }
-    if (!first) text_add(b, ")");
-  }
-  text_add(b, "%s. ", any ? "" : " none");
-}
-
-static int pick_unstable(const deform_result *r) { return r->c.code != ST_STABLE; }
-static int pick_inverted_peak(const deform_result *r) {
-  return r->c.code == ST_STABLE && r->peak.inverted > 0;
-}
-static int pick_inverted_end(const deform_result *r) {
-  return r->c.code == ST_STABLE && r->end.inverted > 0;
-}
-static int pick_volume(const deform_result *r) {
-  return r->c.code == ST_STABLE && fabs(r->peak.volume_change) > VOLUME_LOSS;
-}
-static int pick_unrecovered(const deform_result *r) {
-  return r->c.code == ST_STABLE && !recovered(r);
-}
-
-static int deform_part(tb_suite *su, const tb_suite_opts *o, const map_model *only, tb_error *err) {
-  static const char *cols[] = {"model",
-                               "test",
-                               "state",
-                               "inverted tets at peak",
-                               "volume change at peak (%)",
-                               "inverted tets after recovery",
-                               "residual max displacement (% of L)",
-                               "recovered"};
-  tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
-  sd.dt = 0.01, sd.duration = 6.0, sd.release = 1.0, sd.nodes = o->full ? 16 : 8;
-  if (o->scale < 1) sd.dt = 0.02, sd.duration = 1.0, sd.release = 0.5, sd.nodes = 4;
-  sd.drag = DEFORM_DRAG;
-  sd.inversion = 0;    /* inverted tets are counted here, not a stop */
-  sd.energy_every = 1; /* as on the maps */
-  sd.seed = 1;
-  deform_result res[NMAPS][NTESTS];
-  memset(res, 0, sizeof res);
-  for (int m = 0; m < NMAPS; m++) {
-    if (only && only != &maps[m]) continue;
-    for (int k = 0; k < NTESTS; k++) {
-      tb_progress("stability deformations", m * NTESTS + k, NMAPS * NTESTS);
-      if (deform_run(maps[m].name, tests[k].scene, &sd, &res[m][k], err)) return -1;
-    }
-  }
-  tb_progress("stability deformations", 1, 1);
-  tb_table *t = tb_table_new("deform", "Large deformations of a 4 x 1 x 1 beam", 8, cols);
-  for (int m = 0; m < NMAPS; m++)
-    for (int k = 0; k < NTESTS; k++) {
-      const deform_result *r = &res[m][k];
-      if (!r->run) continue;
-      tb_table_row(t);
-      tb_table_cell(t, "%s", maps[m].name);
-      tb_table_cell(t, "%s", tests[k].label);
-      if (r->c.code != ST_STABLE) {
-        tb_table_cell(t, "unstable (%s at t = %.3g)", r->c.reason, r->c.t);
-        for (int q = 0; q < 5; q++) tb_table_cell(t, "-");
-        continue;
-      }
-      tb_table_cell(t, "stable");
-      tb_table_cell(t, "%d", r->peak.inverted);
-      tb_table_cell(t, "%+.1f", 100 * r->peak.volume_change);
-      tb_table_cell(t, "%d", r->end.inverted);
-      tb_table_cell(t, "%.2f", 100 * r->end.max_disp / DEFORM_L);
-      if (recovered(r))
-        tb_table_cell(t, "yes");
-      else if (!(r->before > 0)) /* a run shorter than a second after release */
-        tb_table_cell(t, "no");
-      else if (r->end.max_disp < 0.9 * r->before)
-        tb_table_cell(t, "no (still creeping back: %.2f%% of L a second earlier)",
-                      100 * r->before / DEFORM_L);
-      else
-        tb_table_cell(t, "no (stuck)");
-    }
-  tb_suite_table(su, t);
-  tb_mesh mesh;
-  if (tb_sim_mesh(tests[0].scene, &sd, &mesh, err)) return -1;
-  int ntet = mesh.ntet;
-  tb_mesh_free(&mesh);
-  tb_suite_note(su,
-                "Large deformations: a 4 x 1 x 1 beam (%d cells along x, %d tets) held at x = 0; "
-                "its end face is ramped over %g s to 2 L (stretch), 180 deg about the axis "
-                "(twist) or L / 2 (crush), held to t = %g s (the peak, measured there), let go "
-                "and left to recover until t = %g s; dt %g, unit node masses, the thesis's "
-                "parameters, ambient drag %g (force -drag m v) for every model so the motion "
-                "dies out. Inversion checking is OFF here: inverted tets are counted, not a "
-                "stop; NaN/inf, the velocity bound and energy growth still stop a run, which "
-                "then reads `unstable (reason)`. Recovered: residual max displacement below "
-                "%g%% of L and no inverted tet; if not, `stuck` when the residual fell by "
-                "less than 10%% over the last second.",
-                sd.nodes, ntet, 0.5 * sd.release, sd.release, sd.duration, sd.dt, DEFORM_DRAG,
-                100 * RECOVERED);
-  text b = {0};
-  summary(&b, "Blew up", res, pick_unstable);
-  summary(&b, "Inverted tets at the peak", res, pick_inverted_peak);
-  summary(&b, "Inverted tets left after recovery", res, pick_inverted_end);
-  text_add(&b, "Volume changed by more than %g%% at the peak", 100 * VOLUME_LOSS);
-  summary(&b, "", res, pick_volume);
-  summary(&b, "Did not recover", res, pick_unrecovered);
-  if (b.bad) return free(b.s), tb_error_set(err, "stability", 0, "out of memory");
-  tb_suite_note(su, "%s", b.s);
-  free(b.s);
-  return 0;
-}
-
 int tb_suite_stability(const tb_suite_opts *o) {
-  const map_model *only = NULL;
+  const tb_stab_model *only = NULL;
   if (o->model) {
     for (int m = 0; m < NMAPS; m++)
       if (!strcmp(o->model, maps[m].name)) only = &maps[m];
@@ -657,20 +467,20 @@ int tb_suite_stability(const tb_suite_opts *o) {
       s,
       "Stability maps: the `beam` scene (cantilever 10 x 1 x 1 held at x = 0) under a "
       "tip load applied suddenly at t = 0, run for %g s (or %d steps when that is longer) per "
-      "cell on a %d x %d grid "
+      "tb_stab_cell on a %d x %d grid "
       "(dt log-spaced %.3g..%.3g s; msm ks and fem/fem-corot E log-spaced 10..1e6, "
       "sm alpha linear 0.05..1). The load is 0.075 x stiffness / (180 for msm ks, "
       "3000 for E): the same static deflection (about 1%% of L) in every cell, so a "
       "failure is the integrator's; sm's load is 0.075. Unit node masses, the "
       "thesis's other parameters (kd 5, nu 0.3, Rayleigh b 0.02, sm quadratic, 50 "
-      "regions of radius 1, beta 0.63). Each cell is judged by the simulation "
+      "regions of radius 1, beta 0.63). Each tb_stab_cell is judged by the simulation "
       "driver's detector, every step: NaN or inf, velocity beyond 100 x size / "
       "duration, energy growth beyond 100 x the scene's reference energy, and "
-      "inverted elements (inversion checking ON for the maps). A cell reads `stable` "
+      "inverted elements (inversion checking ON for the maps). A tb_stab_cell reads `stable` "
       "or `unstable (reason, t at which it was detected)`; map_<model>.csv has the "
       "detector's full words.",
       g.duration, MIN_STEPS, g.nk, g.ndt, g.dt[0], g.dt[g.ndt - 1]);
-  int failed = maps_part(s, o, only, &err) || deform_part(s, o, only, &err);
+  int failed = maps_part(s, o, only, &err) || tb_stab_deform(s, o, only, &err);
   if (failed) fprintf(stderr, "stability: %s\n", err.msg);
   if (tb_suite_end(s, &err)) fprintf(stderr, "stability: %s\n", err.msg), failed = 1;
   return failed;

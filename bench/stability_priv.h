@@ -1,0 +1,46 @@
+/* What the two parts of `figure stability` share: the models and their
+ * stiffness axes, how a run's end is classified, a growing text buffer.
+ * Part 1 (maps) is bench/suite_stability.c, part 2 (large deformations)
+ * bench/suite_deform.c. */
+#ifndef TB_STABILITY_PRIV_H
+#define TB_STABILITY_PRIV_H
+
+#include <stddef.h>
+
+#include "tb_cli.h"
+#include "tb_results.h"
+
+typedef struct tb_stab_model {
+  const char *name, *key, *label; /* model, tb_model_def key, axis label */
+  double lo, hi;
+  int logy;
+  double ref; /* stiffness at which the tip load is the beam's default (0: load fixed) */
+} tb_stab_model;
+extern const tb_stab_model tb_stab_models[];
+extern const int tb_stab_nmodels;
+
+#define TB_STAB_NODE_MASS 1.0 /* unit node masses, as the thesis's mass-spring demo */
+
+/* Why a run stopped (the map's colours). */
+enum { ST_STABLE, ST_NAN, ST_ENERGY, ST_INVERTED, ST_VELOCITY, ST_FAILED, ST_COUNT };
+/* The code of a detector's reason ("NaN ...", "energy ...", ...). */
+int tb_stab_classify(const char *reason);
+
+typedef struct tb_stab_cell {
+  int code;
+  double t;         /* simulated time reached */
+  char reason[200]; /* the detector's or the model's words */
+} tb_stab_cell;
+
+/* A growing text buffer; bad is set when out of memory. */
+typedef struct tb_stab_text {
+  char *s;
+  size_t len, cap;
+  int bad;
+} tb_stab_text;
+void tb_stab_text_add(tb_stab_text *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Part 2: every model (or only `only`) x stretch, twist, crush. */
+int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *only, tb_error *err);
+
+#endif
