@@ -93,6 +93,22 @@ static inline double tb_m3_det(tb_mat3 a) {
          a.m[0][1] * (a.m[1][0] * a.m[2][2] - a.m[1][2] * a.m[2][0]) +
          a.m[0][2] * (a.m[1][0] * a.m[2][1] - a.m[1][1] * a.m[2][0]);
 }
+/* Cofactor matrix: c[i][j] is the signed minor of a[i][j]; det a = the
+ * dot of a row of a with the same row of c, a^-1 = c^T / det a. */
+static inline tb_mat3 tb_m3_cofactor(tb_mat3 a) {
+  double(*m)[3] = a.m;
+  tb_mat3 c;
+  c.m[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+  c.m[0][1] = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+  c.m[0][2] = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+  c.m[1][0] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
+  c.m[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
+  c.m[1][2] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
+  c.m[2][0] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
+  c.m[2][1] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
+  c.m[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  return c;
+}
 /* Rotation of angle (radians) about a unit axis (Rodrigues). */
 static inline tb_mat3 tb_m3_rotation(tb_vec3 axis, double angle) {
   double c = cos(angle), s = sin(angle), t = 1.0 - c;

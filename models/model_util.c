@@ -106,18 +106,9 @@ int tb_m3_inverse(tb_mat3 a, tb_mat3 *inv) {
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++) s = fmax(s, fabs(a.m[i][j]));
   if (!(fabs(det) > 1e-14 * s * s * s)) return 0;
-  tb_mat3 r;
-  r.m[0][0] = a.m[1][1] * a.m[2][2] - a.m[1][2] * a.m[2][1];
-  r.m[0][1] = a.m[0][2] * a.m[2][1] - a.m[0][1] * a.m[2][2];
-  r.m[0][2] = a.m[0][1] * a.m[1][2] - a.m[0][2] * a.m[1][1];
-  r.m[1][0] = a.m[1][2] * a.m[2][0] - a.m[1][0] * a.m[2][2];
-  r.m[1][1] = a.m[0][0] * a.m[2][2] - a.m[0][2] * a.m[2][0];
-  r.m[1][2] = a.m[0][2] * a.m[1][0] - a.m[0][0] * a.m[1][2];
-  r.m[2][0] = a.m[1][0] * a.m[2][1] - a.m[1][1] * a.m[2][0];
-  r.m[2][1] = a.m[0][1] * a.m[2][0] - a.m[0][0] * a.m[2][1];
-  r.m[2][2] = a.m[0][0] * a.m[1][1] - a.m[0][1] * a.m[1][0];
+  tb_mat3 c = tb_m3_cofactor(a), r;
   for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) r.m[i][j] /= det;
+    for (int j = 0; j < 3; j++) r.m[i][j] = c.m[j][i] / det;
   *inv = r;
   return 1;
 }

@@ -202,16 +202,7 @@ static tb_mat3 polar_rotation(tb_mat3 a) {
   tb_mat3 x = a;
   for (int it = 0; it < 40; it++) {
     double(*m)[3] = x.m;
-    tb_mat3 c; /* cofactors: X^-T = c / det X */
-    c.m[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
-    c.m[0][1] = m[1][2] * m[2][0] - m[1][0] * m[2][2];
-    c.m[0][2] = m[1][0] * m[2][1] - m[1][1] * m[2][0];
-    c.m[1][0] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
-    c.m[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
-    c.m[1][2] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
-    c.m[2][0] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
-    c.m[2][1] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
-    c.m[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    tb_mat3 c = tb_m3_cofactor(x); /* X^-T = c / det X */
     double det = m[0][0] * c.m[0][0] + m[0][1] * c.m[0][1] + m[0][2] * c.m[0][2];
     if (!(det > 0)) return tb_m3_polar(a);
     double nx = 0, nc = 0;
