@@ -246,17 +246,13 @@ static int timed_step(runner *r, tb_error *err) {
 }
 
 /* Steps until every node has moved slower than settle_speed for the
- * window, from time t_from on (before each step, hold() keeps the pull);
+ * window, from time t_from on;
  * *settled_at: the window's start, NAN when max_time passed first.
  * Returns 0, or -1 (unstable) with err. */
-static int settle(runner *r, double t_from, int hold, double *settled_at, tb_error *err) {
+static int settle(runner *r, double t_from, double *settled_at, tb_error *err) {
   double quiet_since = NAN, stop = t_from + r->o->max_time;
   *settled_at = NAN;
   for (;;) {
-    double tn = r->s.t + r->dt;
-    /* liver-stretch ramps its pull over release / 2 and lets go after
-     * `release`: past the ramp, keep `release` ahead of the clock */
-    if (hold && tn >= t_from) r->s.def.release = fmax(r->s.def.release, 2 * tn);
     if (timed_step(r, err)) return -1;
     double v = step_speed(tb_model_positions(&r->s.model), r->px, r->s.mesh.nv, r->dt);
     if (r->s.t < t_from - 1e-9 * r->dt || v >= r->o->settle_speed)
@@ -306,7 +302,8 @@ int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
   out->stable = 1;
   tb_error why;
   double at;
-  if (settle(&r, t_full, stretch, &at, &why)) {
+  r.s.hold = stretch; /* the pull stays until the model has settled */
+  if (settle(&r, t_full, &at, &why)) {
     unstable(out, "", why.msg);
     goto timing;
   }
@@ -327,7 +324,7 @@ int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
   /* the reaction on the pulled patch, then let go */
   tb_vec3 react;
   int have = ref->has_reaction && energy_reaction(&r.s, x, v, &react) == 0;
-  r.s.def.release = r.s.t;
+  r.s.hold = 0, r.s.def.release = r.s.t;
   if (timed_step(&r, &why)) {
     unstable(out, " after release", why.msg);
     goto timing;
@@ -340,7 +337,7 @@ int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
   }
   if (have) out->reaction_err = tb_dist(react, ref->reaction) / tb_len(ref->reaction);
   if (o->recovery) {
-    if (settle(&r, r.s.t, 0, &at, &why)) {
+    if (settle(&r, r.s.t, &at, &why)) {
       unstable(out, " after release", why.msg);
       goto timing;
     }

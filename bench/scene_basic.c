@@ -18,26 +18,9 @@ static int beam_mesh(const tb_sim_def *d, tb_mesh *out, tb_error *err) {
   return tb_beam(BEAM_L, BEAM_H, BEAM_H, nx, nyz, nyz, out, err);
 }
 
-static int at_root(tb_vec3 x, const void *data) {
-  (void)data;
-  return x.x <= 1e-9 * BEAM_L;
-}
-static int at_tip(tb_vec3 x, const void *data) {
-  (void)data;
-  return x.x >= BEAM_L * (1 - 1e-9);
-}
-
-static int beam_setup(tb_sim *s, tb_error *err) {
-  s->nanchor = tb_sim_select(&s->mesh, at_root, NULL, &s->anchor);
-  s->ndriven = tb_sim_select(&s->mesh, at_tip, NULL, &s->driven);
-  if (s->nanchor < 1 || s->ndriven < 1) return tb_error_set(err, "beam", 0, "out of memory");
-  return 0;
-}
-
 static int beam_inputs(tb_sim *s, double t, tb_error *err) {
   (void)t, (void)err;
-  for (int k = 0; k < s->nanchor; k++)
-    s->mark[s->anchor[k]] = 1, s->target[s->anchor[k]] = s->mesh.x[s->anchor[k]];
+  tb_sim_hold_anchor(s);
   double f = s->def.gravity > 0 ? 0 : s->def.amplitude / s->ndriven;
   for (int k = 0; k < s->ndriven; k++) s->force[s->driven[k]] = tb_v3(0, 0, -f);
   return 0;
@@ -49,7 +32,7 @@ const tb_sim_scene tb_scene_beam = {
     "cantilever 10 x 1 x 1 fixed at x = 0, tip load `amplitude` along -z (or `gravity`)",
     {.dt = 0.01, .duration = 2.0, .amplitude = 0.075, .release = 2.0, .nodes = 20, .seed = 1},
     beam_mesh,
-    beam_setup,
+    tb_sim_beam_ends,
     beam_inputs,
 };
 

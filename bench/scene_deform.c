@@ -27,37 +27,9 @@ static int deform_mesh(const tb_sim_def *d, tb_mesh *out, tb_error *err) {
   return tb_beam(DEF_L, DEF_H, DEF_H, nx, nyz, nyz, out, err);
 }
 
-static int at_root(tb_vec3 x, const void *data) {
-  (void)data;
-  return x.x <= 1e-9 * DEF_L;
-}
-static int at_end(tb_vec3 x, const void *data) {
-  (void)data;
-  return x.x >= DEF_L * (1 - 1e-9);
-}
-
-static int deform_setup(tb_sim *s, tb_error *err) {
-  s->nanchor = tb_sim_select(&s->mesh, at_root, NULL, &s->anchor);
-  s->ndriven = tb_sim_select(&s->mesh, at_end, NULL, &s->driven);
-  if (s->nanchor < 1 || s->ndriven < 1)
-    return tb_error_set(err, s->scene->name, 0, "no end faces (out of memory?)");
-  return 0;
-}
-
-/* The ramp fraction at t (0..1), or -1 once the end face is let go. */
-static double ramp(const tb_sim *s, double t) {
-  for (int k = 0; k < s->nanchor; k++) {
-    int i = s->anchor[k];
-    s->mark[i] = 1, s->target[i] = s->mesh.x[i];
-  }
-  if (t > s->def.release + 1e-12 * s->def.dt) return -1;
-  double r = 0.5 * s->def.release;
-  return t < r ? t / r : 1.0;
-}
-
 static int stretch_inputs(tb_sim *s, double t, tb_error *err) {
   (void)err;
-  double f = ramp(s, t);
+  double f = tb_sim_ramp(s, t);
   for (int k = 0; f >= 0 && k < s->ndriven; k++) {
     int i = s->driven[k];
     s->mark[i] = 1, s->target[i] = tb_madd(s->mesh.x[i], f * s->def.amplitude, tb_v3(1, 0, 0));
@@ -67,7 +39,7 @@ static int stretch_inputs(tb_sim *s, double t, tb_error *err) {
 
 static int crush_inputs(tb_sim *s, double t, tb_error *err) {
   (void)err;
-  double f = ramp(s, t);
+  double f = tb_sim_ramp(s, t);
   for (int k = 0; f >= 0 && k < s->ndriven; k++) {
     int i = s->driven[k];
     s->mark[i] = 1, s->target[i] = tb_madd(s->mesh.x[i], -f * s->def.amplitude, tb_v3(1, 0, 0));
@@ -77,7 +49,7 @@ static int crush_inputs(tb_sim *s, double t, tb_error *err) {
 
 static int twist_inputs(tb_sim *s, double t, tb_error *err) {
   (void)err;
-  double f = ramp(s, t), a = f * s->def.amplitude * (M_PI / 180.0);
+  double f = tb_sim_ramp(s, t), a = f * s->def.amplitude * (M_PI / 180.0);
   double c = cos(a), sn = sin(a), mid = 0.5 * DEF_H;
   for (int k = 0; f >= 0 && k < s->ndriven; k++) {
     int i = s->driven[k];
@@ -94,7 +66,7 @@ const tb_sim_scene tb_scene_beam_stretch = {
     "`release`",
     {.dt = 0.01, .duration = 6.0, .amplitude = DEF_L, .release = 1.0, .nodes = 8, .seed = 1},
     deform_mesh,
-    deform_setup,
+    tb_sim_beam_ends,
     stretch_inputs,
 };
 
@@ -104,7 +76,7 @@ const tb_sim_scene tb_scene_beam_twist = {
     "let go at `release`",
     {.dt = 0.01, .duration = 6.0, .amplitude = 180.0, .release = 1.0, .nodes = 8, .seed = 1},
     deform_mesh,
-    deform_setup,
+    tb_sim_beam_ends,
     twist_inputs,
 };
 
@@ -114,6 +86,6 @@ const tb_sim_scene tb_scene_beam_crush = {
     "at `release`",
     {.dt = 0.01, .duration = 6.0, .amplitude = 0.5 * DEF_L, .release = 1.0, .nodes = 8, .seed = 1},
     deform_mesh,
-    deform_setup,
+    tb_sim_beam_ends,
     crush_inputs,
 };

@@ -53,13 +53,6 @@ static int anchor_slab(tb_sim *s, int axis, tb_error *err) {
   return 0;
 }
 
-static void hold_anchor(tb_sim *s) {
-  for (int k = 0; k < s->nanchor; k++) {
-    int i = s->anchor[k];
-    s->mark[i] = 1, s->target[i] = s->mesh.x[i];
-  }
-}
-
 /* The surface node extreme along dir. */
 static int extreme_surface_node(const tb_mesh *m, tb_vec3 dir) {
   int best = m->tri[0];
@@ -88,9 +81,8 @@ static int stretch_setup(tb_sim *s, tb_error *err) {
 
 static int stretch_inputs(tb_sim *s, double t, tb_error *err) {
   (void)err;
-  hold_anchor(s);
-  if (t > s->def.release + 1e-12 * s->def.dt) return 0; /* let go */
-  double ramp = 0.5 * s->def.release, f = t < ramp ? t / ramp : 1.0;
+  double f = tb_sim_ramp(s, t);
+  if (f < 0) return 0; /* let go */
   for (int k = 0; k < s->ndriven; k++) {
     int i = s->driven[k];
     s->mark[i] = 1, s->target[i] = tb_madd(s->mesh.x[i], f * s->def.amplitude, s->drive);
@@ -145,7 +137,7 @@ static int above_point(tb_vec3 a, tb_vec3 b, tb_vec3 c, tb_vec3 p, double *z) {
 }
 
 static int press_inputs(tb_sim *s, double t, tb_error *err) {
-  hold_anchor(s);
+  tb_sim_hold_anchor(s);
   tb_instrument_def id = tb_instrument_default_def();
   double press = 0.75 * s->def.duration, f = t < press ? t / press : 1.0;
   tb_vec3 tip = s->tool_tip;

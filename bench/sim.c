@@ -103,6 +103,41 @@ int tb_sim_select(const tb_mesh *m, int (*keep)(tb_vec3 x, const void *data), co
   return n;
 }
 
+void tb_sim_hold_anchor(tb_sim *s) {
+  for (int k = 0; k < s->nanchor; k++) {
+    int i = s->anchor[k];
+    s->mark[i] = 1, s->target[i] = s->mesh.x[i];
+  }
+}
+
+double tb_sim_ramp(tb_sim *s, double t) {
+  tb_sim_hold_anchor(s);
+  if (!s->hold && t > s->def.release + 1e-12 * s->def.dt) return -1;
+  double r = 0.5 * s->def.release;
+  return t < r ? t / r : 1.0;
+}
+
+typedef struct beam_end {
+  double x; /* the face's coordinate */
+  int above;
+} beam_end;
+static int on_end(tb_vec3 x, const void *data) {
+  const beam_end *e = data;
+  return e->above ? x.x >= e->x : x.x <= e->x;
+}
+
+int tb_sim_beam_ends(tb_sim *s, tb_error *err) {
+  tb_vec3 lo, hi;
+  tb_mesh_bbox(&s->mesh, &lo, &hi);
+  double len = hi.x - lo.x;
+  beam_end root = {lo.x + 1e-9 * len, 0}, tip = {hi.x - 1e-9 * len, 1};
+  s->nanchor = tb_sim_select(&s->mesh, on_end, &root, &s->anchor);
+  s->ndriven = tb_sim_select(&s->mesh, on_end, &tip, &s->driven);
+  if (s->nanchor < 1 || s->ndriven < 1)
+    return tb_error_set(err, s->scene->name, 0, "no end faces (out of memory?)");
+  return 0;
+}
+
 int tb_sim_mesh(const char *scene, const tb_sim_def *def, tb_mesh *out, tb_error *err) {
   const tb_sim_scene *sc = find(scene);
   if (!sc)

@@ -25,6 +25,15 @@ extern const tb_sim_scene tb_scene_beam_stretch, tb_scene_beam_twist, tb_scene_b
 /* Indices of nodes selected by keep(x, data), malloc'ed; returns the count or -1. */
 int tb_sim_select(const tb_mesh *m, int (*keep)(tb_vec3 x, const void *data), const void *data,
                   int **out);
+/* Marks the anchored nodes prescribed at their rest positions. */
+void tb_sim_hold_anchor(tb_sim *s);
+/* Holds the anchor and returns how far the driven set has come at t: the
+ * ramp fraction t / (release / 2), 1 once the ramp is done, and -1 once it
+ * is let go (t past `release`, unless s->hold). */
+double tb_sim_ramp(tb_sim *s, double t);
+/* A beam along x: the anchor is the face at the lowest x, the driven set
+ * the face at the highest. */
+int tb_sim_beam_ends(tb_sim *s, tb_error *err);
 /* The liver tet mesh for the liver scenes (nodes: target vertices). */
 int tb_sim_liver_mesh(const tb_sim_def *def, tb_mesh *out, tb_error *err);
 

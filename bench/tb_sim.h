@@ -66,6 +66,7 @@ typedef struct tb_sim {
   int nanchor, *anchor;
   int ndriven, *driven;
   tb_vec3 drive;
+  int hold; /* 1: the driven set is not let go at `release` (held until cleared) */
   /* liver-press: the instrument and its collision query against the surface */
   tb_mesh tool;
   tb_collider *collider;
