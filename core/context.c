@@ -1,7 +1,9 @@
 /* The run's context recorded beside every result: UTC date, host, CPU model
  * and clock (/proc/cpuinfo), online cores, compiler and flags (defines set by
  * meson), git commit and dirty flag of the source tree, dependency versions
- * (reference/versions.cpp) and the seed. Fields that cannot be read say
+ * (reference/versions.cpp) and the seed; and Google Benchmark's context
+ * fields: CPU frequency scaling (cpu0's governor), cpu0's caches, the load
+ * averages and the build type. Fields that cannot be read say
  * "unknown" (numbers 0, dirty -1); git's own errors are not shown, and
  * --no-optional-locks keeps `git status` from touching the index. */
 #include <stdio.h>
@@ -19,6 +21,9 @@
 #endif
 #ifndef TB_COMPILER
 #define TB_COMPILER "unknown"
+#endif
+#ifndef TB_BUILD_TYPE
+#define TB_BUILD_TYPE "unknown"
 #endif
 #ifndef TB_BUILD_FLAGS
 #define TB_BUILD_FLAGS "unknown"
@@ -97,6 +102,59 @@ static void collect_git(tb_context *c) {
     memcpy(c->commit, out, n + 1);
 }
 
+/* The first line of a file, trimmed; 0 when unreadable or empty. */
+static int read_line(const char *path, char *out, size_t cap) {
+  FILE *f = fopen(path, "r");
+  if (!f) return 0;
+  int ok = fgets(out, (int)cap, f) != NULL;
+  fclose(f);
+  if (ok) rtrim(out);
+  return ok && out[0];
+}
+
+/* How many CPUs a shared_cpu_map ("00000003" or "ff,ffffffff") names. */
+static int map_bits(const char *map) {
+  int n = 0;
+  for (const char *p = map; *p; p++) {
+    int v = *p >= '0' && *p <= '9' ? *p - '0' : *p >= 'a' && *p <= 'f' ? *p - 'a' + 10 : 0;
+    for (; v; v >>= 1) n += v & 1;
+  }
+  return n;
+}
+
+/* Google Benchmark's cache list: /sys/devices/system/cpu/cpu0/cache/index*. */
+static void collect_caches(tb_context *c) {
+  const int max = (int)(sizeof c->caches / sizeof c->caches[0]);
+  for (int i = 0; c->ncaches < max && i < 16; i++) {
+    char path[128], v[128];
+    struct tb_cache *k = &c->caches[c->ncaches];
+    snprintf(path, sizeof path, "/sys/devices/system/cpu/cpu0/cache/index%d/type", i);
+    if (!read_line(path, k->type, sizeof k->type)) break;
+    snprintf(path, sizeof path, "/sys/devices/system/cpu/cpu0/cache/index%d/level", i);
+    k->level = read_line(path, v, sizeof v) ? atoi(v) : 0;
+    snprintf(path, sizeof path, "/sys/devices/system/cpu/cpu0/cache/index%d/size", i);
+    if (read_line(path, v, sizeof v)) {
+      char *end;
+      long size = strtol(v, &end, 10);
+      k->size = size * (*end == 'K' ? 1024 : *end == 'M' ? 1024 * 1024 : 1);
+    }
+    snprintf(path, sizeof path, "/sys/devices/system/cpu/cpu0/cache/index%d/shared_cpu_map", i);
+    k->num_sharing = read_line(path, v, sizeof v) ? map_bits(v) : 0;
+    c->ncaches++;
+  }
+}
+
+/* 1, 5 and 15 minute load: getloadavg, else /proc/loadavg. */
+static void collect_load(tb_context *c) {
+  if (getloadavg(c->load, 3) == 3) {
+    c->have_load = 1;
+    return;
+  }
+  char line[128];
+  c->have_load = read_line("/proc/loadavg", line, sizeof line) &&
+                 sscanf(line, "%lf %lf %lf", &c->load[0], &c->load[1], &c->load[2]) == 3;
+}
+
 void tb_context_collect(tb_context *c, uint64_t seed) {
   memset(c, 0, sizeof *c);
   time_t now = time(NULL);
@@ -117,6 +175,14 @@ void tb_context_collect(tb_context *c, uint64_t seed) {
   if (cpuinfo("cpu MHz", mhz, sizeof mhz)) c->mhz = (int)(atof(mhz) + 0.5);
   long cores = sysconf(_SC_NPROCESSORS_ONLN);
   c->cores = cores > 0 ? (int)cores : 0;
+  char gov[64]; /* no cpufreq (virtual machines): scaling is not enabled */
+  c->cpu_scaling =
+      read_line("/sys/devices/system/cpu/cpu0/cpufreq/scaling_governor", gov, sizeof gov) &&
+      strcmp(gov, "performance") != 0;
+  collect_caches(c);
+  collect_load(c);
+  snprintf(c->build_type, sizeof c->build_type, "%s",
+           strcmp(TB_BUILD_TYPE, "release") == 0 ? "release" : "debug");
 
   copy(c->compiler, sizeof c->compiler, TB_COMPILER);
   copy(c->flags, sizeof c->flags, TB_BUILD_FLAGS);

@@ -66,7 +66,8 @@ tb_table *tb_table_new(const char *name, const char *title, int ncols, const cha
   t->name = tb_results_dup(name);
   t->title = tb_results_dup(title ? title : "");
   t->cols = calloc((size_t)ncols, sizeof *t->cols);
-  int ok = t->name && t->title && t->cols;
+  t->csv_cols = calloc((size_t)ncols, sizeof *t->csv_cols);
+  int ok = t->name && t->title && t->cols && t->csv_cols;
   for (int j = 0; ok && j < ncols; j++) ok = (t->cols[j] = tb_results_dup(cols[j])) != NULL;
   if (!ok) {
     tb_table_free(t);
@@ -81,43 +82,139 @@ static void table_fail(tb_table *t, const char *what) {
 
 void tb_table_row(tb_table *t) {
   if (!t) return;
-  char **c = tb_results_grow(t->cells, &t->cap_rows, t->nrows + 1, (size_t)t->ncols * sizeof *c);
-  if (!c) {
-    table_fail(t, "out of memory");
-    return;
+  size_t nc = (size_t)t->ncols;
+  if (t->nrows == t->cap_rows) { /* the cells, their values and kinds grow together */
+    int cap = t->cap_rows ? 2 * t->cap_rows : 8;
+    char **c = realloc(t->cells, (size_t)cap * nc * sizeof *c);
+    if (c) t->cells = c;
+    double *v = c ? realloc(t->vals, (size_t)cap * nc * sizeof *v) : NULL;
+    if (v) t->vals = v;
+    unsigned char *k = v ? realloc(t->isnum, (size_t)cap * nc) : NULL;
+    if (!k) {
+      table_fail(t, "out of memory");
+      return;
+    }
+    t->isnum = k;
+    t->cap_rows = cap;
   }
-  t->cells = c;
-  memset(c + (size_t)t->nrows * (size_t)t->ncols, 0, (size_t)t->ncols * sizeof *c);
+  size_t at = (size_t)t->nrows * nc;
+  memset(t->cells + at, 0, nc * sizeof *t->cells);
+  memset(t->vals + at, 0, nc * sizeof *t->vals);
+  memset(t->isnum + at, 0, nc);
   t->nrows++;
   t->next = 0;
 }
 
-void tb_table_cell(tb_table *t, const char *fmt, ...) {
-  if (!t) return;
+/* The next cell's index, or -1 (recorded) when there is no room. */
+static long next_cell(tb_table *t) {
   const char *bad = t->nrows == 0         ? "cell before the first tb_table_row"
                     : t->next >= t->ncols ? "a row has more cells than columns"
                                           : NULL;
   if (bad) {
     table_fail(t, bad);
+    return -1;
+  }
+  return (long)(t->nrows - 1) * t->ncols + t->next;
+}
+
+static void set_cell(tb_table *t, long at, char *text, int isnum, double value) {
+  if (!text) {
+    table_fail(t, "out of memory");
     return;
   }
+  t->cells[at] = text;
+  t->isnum[at] = (unsigned char)isnum;
+  t->vals[at] = value;
+  t->next++;
+}
+
+void tb_table_cell(tb_table *t, const char *fmt, ...) {
+  if (!t) return;
+  long at = next_cell(t);
+  if (at < 0) return;
   va_list ap;
   va_start(ap, fmt);
   char *s = vformat(fmt, ap);
   va_end(ap);
-  if (!s) {
+  set_cell(t, at, s, 0, 0);
+}
+
+/* 1 when fmt has exactly one conversion and it is a floating one (%f %e %g
+ * %a, either case, with flags, width and precision); "%%" is text. */
+static int one_double_conversion(const char *fmt) {
+  int n = 0;
+  for (const char *p = fmt; *p; p++) {
+    if (*p != '%') continue;
+    if (*++p == '%') continue;
+    p += strspn(p, "-+ #0");
+    p += strspn(p, "0123456789");
+    if (*p == '.') p += 1 + strspn(p + 1, "0123456789");
+    if (!*p || !strchr("fFeEgGaA", *p)) return 0;
+    n++;
+  }
+  return n == 1;
+}
+
+void tb_table_num(tb_table *t, double value, const char *fmt) {
+  if (!t) return;
+  if (!fmt || !one_double_conversion(fmt)) {
+    table_fail(t, "tb_table_num needs a format with one floating conversion");
+    return;
+  }
+  long at = next_cell(t);
+  if (at < 0) return;
+  char *s = NULL;
+  if (!isfinite(value)) {
+    s = tb_results_dup("-");
+  } else {
+    int n = snprintf(NULL, 0, fmt, value);
+    s = n < 0 ? NULL : malloc((size_t)n + 1);
+    if (s) snprintf(s, (size_t)n + 1, fmt, value);
+  }
+  set_cell(t, at, s, 1, value);
+}
+
+void tb_table_numf(tb_table *t, double value, const char *fmt, ...) {
+  if (!t) return;
+  long at = next_cell(t);
+  if (at < 0) return;
+  char *s;
+  if (!isfinite(value)) {
+    s = tb_results_dup("-");
+  } else {
+    va_list ap;
+    va_start(ap, fmt);
+    s = vformat(fmt, ap);
+    va_end(ap);
+  }
+  set_cell(t, at, s, 1, value);
+}
+
+void tb_table_csv_name(tb_table *t, int col, const char *name) {
+  if (!t) return;
+  if (col < 0 || col >= t->ncols || !name || !*name) {
+    table_fail(t, "tb_table_csv_name: no such column, or no name");
+    return;
+  }
+  char *d = tb_results_dup(name);
+  if (!d) {
     table_fail(t, "out of memory");
     return;
   }
-  t->cells[(size_t)(t->nrows - 1) * (size_t)t->ncols + (size_t)t->next++] = s;
+  free(t->csv_cols[col]);
+  t->csv_cols[col] = d;
 }
 
 void tb_table_free(tb_table *t) {
   if (!t) return;
   for (size_t i = 0; t->cells && i < (size_t)t->nrows * (size_t)t->ncols; i++) free(t->cells[i]);
   for (int j = 0; t->cols && j < t->ncols; j++) free(t->cols[j]);
+  for (int j = 0; t->csv_cols && j < t->ncols; j++) free(t->csv_cols[j]);
   free(t->cells);
+  free(t->vals);
+  free(t->isnum);
   free(t->cols);
+  free(t->csv_cols);
   free(t->name);
   free(t->title);
   free(t);
@@ -282,8 +379,15 @@ void tb_suite_bench(tb_suite *s, const char *name, const double *real, const dou
     return;
   }
   if (!cpu) cpu = real;
-  tb_results_bench b = {tb_results_dup(name), units[u], n, malloc((size_t)n * sizeof(double)),
-                        malloc((size_t)n * sizeof(double))};
+  tb_results_bench b = {tb_results_dup(name),
+                        units[u],
+                        n,
+                        malloc((size_t)n * sizeof(double)),
+                        malloc((size_t)n * sizeof(double)),
+                        0,
+                        0,
+                        NULL,
+                        NULL};
   tb_results_bench *bs = b.name && b.real && b.cpu ? tb_results_grow(s->benches, &s->cap_benches,
                                                                      s->nbenches + 1, sizeof *bs)
                                                    : NULL;
@@ -300,19 +404,76 @@ void tb_suite_bench(tb_suite *s, const char *name, const double *real, const dou
   bs[s->nbenches++] = b;
 }
 
-/* ---- end of the run ---- */
+/* The fields of a benchmark entry a counter must not shadow. */
+static const char *const entry_fields[] = {
+    "name",       "family_index",    "per_family_instance_index",
+    "run_name",   "run_type",        "repetitions",
+    "threads",    "aggregate_name",  "aggregate_unit",
+    "iterations", "real_time",       "cpu_time",
+    "time_unit",  "repetition_index"};
 
-static void fmt_time(char *out, size_t cap, double x) {
-  snprintf(out, cap, fabs(x) >= 1e4 ? "%.0f" : "%.4g", x);
+void tb_suite_counter(tb_suite *s, const char *bench, const char *key, double value) {
+  if (!s) return;
+  if (!bench || !*bench || !key || !*key) {
+    tb_results_fail(s, "a counter needs a benchmark name and a key");
+    return;
+  }
+  for (size_t i = 0; i < sizeof entry_fields / sizeof entry_fields[0]; i++)
+    if (strcmp(key, entry_fields[i]) == 0) {
+      tb_results_fail(s, "benchmark \"%s\": counter \"%s\" is one of the entry's own fields", bench,
+                      key);
+      return;
+    }
+  tb_results_bench *b = NULL;
+  for (int i = s->nbenches - 1; i >= 0 && !b; i--)
+    if (strcmp(s->benches[i].name, bench) == 0) b = &s->benches[i];
+  if (!b) { /* counters only */
+    tb_results_bench *bs =
+        tb_results_grow(s->benches, &s->cap_benches, s->nbenches + 1, sizeof *bs);
+    char *name = bs ? tb_results_dup(bench) : NULL;
+    if (!name) {
+      if (bs) s->benches = bs;
+      tb_results_fail(s, "benchmark \"%s\": out of memory", bench);
+      return;
+    }
+    s->benches = bs;
+    b = &bs[s->nbenches++];
+    *b = (tb_results_bench){name, "s", 0, NULL, NULL, 0, 0, NULL, NULL};
+  }
+  for (int i = 0; i < b->ncounters; i++)
+    if (strcmp(b->keys[i], key) == 0) {
+      b->counters[i] = value; /* the last value counts */
+      return;
+    }
+  int cap = b->cap_counters;
+  char **k = tb_results_grow(b->keys, &cap, b->ncounters + 1, sizeof *k);
+  if (k) b->keys = k;
+  cap = b->cap_counters;
+  double *v = k ? tb_results_grow(b->counters, &cap, b->ncounters + 1, sizeof *v) : NULL;
+  if (v) b->counters = v;
+  char *d = v ? tb_results_dup(key) : NULL;
+  if (!d) {
+    tb_results_fail(s, "benchmark \"%s\": out of memory", bench);
+    return;
+  }
+  b->cap_counters = cap;
+  b->keys[b->ncounters] = d;
+  b->counters[b->ncounters++] = value;
 }
 
-/* The timings as one more table of table.md and data.csv, all in one unit:
- * the benchmarks' own when they share it, else ms. */
+/* ---- end of the run ---- */
+
+/* The timings as one more table of table.md and its CSV, all in one unit:
+ * the benchmarks' own when they share it, else ms. Counter-only entries
+ * have no time and are left out. */
 static void add_timings(tb_suite *s) {
-  if (s->nbenches == 0) return;
-  int u = unit_index(s->benches[0].unit);
-  for (int i = 1; i < s->nbenches; i++)
-    if (strcmp(s->benches[i].unit, units[u]) != 0) u = 2;
+  int u = -1;
+  for (int i = 0; i < s->nbenches; i++)
+    if (s->benches[i].n > 0) {
+      int bu = unit_index(s->benches[i].unit);
+      u = u < 0 || u == bu ? bu : 2;
+    }
+  if (u < 0) return;
   char h[6][32];
   const char *what[6] = {"median", "mean", "stddev", "min", "max", "median CPU"};
   const char *cols[8] = {"benchmark", "repetitions"};
@@ -323,17 +484,14 @@ static void add_timings(tb_suite *s) {
   tb_table *t = tb_table_new("timings", "Timings (every repetition is in data.json)", 8, cols);
   for (int i = 0; t && i < s->nbenches; i++) {
     const tb_results_bench *b = &s->benches[i];
+    if (b->n == 0) continue;
     double k = unit_seconds[unit_index(b->unit)] / unit_seconds[u];
     tb_stats a = tb_stats_of(b->real, b->n), c = tb_stats_of(b->cpu, b->n);
     double v[6] = {a.median, a.mean, a.stddev, a.min, a.max, c.median};
     tb_table_row(t);
     tb_table_cell(t, "%s", b->name);
     tb_table_cell(t, "%d", b->n);
-    for (int q = 0; q < 6; q++) {
-      char num[64];
-      fmt_time(num, sizeof num, v[q] * k);
-      tb_table_cell(t, "%s", num);
-    }
+    for (int q = 0; q < 6; q++) tb_table_num(t, v[q] * k, fabs(v[q] * k) >= 1e4 ? "%.0f" : "%.4g");
   }
   tb_suite_table(s, t);
 }
@@ -347,6 +505,9 @@ static void suite_free(tb_suite *s) {
     free(s->benches[i].name);
     free(s->benches[i].real);
     free(s->benches[i].cpu);
+    for (int k = 0; k < s->benches[i].ncounters; k++) free(s->benches[i].keys[k]);
+    free(s->benches[i].keys);
+    free(s->benches[i].counters);
   }
   free(s->items);
   free(s->benches);

@@ -1,10 +1,11 @@
-/* The three files of a suite run: table.md (GitHub markdown: title, the
- * run's context, then notes, tables and charts in the order added), data.csv
- * (RFC 4180 quoting; a "table" column naming each row's table, then the
- * union of all tables' columns) and data.json in Google Benchmark's JSON
- * layout ("context" plus "benchmarks": one "iteration" entry per repetition,
- * then mean/median/stddev/min/max "aggregate" entries; min and max are our
- * extension to its mean/median/stddev). */
+/* The files of a suite run: table.md (GitHub markdown: title, the run's
+ * context, then notes, tables and charts in the order added), one CSV per
+ * table, table-<name>.csv (RFC 4180 quoting; bare numbers, units in the
+ * header; a column mixing numbers and text is reported as a misuse) and
+ * data.json in Google Benchmark's JSON layout ("context" plus "benchmarks":
+ * one "iteration" entry per repetition, then mean/median/stddev/min/max
+ * "aggregate" entries, min and max being our extension to its
+ * mean/median/stddev; user counters as extra numeric fields). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -87,7 +88,7 @@ static void md_write(FILE *f, const tb_suite *s) {
   }
 }
 
-/* ---- data.csv ---- */
+/* ---- table-<name>.csv ---- */
 
 static void csv_field(FILE *f, const char *s) {
   if (!s[strcspn(s, ",\"\r\n")] && s[0] != ' ' && (!*s || s[strlen(s) - 1] != ' ')) {
@@ -102,62 +103,53 @@ static void csv_field(FILE *f, const char *s) {
   fputc('"', f);
 }
 
-/* The header is "table" then the union of all tables' columns in order of
- * first appearance; a table using the same name twice gets two columns. */
-static int csv_write(FILE *f, const tb_suite *s) {
-  const char **uni = NULL;
-  int nuni = 0, cap = 0, rc = 0;
-  int *map = NULL, map_cap = 0;
-  for (int pass = 0; pass < 2 && !rc; pass++) {
-    if (pass == 1) {
-      fputs("table", f);
-      for (int k = 0; k < nuni; k++) {
-        fputc(',', f);
-        csv_field(f, uni[k]);
-      }
-      fputc('\n', f);
+/* A text cell that reads as a number in the CSV ("" and "-" are empty). */
+static int text_is_empty(const char *c) { return !*c || strcmp(c, "-") == 0; }
+
+/* A column is tidy when its non-empty cells are all numbers (tb_table_num,
+ * or text that reads as one) or all other text. Records the first column
+ * that mixes them, e.g. "2.1x" among numbers. */
+static void csv_check(tb_suite *s, const tb_table *t) {
+  for (int j = 0; j < t->ncols; j++) {
+    const char *num = NULL, *text = NULL;
+    for (int r = 0; r < t->nrows; r++) {
+      size_t at = (size_t)r * (size_t)t->ncols + (size_t)j;
+      const char *c = tb_results_cell(t, r, j);
+      if (t->isnum[at] || is_number(c))
+        num = num ? num : c;
+      else if (!text_is_empty(c))
+        text = text ? text : c;
     }
-    for (int i = 0; i < s->nitems && !rc; i++) {
-      const tb_table *t = s->items[i].table;
-      if (s->items[i].kind != TB_ITEM_TABLE) continue;
-      int *m = tb_results_grow(map, &map_cap, t->ncols, sizeof *m);
-      if (!m) {
-        rc = -1;
-        break;
-      }
-      map = m;
-      for (int j = 0; j < t->ncols && !rc; j++) { /* the occ-th column of this name */
-        int occ = 0, seen = 0;
-        for (int q = 0; q < j; q++) occ += strcmp(t->cols[q], t->cols[j]) == 0;
-        map[j] = -1;
-        for (int k = 0; k < nuni && map[j] < 0; k++)
-          if (strcmp(uni[k], t->cols[j]) == 0 && seen++ == occ) map[j] = k;
-        if (map[j] >= 0) continue;
-        const char **u = tb_results_grow(uni, &cap, nuni + 1, sizeof *u);
-        if (!u)
-          rc = -1;
-        else {
-          uni = u;
-          uni[nuni] = t->cols[j];
-          map[j] = nuni++;
-        }
-      }
-      for (int r = 0; pass == 1 && r < t->nrows; r++) {
-        csv_field(f, t->name);
-        for (int k = 0; k < nuni; k++) {
-          const char *v = "";
-          for (int j = 0; j < t->ncols; j++)
-            if (map[j] == k) v = tb_results_cell(t, r, j);
-          fputc(',', f);
-          csv_field(f, v);
-        }
-        fputc('\n', f);
-      }
+    if (num && text) {
+      tb_results_fail(s,
+                      "table \"%s\", column \"%s\": numbers and text mixed (\"%s\" beside "
+                      "\"%s\"); a number with a unit or sign belongs in tb_table_num",
+                      t->name, t->cols[j], text, num);
+      return;
     }
   }
-  free(uni);
-  free(map);
-  return rc;
+}
+
+/* One table: its header (CSV names where set), then its rows. */
+static void csv_write(FILE *f, const tb_table *t) {
+  for (int j = 0; j < t->ncols; j++) {
+    if (j) fputc(',', f);
+    csv_field(f, t->csv_cols[j] ? t->csv_cols[j] : t->cols[j]);
+  }
+  fputc('\n', f);
+  for (int r = 0; r < t->nrows; r++) {
+    for (int j = 0; j < t->ncols; j++) {
+      size_t at = (size_t)r * (size_t)t->ncols + (size_t)j;
+      const char *c = tb_results_cell(t, r, j);
+      if (j) fputc(',', f);
+      if (t->isnum[at]) {
+        if (isfinite(t->vals[at])) fprintf(f, "%.10g", t->vals[at]);
+      } else if (!text_is_empty(c)) {
+        csv_field(f, c);
+      }
+    }
+    fputc('\n', f);
+  }
 }
 
 /* ---- data.json ---- */
@@ -214,12 +206,21 @@ static void json_context(FILE *f, const tb_suite *s) {
   json_kv(f, "host_name", c->host);
   json_kv(f, "executable", s->exe);
   fprintf(f, "    \"num_cpus\": %d,\n    \"mhz_per_cpu\": %d,\n", c->cores, c->mhz);
+  fprintf(f, "    \"cpu_scaling_enabled\": %s,\n", c->cpu_scaling ? "true" : "false");
   json_kv(f, "cpu_model", c->cpu);
-  fputs("    \"caches\": [],\n", f);
-  double load[3];
-  if (getloadavg(load, 3) == 3)
-    fprintf(f, "    \"load_avg\": [%.2f, %.2f, %.2f],\n", load[0], load[1], load[2]);
-  json_kv(f, "library_build_type", strstr(c->flags, "buildtype=release") ? "release" : "debug");
+  fputs("    \"caches\": [", f);
+  for (int i = 0; i < c->ncaches; i++) {
+    fputs(i ? ",\n      {\"type\": " : "\n      {\"type\": ", f);
+    json_str(f, c->caches[i].type);
+    fprintf(f, ", \"level\": %d, \"size\": %ld, \"num_sharing\": %d}", c->caches[i].level,
+            c->caches[i].size, c->caches[i].num_sharing);
+  }
+  fputs(c->ncaches ? "\n    ],\n" : "],\n", f);
+  if (c->have_load)
+    fprintf(f, "    \"load_avg\": [%.2f, %.2f, %.2f],\n", c->load[0], c->load[1], c->load[2]);
+  else
+    fputs("    \"load_avg\": [],\n", f);
+  json_kv(f, "library_build_type", c->build_type);
   json_kv(f, "suite", s->name);
   json_kv(f, "title", s->title);
   json_kv(f, "compiler", c->compiler);
@@ -266,7 +267,15 @@ static void json_entry(FILE *f, const tb_results_bench *b, int family, int rep, 
   json_num(f, real);
   fputs(",\n      \"cpu_time\": ", f);
   json_num(f, cpu);
-  fprintf(f, ",\n      \"time_unit\": \"%s\"\n    }%s\n", b->unit, last ? "" : ",");
+  fprintf(f, ",\n      \"time_unit\": \"%s\"", b->unit);
+  int stddev = agg && strcmp(agg, "stddev") == 0; /* counters are constant per benchmark */
+  for (int k = 0; k < b->ncounters; k++) {
+    fputs(",\n      ", f);
+    json_str(f, b->keys[k]);
+    fputs(": ", f);
+    json_num(f, stddev && isfinite(b->counters[k]) ? 0 : b->counters[k]);
+  }
+  fprintf(f, "\n    }%s\n", last ? "" : ",");
 }
 
 static void json_write(FILE *f, const tb_suite *s) {
@@ -275,9 +284,13 @@ static void json_write(FILE *f, const tb_suite *s) {
   fputs("  \"benchmarks\": [\n", f);
   for (int i = 0; i < s->nbenches; i++) {
     const tb_results_bench *b = &s->benches[i];
+    int last = i == s->nbenches - 1;
+    if (b->n == 0) { /* counters only: one iteration, no time */
+      json_entry(f, b, i, 0, NULL, 0, 0, last);
+      continue;
+    }
     for (int r = 0; r < b->n; r++) json_entry(f, b, i, r, NULL, b->real[r], b->cpu[r], 0);
     tb_stats a = tb_stats_of(b->real, b->n), c = tb_stats_of(b->cpu, b->n);
-    int last = i == s->nbenches - 1;
     json_entry(f, b, i, -1, "mean", a.mean, c.mean, 0);
     json_entry(f, b, i, -1, "median", a.median, c.median, 0);
     json_entry(f, b, i, -1, "stddev", a.stddev, c.stddev, 0);
@@ -289,27 +302,59 @@ static void json_write(FILE *f, const tb_suite *s) {
 
 /* ---- writing them ---- */
 
-int tb_results_write_files(tb_suite *s, tb_error *err) {
-  static const char *const names[3] = {"table.md", "data.csv", "data.json"};
-  for (int k = 0; k < 3; k++) {
-    char *path = tb_results_join(s->dir, names[k]);
-    if (!path) return tb_error_set(err, s->dir, 0, "out of memory");
-    FILE *f = fopen(path, "w");
-    if (!f) {
-      tb_error_set(err, path, 0, "cannot write: %s", strerror(errno));
-      free(path);
-      return -1;
-    }
-    if (k == 0) md_write(f, s);
-    if (k == 1 && csv_write(f, s)) tb_results_fail(s, "data.csv: out of memory");
-    if (k == 2) json_write(f, s);
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad) {
-      tb_error_set(err, path, 0, "write failed");
-      free(path);
-      return -1;
-    }
+static int write_file(tb_suite *s, const char *name, const tb_table *t, tb_error *err) {
+  char *path = tb_results_join(s->dir, name);
+  if (!path) return tb_error_set(err, s->dir, 0, "out of memory");
+  FILE *f = fopen(path, "w");
+  if (!f) {
+    tb_error_set(err, path, 0, "cannot write: %s", strerror(errno));
     free(path);
+    return -1;
   }
+  if (t)
+    csv_write(f, t);
+  else if (strcmp(name, "table.md") == 0)
+    md_write(f, s);
+  else
+    json_write(f, s);
+  int bad = ferror(f);
+  if (fclose(f) != 0 || bad) {
+    tb_error_set(err, path, 0, "write failed");
+    free(path);
+    return -1;
+  }
+  free(path);
   return 0;
+}
+
+/* table-<name>.csv with characters other than letters, digits, '.', '_'
+ * and '-' as '-'; the k-th table of an earlier table's name gets -k. */
+static void csv_name(const tb_suite *s, int item, char *out, size_t cap) {
+  const char *name = s->items[item].table->name;
+  int same = 0;
+  for (int i = 0; i < item; i++)
+    same += s->items[i].kind == TB_ITEM_TABLE && strcmp(s->items[i].table->name, name) == 0;
+  int n = snprintf(out, cap, "table-%s", name);
+  for (char *p = out + 6; *p; p++)
+    if (!strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-", *p)) *p = '-';
+  if (n < 0 || (size_t)n >= cap) return;
+  if (same)
+    snprintf(out + n, cap - (size_t)n, "-%d.csv", same + 1);
+  else
+    snprintf(out + n, cap - (size_t)n, ".csv");
+}
+
+int tb_results_write_files(tb_suite *s, tb_error *err) {
+  char *old = tb_results_join(s->dir, "data.csv"); /* the stacked CSV of earlier versions */
+  if (old) remove(old);
+  free(old);
+  if (write_file(s, "table.md", NULL, err)) return -1;
+  for (int i = 0; i < s->nitems; i++) {
+    if (s->items[i].kind != TB_ITEM_TABLE) continue;
+    char name[200];
+    csv_name(s, i, name, sizeof name);
+    csv_check(s, s->items[i].table);
+    if (write_file(s, name, s->items[i].table, err)) return -1;
+  }
+  return write_file(s, "data.json", NULL, err);
 }

@@ -12,7 +12,10 @@ struct tb_table {
   char *name, *title;
   int ncols, nrows, cap_rows, next; /* next: column of the next cell */
   char **cols;
-  char **cells; /* nrows * ncols, NULL when empty */
+  char **csv_cols;      /* the CSV's header when it differs, else NULL */
+  char **cells;         /* nrows * ncols, NULL when empty */
+  double *vals;         /* nrows * ncols: a numeric cell's value for the CSV */
+  unsigned char *isnum; /* nrows * ncols: 1 for tb_table_num cells */
   char err[200];
 };
 
@@ -33,8 +36,11 @@ typedef struct tb_results_item {
 typedef struct tb_results_bench {
   char *name;
   const char *unit; /* one of "ns", "us", "ms", "s" */
-  int n;
+  int n;            /* 0: counters only */
   double *real, *cpu;
+  int ncounters, cap_counters;
+  char **keys;
+  double *counters;
 } tb_results_bench;
 
 struct tb_suite {
@@ -59,7 +65,7 @@ int tb_results_add(tb_suite *s, int kind, char *text, tb_table *t);
 /* Records the first misuse of the run. */
 void tb_results_fail(tb_suite *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* core/results_files.c: writes table.md, data.csv and data.json. */
+/* core/results_files.c: writes table.md, table-<name>.csv and data.json. */
 int tb_results_write_files(tb_suite *s, tb_error *err);
 
 #endif

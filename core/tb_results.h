@@ -1,9 +1,12 @@
 /* The results pipeline every suite uses. A suite run writes results/<suite>/:
  *   table.md   the documents' figures beside ours, units in headers, the
  *              run's context in a short header;
- *   data.csv   every table's rows (a "table" column tells them apart);
+ *   table-<name>.csv  one tidy CSV per table: the header carries the units,
+ *              numeric cells hold bare numbers (tb_table_num), "-" and
+ *              non-finite values are empty;
  *   data.json  Google Benchmark's JSON layout: "context" and "benchmarks"
- *              with mean/median/stddev/min/max aggregates;
+ *              with mean/median/stddev/min/max aggregates, measurements that
+ *              are not times as user counters (tb_suite_counter);
  *   *.png/svg  charts drawn by gnuplot from scripts in tools/.
  * A progress bar goes to stderr when stderr is a terminal. */
 #ifndef TB_RESULTS_H
@@ -26,6 +29,17 @@ typedef struct tb_context {
   int dirty;          /* uncommitted changes at run time: 1, 0, or -1 unknown */
   char cholmod[32], fcl[32], bullet[32], cgal[32], tetgen[32];
   uint64_t seed;
+  /* Google Benchmark's context fields */
+  int cpu_scaling; /* 1 when cpu0's governor is not "performance", 0 also when absent */
+  struct tb_cache {
+    char type[16]; /* "Data", "Instruction", "Unified" */
+    int level, num_sharing;
+    long size; /* bytes */
+  } caches[8];
+  int ncaches;
+  double load[3]; /* 1, 5, 15 minute load averages */
+  int have_load;
+  char build_type[16]; /* "release" or "debug" */
 } tb_context;
 
 /* Fills c; fields that cannot be read say "unknown" (numbers 0). */
@@ -39,7 +53,23 @@ typedef struct tb_table tb_table;
  * by tb_suite_end; missing cells are empty. */
 tb_table *tb_table_new(const char *name, const char *title, int ncols, const char *const *cols);
 void tb_table_row(tb_table *t); /* starts a new row */
+/* A text cell (names, status words). A cell of only "-" means "no value"
+ * and is empty in the CSV. A column whose cells mix numbers and other text
+ * (e.g. "2.1x" among numbers) is a misuse reported by tb_suite_end: use
+ * tb_table_num for such cells. */
 void tb_table_cell(tb_table *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* A numeric cell: table.md shows value through fmt, one floating conversion
+ * with any decoration, e.g. "%.3f", "%.1fx", "%+.1f%%"; the CSV holds the
+ * bare value (%.10g) in the column header's unit. A non-finite value shows
+ * "-" and is empty in the CSV. */
+void tb_table_num(tb_table *t, double value, const char *fmt);
+/* The same when table.md's text needs more than the value, e.g.
+ * "725 (+0.4%)": text from fmt and its arguments, the CSV holds value. */
+void tb_table_numf(tb_table *t, double value, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* The header of column col in the CSV when it differs from table.md's, e.g.
+ * to name a unit that table.md shows in the cells. */
+void tb_table_csv_name(tb_table *t, int col, const char *name);
 void tb_table_free(tb_table *t);
 
 /* ---- timing samples -> aggregates ---- */
@@ -66,6 +96,13 @@ void tb_suite_table(tb_suite *s, tb_table *t);
  * real). Also summarised in a "timings" table at the end of table.md. */
 void tb_suite_bench(tb_suite *s, const char *name, const double *real, const double *cpu, int n,
                     const char *unit);
+/* A Google Benchmark user counter: a measurement that is not a time (an
+ * error, a count, a deflection) as an extra numeric field `key` of the
+ * benchmark entry `bench` (its iteration and aggregate entries; stddev 0).
+ * When no tb_suite_bench of that name came before, the entry holds only
+ * counters: one iteration with real_time and cpu_time 0 (unit "s").
+ * Keys must not be one of the entry's own fields (name, real_time, ...). */
+void tb_suite_counter(tb_suite *s, const char *bench, const char *key, double value);
 /* Writes <dir>/<csv_name>: a header line, then body (free-form rows, for
  * charts). */
 int tb_suite_write_data(tb_suite *s, const char *csv_name, const char *header, const char *body,
@@ -80,7 +117,7 @@ int tb_suite_chart(tb_suite *s, const char *script, const char *datafile, const 
  * (tools/chart_lines.gp reads title, xlabel, ylabel, logx, logy, points). */
 int tb_suite_chart_vars(tb_suite *s, const char *script, const char *datafile, const char *outbase,
                         const char *vars, tb_error *err);
-/* Writes table.md, data.csv, data.json; frees s. Also returns the first
+/* Writes table.md, table-<name>.csv per table, data.json; frees s. Also returns the first
  * misuse recorded during the run (the files are still written). */
 int tb_suite_end(tb_suite *s, tb_error *err);
 

@@ -1,6 +1,7 @@
 /* Tests of the results pipeline (core/tb_results.h): statistics on known
- * samples, the three files of a suite run (table.md, data.csv with quoting,
- * data.json checked by a small JSON validator below), the run context,
+ * samples, the files of a suite run (table.md, one tidy CSV per table with
+ * quoting and bare numbers, data.json with counters checked by a small JSON
+ * validator below), the run context,
  * gnuplot charts and their errors, and the progress bar's tty rule. */
 #define _XOPEN_SOURCE 700 /* posix_openpt, grantpt, ptsname */
 #include <fcntl.h>
@@ -205,15 +206,20 @@ static const char *run_suite(const char *sub) {
   TB_CHECK_MSG(s, "tb_suite_begin: %s", err.msg);
   if (!s) return dir;
   tb_suite_note(s, "First note, %d.", 1);
-  const char *c1[] = {"mesh", "time (ms)", "paper (ms)"};
-  tb_table *t = tb_table_new("speed", "Speed beside the paper", 3, c1);
+  const char *c1[] = {"mesh", "time (ms)", "paper (ms)", "ours / paper", "change"};
+  tb_table *t = tb_table_new("speed", "Speed beside the paper", 5, c1);
+  tb_table_csv_name(t, 4, "change (%)");
   tb_table_row(t);
   tb_table_cell(t, "liver, \"coarse\"");
-  tb_table_cell(t, "%.1f", 1.5);
+  tb_table_num(t, 1.5, "%.1f");
   tb_table_cell(t, "2");
+  tb_table_num(t, 0.75, "%.2fx");
+  tb_table_num(t, -25, "%+.0f%%");
   tb_table_row(t);
   tb_table_cell(t, "a|b");
   tb_table_cell(t, "3");
+  tb_table_numf(t, 2, "%d (%+.0f%%)", 2, 50.0);
+  tb_table_num(t, NAN, "%.2fx");
   tb_suite_table(s, t); /* its second row lacks the last cell */
   tb_suite_note(s, "Second note.");
   const char *c2[] = {"mesh", "vertices", "vertices"};
@@ -227,15 +233,21 @@ static const char *run_suite(const char *sub) {
   tb_suite_bench(s, "solve", real, cpu, 4, "ms");
   const double one[] = {500};
   tb_suite_bench(s, "odd \"name\"\\", one, NULL, 1, "us");
+  tb_suite_counter(s, "solve", "error", 0.25);
+  tb_suite_counter(s, "solve", "pairs", 1e6);
+  tb_suite_counter(s, "deflection", "tip_mm", 1.125); /* counters only */
   TB_CHECK_MSG(tb_suite_end(s, &err) == 0, "tb_suite_end: %s", err.msg);
   return dir;
 }
 
-static void test_suite_writes_three_files(void) {
+static void test_suite_writes_files(void) {
   const char *dir = run_suite("three/deep");
   TB_CHECK(size_of(path_in(dir, "table.md")) > 0);
-  TB_CHECK(size_of(path_in(dir, "data.csv")) > 0);
+  TB_CHECK(size_of(path_in(dir, "table-speed.csv")) > 0);
+  TB_CHECK(size_of(path_in(dir, "table-counts.csv")) > 0);
+  TB_CHECK(size_of(path_in(dir, "table-timings.csv")) > 0);
   TB_CHECK(size_of(path_in(dir, "data.json")) > 0);
+  TB_CHECK(size_of(path_in(dir, "data.csv")) < 0); /* no stacked CSV any more */
 }
 
 static void test_table_md(void) {
@@ -252,10 +264,10 @@ static void test_table_md(void) {
                         "CGAL 5.5.1",
                         "**Seed**: 42",
                         "## Speed beside the paper",
-                        "| mesh | time (ms) | paper (ms) |",
-                        "| --- | ---: | ---: |",
-                        "| liver, \"coarse\" | 1.5 | 2 |",
-                        "| a\\|b | 3 |  |",
+                        "| mesh | time (ms) | paper (ms) | ours / paper | change |",
+                        "| --- | ---: | --- | --- | --- |",
+                        "| liver, \"coarse\" | 1.5 | 2 | 0.75x | -25% |",
+                        "| a\\|b | 3 | 2 (+50%) | - |  |",
                         "## counts",
                         "| sphere | 252 | 250 |",
                         "| solve | 4 | 2.5 | 2.5 |"};
@@ -271,23 +283,134 @@ static void test_table_md(void) {
   free(md);
 }
 
+/* ---- tidy CSV: a small RFC 4180 reader and a checker ---- */
+
+/* The next field of a CSV line at *p into out; 1 when a field was read
+ * (*p then after its comma or at the line's end), 0 at the line's end. */
+static int csv_next(const char **p, char *out, size_t cap, int *more) {
+  const char *q = *p;
+  size_t n = 0;
+  if (!*more) return 0;
+  if (*q == '"') {
+    for (q++; *q && !(*q == '"' && q[1] != '"'); q++) {
+      if (*q == '"') q++;
+      if (n + 1 < cap) out[n++] = *q;
+    }
+    if (*q == '"') q++;
+  } else {
+    for (; *q && *q != ',' && *q != '\n'; q++)
+      if (n + 1 < cap) out[n++] = *q;
+  }
+  out[n] = 0;
+  *more = *q == ',';
+  *p = *q == ',' ? q + 1 : q;
+  return 1;
+}
+
+/* "" when the CSV is tidy: the same number of fields on every line, and in
+ * every column either only bare numbers (and empty cells) or no cell that
+ * starts like a number; else what is wrong. A unit or sign inside a numeric
+ * cell ("2.1x", "12 ms", "5%") fails both ways. */
+static const char *csv_untidy(const char *csv) {
+  static char why[256];
+  enum { MAXC = 32 };
+  int ncols = -1, kind[MAXC] = {0}; /* 1 number, 2 text */
+  const char *p = csv;
+  for (int line = 1; *p; line++) {
+    char f[512];
+    int n = 0, more = 1;
+    while (csv_next(&p, f, sizeof f, &more)) {
+      if (n >= MAXC) return "too many columns";
+      if (line > 1 && f[0]) {
+        char *end;
+        strtod(f, &end);
+        int k = *end == 0 ? 1 : 2;
+        if (k == 2 && end != f) {
+          snprintf(why, sizeof why, "line %d: \"%s\" is a number with text", line, f);
+          return why;
+        }
+        if (kind[n] && kind[n] != k) {
+          snprintf(why, sizeof why, "line %d: column %d mixes numbers and text (\"%s\")", line,
+                   n + 1, f);
+          return why;
+        }
+        kind[n] = k;
+      }
+      n++;
+    }
+    if (*p == '\n') p++;
+    if (ncols >= 0 && n != ncols) {
+      snprintf(why, sizeof why, "line %d has %d fields, the header %d", line, n, ncols);
+      return why;
+    }
+    ncols = n;
+  }
+  return "";
+}
+
+static void test_csv_checker(void) {
+  TB_CHECK(*csv_untidy("a,b (ms)\nx,1.5\n\"y, z\",\n") == 0);
+  TB_CHECK(strstr(csv_untidy("a,b\nx,2.1x\n"), "number with text"));
+  TB_CHECK(strstr(csv_untidy("a,b (ms)\nx,12 ms\n"), "number with text"));
+  TB_CHECK(strstr(csv_untidy("a,b\nx,5%\n"), "number with text"));
+  TB_CHECK(strstr(csv_untidy("a,b\nx,1\ny,fast\n"), "mixes"));
+  TB_CHECK(strstr(csv_untidy("a,b\nx\n"), "fields"));
+}
+
 static void test_data_csv(void) {
-  char *csv = slurp(path_in(run_suite("csv"), "data.csv"));
-  TB_CHECK(csv);
-  if (!csv) return;
-  const char *lines[] = {
-      "table,mesh,time (ms),paper (ms),vertices,vertices,benchmark,repetitions,median (ms),",
-      "\nspeed,\"liver, \"\"coarse\"\"\",1.5,2,,,,,",
-      "\nspeed,a|b,3,,,,,,",
-      "\ncounts,sphere,,,252,250,,,",
-      "\ntimings,,,,,,solve,4,2.5,",
-      "\ntimings,,,,,,\"odd \"\"name\"\"\\\",1,0.5,"};
-  for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++)
-    TB_CHECK_MSG(strstr(csv, lines[i]), "data.csv lacks \"%s\"", lines[i]);
-  int n = 0;
-  for (const char *p = csv; *p; p++) n += *p == '\n';
-  TB_CHECK_MSG(n == 6, "data.csv has %d lines, expected 6", n);
-  free(csv);
+  const char *dir = run_suite("csv");
+  char *speed = slurp(path_in(dir, "table-speed.csv"));
+  char *counts = slurp(path_in(dir, "table-counts.csv"));
+  char *timings = slurp(path_in(dir, "table-timings.csv"));
+  TB_CHECK(speed && counts && timings);
+  if (speed) {
+    /* bare numbers: no 'x' or '%' from table.md, the unit in the header, "-" empty */
+    const char *want =
+        "mesh,time (ms),paper (ms),ours / paper,change (%)\n"
+        "\"liver, \"\"coarse\"\"\",1.5,2,0.75,-25\n"
+        "a|b,3,2,,\n";
+    TB_CHECK_MSG(strcmp(speed, want) == 0, "table-speed.csv is\n%s", speed);
+    TB_CHECK_MSG(*csv_untidy(speed) == 0, "%s", csv_untidy(speed));
+  }
+  if (counts)
+    TB_CHECK_MSG(strcmp(counts, "mesh,vertices,vertices\nsphere,252,250\n") == 0, "%s", counts);
+  if (timings) {
+    TB_CHECK(strncmp(timings, "benchmark,repetitions,median (ms),mean (ms),", 44) == 0);
+    TB_CHECK(strstr(timings, "\nsolve,4,2.5,2.5,"));
+    TB_CHECK(strstr(timings, "\n\"odd \"\"name\"\"\\\",1,0.5,"));
+    TB_CHECK(strstr(timings, "deflection") == NULL); /* counters only: no time */
+    TB_CHECK_MSG(*csv_untidy(timings) == 0, "%s", csv_untidy(timings));
+  }
+  free(speed), free(counts), free(timings);
+}
+
+/* A column with "2.1x" among numbers is reported; the files are written. */
+static void test_mixed_column_reported(void) {
+  char dir[600];
+  snprintf(dir, sizeof dir, "%s/mixed", tb_test_tmpdir());
+  tb_error err = {{0}};
+  tb_suite *s = tb_suite_begin(dir, "mixed", NULL, 1, &err);
+  TB_CHECK(s);
+  if (!s) return;
+  const char *cols[] = {"what", "ratio"};
+  tb_table *t = tb_table_new("ratios", "R", 2, cols);
+  tb_table_row(t);
+  tb_table_cell(t, "a");
+  tb_table_num(t, 1.25, "%.2f");
+  tb_table_row(t);
+  tb_table_cell(t, "b");
+  tb_table_cell(t, "%.1fx", 2.1);
+  tb_suite_table(s, t);
+  TB_CHECK(tb_suite_end(s, &err) != 0);
+  TB_CHECK_MSG(strstr(err.msg, "\"ratio\"") && strstr(err.msg, "2.1x"), "message: %s", err.msg);
+  TB_CHECK(size_of(path_in(dir, "table-ratios.csv")) > 0);
+  /* a format without one floating conversion is a misuse too */
+  s = tb_suite_begin(dir, "mixed", NULL, 1, &err);
+  t = tb_table_new("fmt", "F", 1, cols);
+  tb_table_row(t);
+  tb_table_num(t, 3, "%d items");
+  tb_suite_table(s, t);
+  TB_CHECK(tb_suite_end(s, &err) != 0 && strstr(err.msg, "floating conversion"));
 }
 
 static void test_data_json(void) {
@@ -302,7 +425,8 @@ static void test_data_json(void) {
                         "\"fcl_version\": \"0.7.0\"",
                         "\"cgal_version\": \"5.5.1\"",
                         "\"seed\": 42",
-                        "\"caches\": []",
+                        "\"caches\": [",
+                        "\"load_avg\": [",
                         "\"benchmarks\": [",
                         "\"run_type\": \"iteration\"",
                         "\"aggregate_name\": \"median\"",
@@ -311,6 +435,23 @@ static void test_data_json(void) {
                         "\"time_unit\": \"us\""};
   for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
     TB_CHECK_MSG(strstr(js, want[i]), "data.json lacks %s", want[i]);
+  /* Google Benchmark's types: a bool, numbers, a string */
+  TB_CHECK(strstr(js, "\"cpu_scaling_enabled\": true,") ||
+           strstr(js, "\"cpu_scaling_enabled\": false,"));
+  TB_CHECK(json_number_after(js, "\"context\"", "num_cpus") >= 1);
+  TB_CHECK(!isnan(json_number_after(js, "\"context\"", "mhz_per_cpu")));
+  char bt[64];
+  snprintf(bt, sizeof bt, "\"library_build_type\": \"%s\"",
+           strcmp(TB_BUILD_TYPE, "release") == 0 ? "release" : "debug");
+  TB_CHECK_MSG(strstr(js, bt), "data.json lacks %s", bt);
+  /* counters: on every entry of their benchmark, 0 on stddev */
+  TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_median\"", "error"), 0.25, 0);
+  TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_median\"", "pairs"), 1e6, 0);
+  TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_stddev\"", "error"), 0, 0);
+  TB_CHECK_NEAR(json_number_after(js, "\"repetition_index\": 2", "error"), 0.25, 0);
+  TB_CHECK_NEAR(json_number_after(js, "\"name\": \"deflection\"", "tip_mm"), 1.125, 0);
+  TB_CHECK_NEAR(json_number_after(js, "\"name\": \"deflection\"", "real_time"), 0, 0);
+  TB_CHECK(strstr(js, "\"name\": \"deflection_mean\"") == NULL);
   TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_median\"", "real_time"), 2.5, 0);
   TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_median\"", "cpu_time"), 1.5, 0);
   TB_CHECK_NEAR(json_number_after(js, "\"name\": \"solve_stddev\"", "real_time"), sqrt(5.0 / 3.0),
@@ -329,6 +470,16 @@ static void test_context(void) {
   TB_CHECK(c.host[0] && c.cpu[0] && c.cores >= 1);
   TB_CHECK(strcmp(c.compiler, TB_COMPILER) == 0 && strcmp(c.flags, TB_BUILD_FLAGS) == 0);
   TB_CHECK(c.commit[0] && c.dirty >= -1 && c.dirty <= 1);
+  TB_CHECK(c.cpu_scaling == 0 || c.cpu_scaling == 1);
+  TB_CHECK(c.ncaches >= 0 && c.ncaches <= 8);
+  for (int i = 0; i < c.ncaches; i++)
+    TB_CHECK_MSG(c.caches[i].level >= 1 && c.caches[i].size > 0 && c.caches[i].num_sharing >= 1 &&
+                     c.caches[i].type[0],
+                 "cache %d: %s L%d %ld bytes, %d sharing", i, c.caches[i].type, c.caches[i].level,
+                 c.caches[i].size, c.caches[i].num_sharing);
+  if (access("/sys/devices/system/cpu/cpu0/cache/index0/size", R_OK) == 0) TB_CHECK(c.ncaches >= 1);
+  TB_CHECK(c.have_load && c.load[0] >= 0);
+  TB_CHECK(strcmp(c.build_type, "release") == 0 || strcmp(c.build_type, "debug") == 0);
   TB_CHECK_MSG(strcmp(c.fcl, "0.7.0") == 0, "FCL \"%s\"", c.fcl);
   TB_CHECK_MSG(strcmp(c.cgal, "5.5.1") == 0, "CGAL \"%s\"", c.cgal);
   TB_CHECK_MSG(strcmp(c.bullet, "3.24") == 0, "Bullet \"%s\"", c.bullet);
@@ -362,6 +513,9 @@ static void test_misuse_reported(void) {
   TB_CHECK(size_of(path_in(dir, "table.md")) > 0); /* the files are still written */
 
   TB_CHECK(tb_table_new("x", "X", 0, cols) == NULL);
+  s = tb_suite_begin(dir, "misuse", NULL, 1, &err);
+  tb_suite_counter(s, "b", "real_time", 1);
+  TB_CHECK(tb_suite_end(s, &err) != 0 && strstr(err.msg, "real_time"));
   TB_CHECK(tb_suite_end(NULL, &err) != 0);
   s = tb_suite_begin(dir, "misuse", NULL, 1, &err);
   tb_suite_bench(s, "b", x, x, 1, "minutes");
@@ -496,9 +650,11 @@ const tb_test_case tb_tests_results[] = {
     {"stats_odd", test_stats_odd},
     {"stats_even", test_stats_even},
     {"stats_one_and_none", test_stats_one_and_none},
-    {"suite_writes_three_files", test_suite_writes_three_files},
+    {"suite_writes_files", test_suite_writes_files},
     {"table_md", test_table_md},
+    {"csv_checker", test_csv_checker},
     {"data_csv", test_data_csv},
+    {"mixed_column_reported", test_mixed_column_reported},
     {"data_json", test_data_json},
     {"context", test_context},
     {"misuse_reported", test_misuse_reported},
