@@ -67,7 +67,8 @@ tb_table *tb_table_new(const char *name, const char *title, int ncols, const cha
   t->title = tb_results_dup(title ? title : "");
   t->cols = calloc((size_t)ncols, sizeof *t->cols);
   t->csv_cols = calloc((size_t)ncols, sizeof *t->csv_cols);
-  int ok = t->name && t->title && t->cols && t->csv_cols;
+  t->only = calloc((size_t)ncols, 1);
+  int ok = t->name && t->title && t->cols && t->csv_cols && t->only;
   for (int j = 0; ok && j < ncols; j++) ok = (t->cols[j] = tb_results_dup(cols[j])) != NULL;
   if (!ok) {
     tb_table_free(t);
@@ -178,16 +179,20 @@ void tb_table_numf(tb_table *t, double value, const char *fmt, ...) {
   if (!t) return;
   long at = next_cell(t);
   if (at < 0) return;
-  char *s;
-  if (!isfinite(value)) {
-    s = tb_results_dup("-");
-  } else {
-    va_list ap;
-    va_start(ap, fmt);
-    s = vformat(fmt, ap);
-    va_end(ap);
-  }
+  va_list ap;
+  va_start(ap, fmt);
+  char *s = vformat(fmt, ap);
+  va_end(ap);
   set_cell(t, at, s, 1, value);
+}
+
+void tb_table_only(tb_table *t, int col, int where) {
+  if (!t) return;
+  if (col < 0 || col >= t->ncols || (where != TB_MD_ONLY && where != TB_CSV_ONLY)) {
+    table_fail(t, "tb_table_only: no such column, or not TB_MD_ONLY / TB_CSV_ONLY");
+    return;
+  }
+  t->only[col] = (unsigned char)where;
 }
 
 void tb_table_csv_name(tb_table *t, int col, const char *name) {
@@ -215,6 +220,7 @@ void tb_table_free(tb_table *t) {
   free(t->isnum);
   free(t->cols);
   free(t->csv_cols);
+  free(t->only);
   free(t->name);
   free(t->title);
   free(t);

@@ -36,12 +36,14 @@ static int is_number(const char *s) {
 static void md_table(FILE *f, const tb_table *t) {
   fprintf(f, "## %s\n\n|", t->title[0] ? t->title : t->name);
   for (int j = 0; j < t->ncols; j++) {
+    if (t->only[j] == TB_CSV_ONLY) continue;
     fputc(' ', f);
     md_cell(f, t->cols[j]);
     fputs(" |", f);
   }
   fputs("\n|", f);
   for (int j = 0; j < t->ncols; j++) { /* numbers align right */
+    if (t->only[j] == TB_CSV_ONLY) continue;
     int numeric = 0, other = 0;
     for (int r = 0; r < t->nrows; r++) {
       const char *c = tb_results_cell(t, r, j);
@@ -53,6 +55,7 @@ static void md_table(FILE *f, const tb_table *t) {
   for (int r = 0; r < t->nrows; r++) {
     fputc('|', f);
     for (int j = 0; j < t->ncols; j++) {
+      if (t->only[j] == TB_CSV_ONLY) continue;
       fputc(' ', f);
       md_cell(f, tb_results_cell(t, r, j));
       fputs(" |", f);
@@ -111,6 +114,7 @@ static int text_is_empty(const char *c) { return !*c || strcmp(c, "-") == 0; }
  * that mixes them, e.g. "2.1x" among numbers. */
 static void csv_check(tb_suite *s, const tb_table *t) {
   for (int j = 0; j < t->ncols; j++) {
+    if (t->only[j] == TB_MD_ONLY) continue;
     const char *num = NULL, *text = NULL;
     for (int r = 0; r < t->nrows; r++) {
       size_t at = (size_t)r * (size_t)t->ncols + (size_t)j;
@@ -132,16 +136,20 @@ static void csv_check(tb_suite *s, const tb_table *t) {
 
 /* One table: its header (CSV names where set), then its rows. */
 static void csv_write(FILE *f, const tb_table *t) {
-  for (int j = 0; j < t->ncols; j++) {
-    if (j) fputc(',', f);
+  for (int j = 0, first = 1; j < t->ncols; j++) {
+    if (t->only[j] == TB_MD_ONLY) continue;
+    if (!first) fputc(',', f);
+    first = 0;
     csv_field(f, t->csv_cols[j] ? t->csv_cols[j] : t->cols[j]);
   }
   fputc('\n', f);
   for (int r = 0; r < t->nrows; r++) {
-    for (int j = 0; j < t->ncols; j++) {
+    for (int j = 0, first = 1; j < t->ncols; j++) {
+      if (t->only[j] == TB_MD_ONLY) continue;
       size_t at = (size_t)r * (size_t)t->ncols + (size_t)j;
       const char *c = tb_results_cell(t, r, j);
-      if (j) fputc(',', f);
+      if (!first) fputc(',', f);
+      first = 0;
       if (t->isnum[at]) {
         if (isfinite(t->vals[at])) fprintf(f, "%.10g", t->vals[at]);
       } else if (!text_is_empty(c)) {

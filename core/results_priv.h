@@ -13,6 +13,7 @@ struct tb_table {
   int ncols, nrows, cap_rows, next; /* next: column of the next cell */
   char **cols;
   char **csv_cols;      /* the CSV's header when it differs, else NULL */
+  unsigned char *only;  /* per column: 0, TB_MD_ONLY or TB_CSV_ONLY */
   char **cells;         /* nrows * ncols, NULL when empty */
   double *vals;         /* nrows * ncols: a numeric cell's value for the CSV */
   unsigned char *isnum; /* nrows * ncols: 1 for tb_table_num cells */

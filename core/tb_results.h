@@ -64,12 +64,17 @@ void tb_table_cell(tb_table *t, const char *fmt, ...) __attribute__((format(prin
  * "-" and is empty in the CSV. */
 void tb_table_num(tb_table *t, double value, const char *fmt);
 /* The same when table.md's text needs more than the value, e.g.
- * "725 (+0.4%)": text from fmt and its arguments, the CSV holds value. */
+ * "725 (+0.4%)" or "< 0.001": text from fmt and its arguments, the CSV
+ * holds value (empty when not finite). */
 void tb_table_numf(tb_table *t, double value, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 /* The header of column col in the CSV when it differs from table.md's, e.g.
  * to name a unit that table.md shows in the cells. */
 void tb_table_csv_name(tb_table *t, int col, const char *name);
+/* Column col only in table.md (TB_MD_ONLY), e.g. "yes, yes, 2" for reading,
+ * or only in the CSV (TB_CSV_ONLY), e.g. the same as three clean columns. */
+enum { TB_MD_ONLY = 1, TB_CSV_ONLY = 2 };
+void tb_table_only(tb_table *t, int col, int where);
 void tb_table_free(tb_table *t);
 
 /* ---- timing samples -> aggregates ---- */

@@ -222,12 +222,18 @@ static const char *run_suite(const char *sub) {
   tb_table_num(t, NAN, "%.2fx");
   tb_suite_table(s, t); /* its second row lacks the last cell */
   tb_suite_note(s, "Second note.");
-  const char *c2[] = {"mesh", "vertices", "vertices"};
-  t = tb_table_new("counts", "", 3, c2);
+  const char *c2[] = {"mesh", "vertices", "vertices", "closed, Euler", "closed", "Euler"};
+  t = tb_table_new("counts", "", 6, c2);
+  tb_table_only(t, 3, TB_MD_ONLY);
+  tb_table_only(t, 4, TB_CSV_ONLY);
+  tb_table_only(t, 5, TB_CSV_ONLY);
   tb_table_row(t);
   tb_table_cell(t, "sphere");
   tb_table_cell(t, "252");
   tb_table_cell(t, "250");
+  tb_table_cell(t, "yes, 2");
+  tb_table_cell(t, "yes");
+  tb_table_num(t, 2, "%.0f");
   tb_suite_table(s, t);
   const double real[] = {3, 1, 2, 4}, cpu[] = {2, 1, 1, 2};
   tb_suite_bench(s, "solve", real, cpu, 4, "ms");
@@ -269,7 +275,8 @@ static void test_table_md(void) {
                         "| liver, \"coarse\" | 1.5 | 2 | 0.75x | -25% |",
                         "| a\\|b | 3 | 2 (+50%) | - |  |",
                         "## counts",
-                        "| sphere | 252 | 250 |",
+                        "| mesh | vertices | vertices | closed, Euler |\n",
+                        "| sphere | 252 | 250 | yes, 2 |\n",
                         "| solve | 4 | 2.5 | 2.5 |"};
   for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
     TB_CHECK_MSG(strstr(md, want[i]), "table.md lacks \"%s\"", want[i]);
@@ -373,7 +380,8 @@ static void test_data_csv(void) {
     TB_CHECK_MSG(*csv_untidy(speed) == 0, "%s", csv_untidy(speed));
   }
   if (counts)
-    TB_CHECK_MSG(strcmp(counts, "mesh,vertices,vertices\nsphere,252,250\n") == 0, "%s", counts);
+    TB_CHECK_MSG(strcmp(counts, "mesh,vertices,vertices,closed,Euler\nsphere,252,250,yes,2\n") == 0,
+                 "%s", counts);
   if (timings) {
     TB_CHECK(strncmp(timings, "benchmark,repetitions,median (ms),mean (ms),", 44) == 0);
     TB_CHECK(strstr(timings, "\nsolve,4,2.5,2.5,"));
