@@ -178,10 +178,18 @@ static void cell_pct(tb_table *t, double v) {
 }
 
 /* The run of one row on one stage into the table's cells. */
-static int cells(tb_table *t, stage *st, const row *r, int reaction, tb_error *err) {
+static int cells(tb_suite *su, tb_table *t, stage *st, const row *r, int reaction, tb_error *err) {
   tb_fid_result fr;
   int sub;
   if (run(st, r->model, r->def, &fr, &sub, err)) return -1;
+  char bname[160]; /* the step's time; errors (%) and substeps as counters */
+  snprintf(bname, sizeof bname, "calibration/%s/%s/%s", r->model, r->label,
+           reaction ? "liver" : "beam");
+  tb_suite_bench(su, bname, &fr.ms_step, NULL, 1, "ms");
+  tb_suite_counter(su, bname, "rms_error_pct", 100 * fr.rms_err);
+  tb_suite_counter(su, bname, "max_error_pct", 100 * fr.max_err);
+  if (reaction) tb_suite_counter(su, bname, "reaction_error_pct", 100 * fr.reaction_err);
+  tb_suite_counter(su, bname, "substeps", sub);
   cell_pct(t, fr.rms_err);
   cell_pct(t, fr.max_err);
   if (reaction) cell_pct(t, fr.reaction_err);
@@ -267,7 +275,7 @@ int tb_suite_calibration(const tb_suite_opts *o) {
       tb_table_row(t);
       tb_table_cell(t, "%s", rows[k].model);
       tb_table_cell(t, "%s", rows[k].label);
-      if (cells(t, &cal, &rows[k], 0, &err) || cells(t, &val, &rows[k], 1, &err)) {
+      if (cells(su, t, &cal, &rows[k], 0, &err) || cells(su, t, &val, &rows[k], 1, &err)) {
         fprintf(stderr, "calibration: %s\n", err.msg);
         failed = 1;
       }
@@ -283,13 +291,24 @@ int tb_suite_calibration(const tb_suite_opts *o) {
     tb_table_cell(ft, "%.4g", pow(10, ks_log));
     tb_table_cell(ft, "golden section on log10 ks in [1, 4]");
     tb_table_cell(ft, "%d", ks_n);
-    tb_table_row(ft);
-    tb_table_cell(ft, "sm");
-    tb_table_cell(ft, "alpha, beta");
-    tb_table_cell(ft, "%g, %g", d.alpha, d.beta);
-    tb_table_cell(ft, "%.4g, %.4g", pow(10, ab[0]), ab[1]);
-    tb_table_cell(ft, "Nelder-Mead on (log10 alpha, beta) from the documents' values");
-    tb_table_cell(ft, "%d", nm_n);
+    tb_suite_counter(su, "fit/msm/ks", "documents", d.ks);
+    tb_suite_counter(su, "fit/msm/ks", "fitted", pow(10, ks_log));
+    tb_suite_counter(su, "fit/msm/ks", "evaluations", ks_n);
+    tb_suite_counter(su, "fit/sm/alpha", "documents", d.alpha);
+    tb_suite_counter(su, "fit/sm/alpha", "fitted", pow(10, ab[0]));
+    tb_suite_counter(su, "fit/sm/alpha", "evaluations", nm_n);
+    tb_suite_counter(su, "fit/sm/beta", "documents", d.beta);
+    tb_suite_counter(su, "fit/sm/beta", "fitted", ab[1]);
+    tb_suite_counter(su, "fit/sm/beta", "evaluations", nm_n);
+    for (int k = 0; k < 2; k++) { /* one row per parameter: one number per cell */
+      tb_table_row(ft);
+      tb_table_cell(ft, "sm");
+      tb_table_cell(ft, "%s", k ? "beta" : "alpha");
+      tb_table_cell(ft, "%g", k ? d.beta : d.alpha);
+      tb_table_cell(ft, "%.4g", k ? ab[1] : pow(10, ab[0]));
+      tb_table_cell(ft, "Nelder-Mead on (log10 alpha, beta) from the documents' values");
+      tb_table_cell(ft, "%d", nm_n);
+    }
     tb_suite_table(su, ft);
     tb_suite_note(su,
                   "Errors: surface nodes at equilibrium against the reference (compressible "

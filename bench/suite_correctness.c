@@ -10,6 +10,7 @@
 #include "tb_cli.h"
 #include "tb_pairgen.h"
 #include "tb_results.h"
+#include "tb_timer.h"
 #include "tb_tritri_run.h"
 
 #define SHOW_WRONG 5
@@ -128,9 +129,16 @@ int tb_suite_correctness(const tb_suite_opts *o) {
         tb_table_cell(t, "out of memory");
         continue;
       }
+      uint64_t t0 = tb_time_ns();
       tb_tritri_classify(&m[j], &sets[k].set, got);
+      double secs = (double)(tb_time_ns() - t0) * 1e-9;
       int wrong = 0;
       for (int i = 0; i < sets[k].set.n; i++) wrong += got[i] != sets[k].truth[i];
+      char bname[160]; /* the classification's time, its wrong answers as counters */
+      snprintf(bname, sizeof bname, "correctness/%s/%s", m[j].name, sets[k].name);
+      tb_suite_bench(s, bname, &secs, NULL, 1, "s");
+      tb_suite_counter(s, bname, "wrong", wrong);
+      tb_suite_counter(s, bname, "pairs", sets[k].set.n);
       if (wf && wrong) list_wrong(wf, m[j].name, &sets[k], got);
       tb_table_cell(t, "%d", wrong);
       if (m[j].exact && wrong) {

@@ -135,6 +135,16 @@ int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *on
       tb_table_row(t);
       tb_table_cell(t, "%s", maps[m].name);
       tb_table_cell(t, "%s", tests[k].label);
+      char bname[96]; /* counters: stable 1/0, inverted tets, volume and displacement (%) */
+      snprintf(bname, sizeof bname, "deform/%s/%s", maps[m].name, tests[k].label);
+      tb_suite_counter(su, bname, "stable", r->c.code == ST_STABLE);
+      if (r->c.code == ST_STABLE) {
+        tb_suite_counter(su, bname, "peak_inverted", r->peak.inverted);
+        tb_suite_counter(su, bname, "peak_volume_change_pct", 100 * r->peak.volume_change);
+        tb_suite_counter(su, bname, "end_inverted", r->end.inverted);
+        tb_suite_counter(su, bname, "end_max_disp_pct_of_L", 100 * r->end.max_disp / DEFORM_L);
+        tb_suite_counter(su, bname, "recovered", recovered(r) ? 1 : 0);
+      }
       if (r->c.code != ST_STABLE) {
         tb_table_cell(t, "unstable (%s at t = %.3g)", r->c.reason, r->c.t);
         for (int q = 0; q < 5; q++) tb_table_cell(t, "-");

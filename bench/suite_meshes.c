@@ -70,7 +70,7 @@ static void cell_pair(tb_table *t, int ours, int paper) {
   else
     tb_table_cell(t, "%d", ours);
   if (paper)
-    tb_table_cell(t, "%d (%+.1f%%)", paper, 100.0 * (ours - paper) / paper);
+    tb_table_numf(t, paper, "%d (%+.1f%%)", paper, 100.0 * (ours - paper) / paper);
   else
     tb_table_cell(t, "-");
 }
@@ -105,9 +105,19 @@ int tb_suite_meshes(const tb_suite_opts *o) {
                                "closed, manifold, Euler",
                                "min tet volume",
                                "deterministic",
-                               "time (ms, median)"};
+                               "time (ms, median)",
+                               "closed",
+                               "manifold",
+                               "Euler characteristic"};
   tb_table *t = tb_table_new("counts", "Mesh counts (ours, and the documents' with our difference)",
                              (int)(sizeof cols / sizeof cols[0]), cols);
+  for (int j = 3; j <= 13; j += 2) { /* the CSV: the documents' count alone, named */
+    char name[64];
+    snprintf(name, sizeof name, "%s (documents)", cols[j - 1]);
+    tb_table_csv_name(t, j, name);
+  }
+  tb_table_only(t, 14, TB_MD_ONLY); /* closed, manifold, Euler: split for the CSV */
+  for (int j = 18; j <= 20; j++) tb_table_only(t, j, TB_CSV_ONLY);
   const int reps = o->full ? 5 : 3, njobs = (int)(sizeof jobs / sizeof jobs[0]);
   int failed = 0;
   for (int j = 0; j < njobs; j++) {
@@ -170,6 +180,9 @@ int tb_suite_meshes(const tb_suite_opts *o) {
       tb_table_cell(t, "-");
     tb_table_cell(t, "%s", deterministic ? "yes" : "NO");
     tb_table_cell(t, "%.1f", tb_stats_of(ms, reps).median);
+    tb_table_cell(t, "%s", topo.closed ? "yes" : "NO");
+    tb_table_cell(t, "%s", topo.manifold ? "yes" : "NO");
+    tb_table_cell(t, "%d", topo.euler);
     failed += !deterministic || !topo.closed || !topo.manifold;
     tb_gen_result_free(&first);
   }

@@ -273,6 +273,17 @@ static int run_scene(const tb_suite_opts *o, const char *scene) {
       pct(t, p->recovery_err);
       tb_table_cell(t, "%s", on[k] ? "yes" : "");
       tb_table_cell(t, "%s", p->state);
+      char bname[200]; /* the step's time; errors (%), settle time (s) as counters */
+      snprintf(bname, sizeof bname, "%s/%s/res:%d/%s", scene, p->model, p->resolution, p->params);
+      tb_suite_bench(su, bname, &p->ms_step, NULL, 1, "ms");
+      tb_suite_counter(su, bname, "nodes", p->nodes);
+      tb_suite_counter(su, bname, "rms_error_pct", 100 * p->rms_err);
+      tb_suite_counter(su, bname, "max_error_pct", 100 * p->max_err);
+      tb_suite_counter(su, bname, "volume_change_pct", 100 * p->volume_change);
+      tb_suite_counter(su, bname, "reaction_error_pct", 100 * p->reaction_err);
+      tb_suite_counter(su, bname, "settle_time_s", p->settle_time);
+      tb_suite_counter(su, bname, "left_after_release_pct", 100 * p->recovery_err);
+      tb_suite_counter(su, bname, "front", on[k] ? 1 : 0);
     }
     tb_suite_table(su, t);
     tb_suite_note(su,

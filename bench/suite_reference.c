@@ -95,6 +95,13 @@ int tb_suite_reference(const tb_suite_opts *o) {
       tb_table_cell(t, "%.4f", d / timo);
       tb_table_cell(t, "%d", iters);
       tb_table_cell(t, "%.3f", secs);
+      char bname[120];
+      snprintf(bname, sizeof bname, "reference/%s/%s/cells:%d", variants[v].elem, variants[v].mat,
+               cells[i]);
+      tb_suite_bench(s, bname, &secs, NULL, 1, "s");
+      tb_suite_counter(s, bname, "tip_deflection", d);
+      tb_suite_counter(s, bname, "over_timoshenko", d / timo);
+      tb_suite_counter(s, bname, "newton_iterations", iters);
     }
   tb_progress("reference", 1, 1);
   tb_suite_table(s, t);

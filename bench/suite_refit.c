@@ -96,15 +96,17 @@ int tb_suite_refit(const tb_suite_opts *o) {
   tb_progress("refit", NVAR, NVAR);
   if (!failed) {
     static const char *cols[] = {"method", "update (ms, median)", "query (ms, median)",
-                                 "frames with the exact pair set"};
+                                 "frames with the exact pair set", "frames"};
     tb_table *tt = tb_table_new(
-        "refit", "Per frame: update, then query (liver deformed, instrument inside)", 4, cols);
+        "refit", "Per frame: update, then query (liver deformed, instrument inside)", 5, cols);
+    tb_table_only(tt, 4, TB_CSV_ONLY);
     for (int v = 0; v < NVAR; v++) {
       tb_table_row(tt);
       tb_table_cell(tt, "%s", variants[v].label);
       tb_table_cell(tt, "%.3f", upd[v]);
       tb_table_cell(tt, "%.3f", qry[v]);
-      tb_table_cell(tt, "%d of %d", frames - bad[v], frames);
+      tb_table_numf(tt, frames - bad[v], "%d of %d", frames - bad[v], frames);
+      tb_table_cell(tt, "%d", frames);
       if (bad[v] && strcmp(variants[v].method, "bullet-gimpact")) failed = 1;
     }
     tb_suite_table(s, tt);

@@ -290,11 +290,11 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
     if (last >= 0)
       tb_table_cell(t, "%.3g", g->dt[last]);
     else
-      tb_table_cell(t, "< %.3g", g->dt[0]);
+      tb_table_numf(t, NAN, "< %.3g", g->dt[0]); /* none on the grid: empty in the CSV */
     if (hi > 0)
       tb_table_cell(t, "%.3g", g->dt[last + 1]);
     else
-      tb_table_cell(t, "none (> %.3g)", g->dt[g->ndt - 1]);
+      tb_table_numf(t, NAN, "none (> %.3g)", g->dt[g->ndt - 1]);
     if (lo > 0 && hi > 0)
       tb_table_cell(t, "%.3g", lo);
     else
@@ -308,6 +308,14 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
       tb_table_cell(t, "-");
     tb_stab_text_add(csv, "%d,%.6g,%.6g,%.6g,%.6g,%.6g\n", cells, k, lo > 0 && hi > 0 ? lo : NAN,
                      single, hk, hkc);
+    char bname[96]; /* the bounds as counters (NAN: none on the grid) */
+    snprintf(bname, sizeof bname, "msm_bounds/cells:%d/ks:%.6g", cells, k);
+    tb_suite_counter(su, bname, "largest_stable_dt", last >= 0 ? g->dt[last] : NAN);
+    tb_suite_counter(su, bname, "first_unstable_dt", hi > 0 ? g->dt[last + 1] : NAN);
+    tb_suite_counter(su, bname, "bisected_dt", lo > 0 && hi > 0 ? lo : NAN);
+    tb_suite_counter(su, bname, "single_spring_dt", single);
+    tb_suite_counter(su, bname, "linearised_dt", hk);
+    tb_suite_counter(su, bname, "linearised_kd_dt", hkc);
   }
   free(edges);
   tb_suite_table(su, t);
@@ -362,6 +370,12 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
         break;
       }
       counts[c->code]++;
+      char bname[128]; /* counters: stable 1/0, the detector's code, when it tripped */
+      snprintf(bname, sizeof bname, "map/%s/cells:%d/%s:%.6g/dt:%.6g", mm->name, cells, mm->key,
+               g->k[r], g->dt[j]);
+      tb_suite_counter(su, bname, "stable", c->code == ST_STABLE);
+      tb_suite_counter(su, bname, "status_code", c->code);
+      if (c->code != ST_STABLE) tb_suite_counter(su, bname, "unstable_at_s", c->t);
       if (c->code == ST_STABLE)
         tb_table_cell(t, "stable");
       else

@@ -100,10 +100,21 @@ static int speed(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver) {
   long steps = lround(sd.duration / sd.dt);
   int reps = o->scale < 1 ? 1 : (o->full ? 7 : 3), failed = 0;
   radius96 = radius_for(liver, 96);
-  static const char *cols[] = {"model",      "steps/s (ours)", "ms/step (median)",
-                               "thesis FPS", "ours / thesis",  "target steps/s",
-                               "target met", "state at 2 s"};
-  tb_table *t = tb_table_new("speed", "Steps per second on the liver (liver-stretch)", 8, cols);
+  static const char *cols[] = {"model",
+                               "steps/s (ours)",
+                               "ms/step (median)",
+                               "thesis FPS",
+                               "ours / thesis",
+                               "target steps/s",
+                               "target met",
+                               "state at 2 s",
+                               "state",
+                               "max displacement at 2 s",
+                               "volume change at 2 s (%)"};
+  tb_table *t = tb_table_new("speed", "Steps per second on the liver (liver-stretch)", 11, cols);
+  tb_table_csv_name(t, 5, "target steps/s (at least)");
+  tb_table_only(t, 7, TB_MD_ONLY); /* "stable; max displacement ..." split for the CSV */
+  for (int j = 8; j < 11; j++) tb_table_only(t, j, TB_CSV_ONLY);
   double *ms = malloc(sizeof(double) * (size_t)steps), med[16];
   for (int r = 0; r < NROWS && ms; r++) {
     tb_progress("table 3.5 speed", r, NROWS);
@@ -120,6 +131,7 @@ static int speed(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver) {
     if (bad || !per) {
       for (int c = 0; c < 6; c++) tb_table_cell(t, "-");
       tb_table_cell(t, "unstable (%s)", per ? err.msg : "out of memory");
+      tb_table_cell(t, "unstable (%s)", per ? err.msg : "out of memory");
       failed |= !per || rows[r].target > 0;
       free(per);
       continue;
@@ -132,16 +144,19 @@ static int speed(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver) {
     tb_table_cell(t, "%.4f", med[r]);
     if (rows[r].thesis_fps > 0) {
       tb_table_cell(t, "%.1f", rows[r].thesis_fps);
-      tb_table_cell(t, "%.1fx", sps / rows[r].thesis_fps);
+      tb_table_num(t, sps / rows[r].thesis_fps, "%.1fx");
     } else
       tb_table_cell(t, "-"), tb_table_cell(t, "-");
     if (rows[r].target > 0) {
-      tb_table_cell(t, ">= %.0f", rows[r].target);
+      tb_table_numf(t, rows[r].target, ">= %.0f", rows[r].target);
       tb_table_cell(t, "%s", sps >= rows[r].target ? "yes" : "NO");
     } else
       tb_table_cell(t, "-"), tb_table_cell(t, "-");
     tb_table_cell(t, "stable; max displacement %.3g, volume %+.2f%%", end.max_disp,
                   100 * end.volume_change);
+    tb_table_cell(t, "stable");
+    tb_table_num(t, end.max_disp, "%.3g");
+    tb_table_num(t, 100 * end.volume_change, "%+.2f");
   }
   tb_progress("table 3.5 speed", NROWS, NROWS);
   free(ms);
@@ -179,6 +194,8 @@ static int recovery(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver, 
            "%g (thesis: MSM distorts and does not recover, SM always recovers)",
            sd.duration, DRAG);
   tb_table *t = tb_table_new("recovery", title, 8, cols);
+  tb_table_csv_name(t, 1, "stretch (% of length)");
+  tb_table_csv_name(t, 6, "rms change in the last second (%)");
   /* chart: rms displacement against time for the farthest stretch */
   double *series = malloc(sizeof(double) * (size_t)npts * NROWS);
   for (int i = 0; series && i < npts * NROWS; i++) series[i] = NAN;
@@ -195,7 +212,7 @@ static int recovery(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver, 
       int bad = run(liver, r, &sd, NULL, steps, ser, every, &end, &peak, &before, &err);
       tb_table_row(t);
       tb_table_cell(t, "%s", rows[r].label);
-      tb_table_cell(t, "%.0f%%", 100 * amps[a]);
+      tb_table_num(t, 100 * amps[a], "%.0f%%");
       if (bad) {
         for (int c = 0; c < 5; c++) tb_table_cell(t, "-");
         tb_table_cell(t, "unstable (%s)", err.msg);
@@ -206,7 +223,7 @@ static int recovery(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver, 
       tb_table_cell(t, "%.3g", end.max_disp / sd.amplitude);
       tb_table_cell(t, "%d", end.inverted);
       double rate = before.rms_disp > 0 ? end.rms_disp / before.rms_disp - 1 : 0;
-      tb_table_cell(t, "%+.1f%%", 100 * rate);
+      tb_table_num(t, 100 * rate, "%+.1f%%");
       tb_table_cell(t, "%s",
                     end.max_disp < 0.05 * sd.amplitude
                         ? "recovered"

@@ -160,7 +160,7 @@ static int jgt(const tb_suite_opts *o, tb_suite *s, int reps) {
     tb_table_row(t);
     tb_table_cell(t, "%s", m[j].name);
     for (int x = 0; x < 4; x++) tb_table_cell(t, "%.1f", ns[x][j]);
-    tb_table_cell(t, "%.2fx", ns[2][ifcl] / ns[2][j]);
+    tb_table_num(t, ns[2][ifcl] / ns[2][j], "%.2fx");
   }
   tb_suite_table(s, t);
   tb_suite_note(
