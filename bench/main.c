@@ -8,9 +8,14 @@
 #include <unistd.h>
 
 #include "tb_cli.h"
+#include "tb_results.h"
 
 static int cmd_help(int argc, char **argv);
 static int cmd_test(int argc, char **argv);
+
+#ifndef TB_VERSION
+#define TB_VERSION "unknown"
+#endif
 
 static const tb_command commands[] = {
     {"help", "list the subcommands", "tissuebench help", cmd_help},
@@ -23,8 +28,9 @@ static const tb_command commands[] = {
      "  --scale F multiply every suite's pair and test counts by F (smoke tests)",
      tb_cmd_reproduce},
     {"test", "run the whole test suite (ends with \"N passed, N failed\")",
-     "tissuebench test [SUBSTRING...]\n"
-     "  runs the test cases whose \"suite/name\" contains any SUBSTRING (all without)",
+     "tissuebench test [--list] [SUBSTRING...]\n"
+     "  runs the test cases whose \"suite/name\" contains any SUBSTRING (all without);\n"
+     "  --list prints their names without running them; no match is an error (exit 2)",
      cmd_test},
     {"table", "make one table of the reproduction (correctness, 4.1, 4.2, refit, meshes, 3.5)",
      "tissuebench table NAME [--quick|--full] [--seed N] [--results DIR]\n"
@@ -93,7 +99,8 @@ static const int ncommands = (int)(sizeof commands / sizeof commands[0]);
 
 static int cmd_help(int argc, char **argv) {
   (void)argc, (void)argv;
-  printf("usage: tissuebench COMMAND [options]   (COMMAND --help for its options)\n\n");
+  printf("usage: tissuebench COMMAND [options]   (COMMAND --help for its options)\n");
+  printf("       tissuebench --version\n\n");
   for (int i = 0; i < ncommands; i++) printf("  %-10s %s\n", commands[i].name, commands[i].summary);
   return TB_EXIT_OK;
 }
@@ -134,9 +141,21 @@ int tb_cli_parse_double(const char *what, const char *text, double *out) {
   return 0;
 }
 
+/* The meson project version and, when git knows it, the source's commit. */
+static int print_version(void) {
+  tb_context c;
+  tb_context_collect(&c, 0);
+  printf("tissuebench %s", TB_VERSION);
+  if (strcmp(c.commit, "unknown") != 0)
+    printf(" (commit %.12s%s)", c.commit, c.dirty > 0 ? ", dirty" : "");
+  printf("\n");
+  return TB_EXIT_OK;
+}
+
 int main(int argc, char **argv) {
   if (argc < 2) return cmd_help(argc, argv), TB_EXIT_INPUT;
   const char *name = argv[1];
+  if (!strcmp(name, "--version") || !strcmp(name, "version")) return print_version();
   if (!strcmp(name, "--help") || !strcmp(name, "-h")) name = "help";
   for (int i = 0; i < ncommands; i++) {
     if (strcmp(name, commands[i].name)) continue;

@@ -1,7 +1,9 @@
 /* Test runner: runs every case of every table in its own child process (a
  * crash fails that case, not the run), prints failures and SKIP lines, and
  * ends with "N passed, N failed, N skipped". Arguments: substrings; a case
- * runs when its "suite/name" contains any of them (all run without any). */
+ * runs when its "suite/name" contains any of them (all run without any).
+ * --list prints the selected cases' names without running them; a filter
+ * that selects nothing is an error (exit 2). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdarg.h>
 #include <stdio.h>
@@ -132,7 +134,37 @@ static int run_case(const tb_test_case *tc) {
   return code == 0 ? 0 : (code == SKIP_CODE ? 2 : 1);
 }
 
+/* Prints the selected "suite/name" lines; returns how many. */
+static int list_cases(int argc, char **argv, int print) {
+  int n = 0;
+  for (size_t s = 0; s < sizeof suites / sizeof suites[0]; s++)
+    for (const tb_test_case *tc = suites[s].cases; tc->name; tc++) {
+      char id[256];
+      snprintf(id, sizeof id, "%s/%s", suites[s].name, tc->name);
+      if (!selected(id, argc, argv)) continue;
+      if (print) printf("%s\n", id);
+      n++;
+    }
+  return n;
+}
+
 int main(int argc, char **argv) {
+  int list = 0, k = 1; /* drop --list from the filters */
+  for (int i = 1; i < argc; i++) {
+    if (strcmp(argv[i], "--list") == 0)
+      list = 1;
+    else
+      argv[k++] = argv[i];
+  }
+  argc = k;
+  int nsel = list_cases(argc, argv, list);
+  if (nsel == 0) {
+    fprintf(stderr, "tb_tests: no test case matches");
+    for (int i = 1; i < argc; i++) fprintf(stderr, " '%s'", argv[i]);
+    fprintf(stderr, " (tissuebench test --list shows them)\n");
+    return 2;
+  }
+  if (list) return 0;
   snprintf(tmpdir, sizeof tmpdir, "%s/tb_tests.XXXXXX",
            getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
   if (!mkdtemp(tmpdir)) {

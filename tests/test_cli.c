@@ -87,8 +87,8 @@ static void reproduce_meshes_suite(void) {
   char args[1024];
   snprintf(args, sizeof args, "reproduce --only meshes --results %s/res", tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
-  static const char *files[] = {"table.md",       "data.csv",        "data.json",
-                                "liver.vtk",      "liver-faces.obj", "instrument.obj",
+  static const char *files[] = {"table.md",       "table-counts.csv", "data.json",
+                                "liver.vtk",      "liver-faces.obj",  "instrument.obj",
                                 "sphere-252.obj", "sphere-1002.obj"};
   for (int i = 0; i < 8; i++) {
     char cmd[1024];
@@ -125,7 +125,36 @@ static void setup_script(void) {
   TB_CHECK_MSG(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0, "%s", tb_test_out);
 }
 
+static void version_flag(void) {
+  TB_CHECK_MSG(tb_test_cli_run("--version") == 0, "%s", tb_test_out);
+  char want[64];
+  snprintf(want, sizeof want, "tissuebench %s", TB_VERSION);
+  TB_CHECK_MSG(strncmp(tb_test_out, want, strlen(want)) == 0, "got: %s", tb_test_out);
+  TB_CHECK(strchr(tb_test_out, '\n') == tb_test_out + strlen(tb_test_out) - 1); /* one line */
+}
+
+/* tb_tests --list names cases without running them; no match fails. */
+static void test_runner_list_and_no_match(void) {
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "'%s/tb_tests' --list cli/", TB_BUILD_ROOT);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK_MSG(
+      strstr(tb_test_out, "cli/version_flag\n") && strstr(tb_test_out, "cli/setup_script\n"), "%s",
+      tb_test_out);
+  TB_CHECK(strstr(tb_test_out, "results/") == NULL); /* only the selected ones */
+  TB_CHECK(strstr(tb_test_out, "passed") == NULL);   /* nothing ran */
+  snprintf(cmd, sizeof cmd, "'%s/tb_tests' --list", TB_BUILD_ROOT);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK(strstr(tb_test_out, "results/data_json\n") && strstr(tb_test_out, "core/"));
+  snprintf(cmd, sizeof cmd, "'%s/tb_tests' no-such-case-xyz", TB_BUILD_ROOT);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 2);
+  TB_CHECK_MSG(strstr(tb_test_out, "no test case matches 'no-such-case-xyz'"), "%s", tb_test_out);
+  TB_CHECK(strstr(tb_test_out, "passed") == NULL);
+}
+
 const tb_test_case tb_tests_cli[] = {
+    {"version_flag", version_flag},
+    {"test_runner_list_and_no_match", test_runner_list_and_no_match},
     {"setup_script", setup_script},
     {"help_lists_commands", help_lists_commands},
     {"mesh_generate_and_info", mesh_generate_and_info},
