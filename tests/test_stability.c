@@ -225,7 +225,7 @@ static void suite_smoke(void) {
   snprintf(args, sizeof args, "figure stability --scale 0.01 --results %s/all", tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   snprintf(dir, sizeof dir, "%s/all/stability", tb_test_tmpdir());
-  static const char *const files[] = {"table.md",          "data.csv",
+  static const char *const files[] = {"table.md",          "table-deform.csv",
                                       "map_msm.csv",       "map_fem.csv",
                                       "map_fem-corot.csv", "map_sm.csv",
                                       "map_msm_n10.png",   "map_msm_n10.svg",
