@@ -13,7 +13,9 @@
 int tb_mesh_read(const char *path, tb_mesh *m, tb_error *err);
 
 /* Writes by extension: .obj/.off (triangles), .node (with .ele beside it,
- * tets), .vtk (unstructured grid when the mesh has tets, else polydata). */
+ * tets), .vtk (unstructured grid when the mesh has tets, else polydata).
+ * Files holding only triangles (.obj, .off, polydata .vtk) carry only the
+ * vertices the triangles use, renumbered in their original order. */
 int tb_mesh_write(const char *path, const tb_mesh *m, tb_error *err);
 
 #endif
