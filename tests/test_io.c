@@ -337,8 +337,8 @@ static void test_write_surface_compact(void) {
   tb_vec3 x[5] = {{9, 9, 9}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1.0 / 3}};
   int tri[6] = {4, 1, 3, 1, 4, 2}, want[6] = {3, 0, 2, 0, 3, 1};
   tb_mesh src = {5, x, 2, tri, 0, NULL, 0}, m;
-  const char *name[2] = {"cmp.off", "cmp.obj"};
-  for (int k = 0; k < 2; k++) {
+  const char *name[3] = {"cmp.off", "cmp.obj", "cmp.vtk"};
+  for (int k = 0; k < 3; k++) {
     if (!write_ok(tmp(name[k]), &src) || !read_ok(tmp(name[k]), &m)) continue;
     TB_CHECK_MSG(m.nv == 4 && m.ntri == 2, "%s: %d vertices, %d triangles", name[k], m.nv, m.ntri);
     if (m.nv == 4 && m.ntri == 2) {
