@@ -42,7 +42,7 @@ typedef struct vr {
   long piece_nv, piece_ncell, cells_before; /* cells of earlier pieces */
   int vbase;                                /* points of earlier pieces */
   /* the DataArray being read */
-  int arr, size, real, sign, ncomp;
+  int arr, adepth, size, real, sign, ncomp; /* adepth: its element depth */
   long line;
   unsigned char *bytes;
   long nbytes;
@@ -140,7 +140,7 @@ static int put_byte(vr *r, unsigned char c) {
 
 static void XMLCALL on_text(void *ud, const XML_Char *s, int len) {
   vr *r = ud;
-  if (r->failed || !r->arr) return;
+  if (r->failed || !r->arr || r->depth != r->adepth) return; /* not in nested elements */
   for (int i = 0; i < len; i++) {
     int c = (unsigned char)s[i];
     if (c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
@@ -166,6 +166,7 @@ static void start_array(vr *r, const char **a) {
   long nc;
   r->line = here(r);
   r->arr = ARR_SKIP;
+  r->adepth = r->depth;
   if (!type || !(r->size = type_size(type, &r->real))) {
     fail(r, r->line, "DataArray: unknown type '%.40s'", type ? type : "(none)");
     return;
@@ -425,10 +426,12 @@ static void XMLCALL on_start(void *ud, const XML_Char *name, const XML_Char **a)
 static void XMLCALL on_end(void *ud, const XML_Char *name) {
   vr *r = ud;
   if (r->failed) return;
-  r->depth--;
-  if (r->arr && !strcmp(name, "DataArray")) {
+  int depth = r->depth--;
+  if (r->arr && depth == r->adepth) { /* the DataArray itself, not an element inside it */
     end_array(r);
-  } else if (r->in_piece && !strcmp(name, "Piece")) {
+    return;
+  }
+  if (r->in_piece && !strcmp(name, "Piece")) {
     end_piece(r);
     free_cells(r);
     r->in_piece = 0;

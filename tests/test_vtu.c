@@ -293,6 +293,43 @@ static void test_vtu_errors(void) {
   free(good);
 }
 
+/* What VTK's own writer adds: a UInt32 header_type (also the default),
+ * Int32 cells, InformationKey elements inside a DataArray, FieldData, and
+ * a header encoded apart from its data ('=' padding mid-stream). */
+static void test_vtu_vtk_style(void) {
+  const char *p = tb_test_file(
+      "vtkstyle.vtu",
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+      "byte_order=\"LittleEndian\" header_type=\"UInt32\">\n<UnstructuredGrid>\n"
+      "<FieldData><DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" "
+      "format=\"ascii\">0.5</DataArray></FieldData>\n"
+      "<Piece NumberOfPoints=\"3\" NumberOfCells=\"1\">\n<PointData>\n"
+      "<DataArray type=\"Float32\" Name=\"v\" NumberOfComponents=\"3\" format=\"binary\">\n"
+      "JAAAAA==AADAPwAAIEAAAIC/AAAAAAAAAAAAAAAAAADgQAAAAEEAABBB\n</DataArray>\n</"
+      "PointData>\n<Points>\n"
+      "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"binary\" RangeMin=\"0\">\n"
+      "SAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAPA/AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAA8D8A"
+      "AAAAAADgPw==\n<InformationKey name=\"L2_NORM_RANGE\" location=\"vtkDataArray\" "
+      "length=\"2\"><Value index=\"0\">0</Value></InformationKey>\n</DataArray>\n</Points>\n"
+      "<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"binary\">\n"
+      "DAAAAAAAAAABAAAAAgAAAA==\n</DataArray>\n"
+      "<DataArray type=\"Int32\" Name=\"offsets\" format=\"binary\">BAAAAAMAAAA=</DataArray>\n"
+      "<DataArray type=\"UInt8\" Name=\"types\" format=\"binary\">AQAAAAU=</DataArray>\n"
+      "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n",
+      -1);
+  tb_mesh m;
+  tb_error err = {{0}};
+  tb_vtu_field f = {"v", 0, 0, 0, NULL};
+  if (tb_vtu_read(p, &m, &f, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  TB_CHECK(m.nv == 3 && m.ntri == 1 && m.ntet == 0 && m.tri[2] == 2 && m.x[2].z == 0.5);
+  TB_CHECK(f.ncomp == 3 && f.ntuples == 3 && f.data[0] == 1.5 && f.data[2] == -1 && f.data[8] == 9);
+  free(f.data);
+  tb_mesh_free(&m);
+}
+
 /* ---- legacy VTK ---- */
 static void same(const tb_mesh *a, const tb_mesh *b) {
   TB_CHECK_MSG(a->nv == b->nv && a->ntri == b->ntri && a->ntet == b->ntet,
@@ -415,6 +452,7 @@ const tb_test_case tb_tests_vtu[] = {
     {"vtu_write_errors", test_vtu_write_errors},
     {"pvd", test_pvd},
     {"vtu_errors", test_vtu_errors},
+    {"vtu_vtk_style", test_vtu_vtk_style},
     {"vtk_roundtrip", test_vtk_roundtrip},
     {"vtk_reader", test_vtk_reader},
     {"vtk_errors", test_vtk_errors},
