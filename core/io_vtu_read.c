@@ -172,11 +172,6 @@ static void start_array(vr *r, const char **a) {
     return;
   }
   r->sign = type[0] == 'I' || !strcmp(type, "Char");
-  if (!format || strcmp(format, "binary")) {
-    fail(r, r->line, "DataArray format '%.20s' not supported (reads inline binary)",
-         format ? format : "(none)");
-    return;
-  }
   if (count_attr(r, a, "NumberOfComponents", 1, &nc)) return;
   if (nc < 1) {
     fail(r, r->line, "DataArray with 0 components");
@@ -205,7 +200,18 @@ static void start_array(vr *r, const char **a) {
          type);
     return;
   }
-  r->arr = r->arr == ARR_SKIP ? -1 : r->arr; /* -1: decode to check, then drop */
+  if (r->arr == ARR_POINTS && r->have_points) {
+    fail(r, r->line, "second Points array in one piece");
+    return;
+  }
+  int binary = format && !strcmp(format, "binary");
+  if (!binary && r->arr != ARR_SKIP) {
+    fail(r, r->line, "DataArray format '%.20s' not supported (reads inline binary)",
+         format ? format : "(none)");
+    return;
+  }
+  /* arrays not kept: binary ones are decoded to check them (-1), others ignored */
+  r->arr = r->arr != ARR_SKIP ? r->arr : binary ? -1 : ARR_SKIP;
   r->nbytes = 0;
   r->nq = r->npad = 0;
 }

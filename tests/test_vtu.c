@@ -304,6 +304,7 @@ static void test_vtu_vtk_style(void) {
       "<FieldData><DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" "
       "format=\"ascii\">0.5</DataArray></FieldData>\n"
       "<Piece NumberOfPoints=\"3\" NumberOfCells=\"1\">\n<PointData>\n"
+      "<DataArray type=\"Int32\" Name=\"s\" format=\"ascii\">1 2 3</DataArray>\n"
       "<DataArray type=\"Float32\" Name=\"v\" NumberOfComponents=\"3\" format=\"binary\">\n"
       "JAAAAA==AADAPwAAIEAAAIC/AAAAAAAAAAAAAAAAAADgQAAAAEEAABBB\n</DataArray>\n</"
       "PointData>\n<Points>\n"
@@ -328,6 +329,11 @@ static void test_vtu_vtk_style(void) {
   TB_CHECK(f.ncomp == 3 && f.ntuples == 3 && f.data[0] == 1.5 && f.data[2] == -1 && f.data[8] == 9);
   free(f.data);
   tb_mesh_free(&m);
+  /* an ASCII array is ignored unless asked for */
+  f = (tb_vtu_field){"s", 0, 0, 0, NULL};
+  TB_CHECK(tb_vtu_read(p, &m, &f, &err) != 0 && strstr(err.msg,
+                                                       "vtkstyle.vtu:7: DataArray format "
+                                                       "'ascii' not supported"));
 }
 
 /* ---- legacy VTK ---- */
