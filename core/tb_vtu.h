@@ -51,8 +51,9 @@ int tb_pvd_write(const char *path, int n, const double *times, const char *const
                  tb_error *err);
 
 /* An array to fetch while reading: set name and on_cells; the reader fills
- * ncomp, ntuples (all pieces, in order) and data (malloc'ed, ncomp*ntuples
- * doubles; UInt8 flags become 0.0/1.0...; free with free()). */
+ * ncomp, ntuples (all pieces, in order; cell data counts every cell, skipped
+ * kinds too) and data (malloc'ed, ncomp*ntuples doubles, integer types
+ * converted; free with free()). */
 typedef struct tb_vtu_field {
   const char *name;
   int on_cells;
