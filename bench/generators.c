@@ -56,44 +56,50 @@ static int sphere_paper(const double *p, tb_gen_counts *c, const char **src) {
 
 /* ---- beam ---- */
 static int beam_run(const double *p, tb_gen_result *r, tb_error *err) {
-  return tb_beam(p[0], p[1], p[2], (int)p[3], (int)p[4], (int)p[5], &r->volume, err);
+  return tb_beam_with_split(p[0], p[1], p[2], (int)p[3], (int)p[4], (int)p[5], (tb_beam_split)p[6],
+                            &r->volume, err);
 }
+static const char *const beam_splits[] = {"kuhn", "symmetric", NULL};
 
 static const tb_generator generators[] = {
     {"liver",
      "synthetic CT volume -> marching cubes -> clean-up -> TetGen",
-     {{"surface_verts", 725, 1, "target surface vertices (within 5%)"},
-      {"tet_verts", 1206, 1, "target tet-mesh vertices (within 10%)"},
-      {"tets", 4230, 1, "target tets (within 10%; 0: tet_verts * 4230 / 1206)"},
-      {"length", 10, 0, "extent along x"},
-      {"noise", 0.08, 0, "grey-value noise amplitude (relative to tissue)"},
-      {"seed", 1, 1, "noise seed"}},
+     {{"surface_verts", 725, 1, "target surface vertices (within 5%)", NULL},
+      {"tet_verts", 1206, 1, "target tet-mesh vertices (within 10%)", NULL},
+      {"tets", 4230, 1, "target tets (within 10%; 0: tet_verts * 4230 / 1206)", NULL},
+      {"length", 10, 0, "extent along x", NULL},
+      {"noise", 0.08, 0, "grey-value noise amplitude (relative to tissue)", NULL},
+      {"seed", 1, 1, "noise seed", NULL}},
      liver_run,
      liver_paper},
     {"instrument",
      "grasper: shaft + lower jaw tube and hinged upper jaw tube (2 closed parts)",
-     {{"length", 15, 0, "shaft length"},
-      {"radius", 0.25, 0, "shaft radius"},
-      {"jaw_length", 1.2, 0, "jaw length"},
-      {"jaw_opening", 0.5, 0, "angle between the jaws (radians)"},
-      {"segments", 16, 1, "segments around"},
-      {"shaft_rings", 24, 1, "rings of the shaft + lower jaw"},
-      {"jaw_rings", 15, 1, "rings of the upper jaw"}},
+     {{"length", 15, 0, "shaft length", NULL},
+      {"radius", 0.25, 0, "shaft radius", NULL},
+      {"jaw_length", 1.2, 0, "jaw length", NULL},
+      {"jaw_opening", 0.5, 0, "angle between the jaws (radians)", NULL},
+      {"segments", 16, 1, "segments around", NULL},
+      {"shaft_rings", 24, 1, "rings of the shaft + lower jaw", NULL},
+      {"jaw_rings", 15, 1, "rings of the upper jaw", NULL}},
      instrument_run,
      instrument_paper},
     {"sphere",
      "geodesic sphere, 10 f^2 + 2 vertices (252, 1002, ...)",
-     {{"verts", 252, 1, "vertices: 10 f^2 + 2"}, {"radius", 1, 0, "radius"}},
+     {{"verts", 252, 1, "vertices: 10 f^2 + 2", NULL}, {"radius", 1, 0, "radius", NULL}},
      sphere_run,
      sphere_paper},
     {"beam",
      "box cantilever, cubes split into 6 tets each",
-     {{"lx", 10, 0, "length (x)"},
-      {"ly", 1, 0, "width (y)"},
-      {"lz", 1, 0, "height (z)"},
-      {"nx", 20, 1, "cells along x"},
-      {"ny", 2, 1, "cells along y"},
-      {"nz", 2, 1, "cells along z"}},
+     {{"lx", 10, 0, "length (x)", NULL},
+      {"ly", 1, 0, "width (y)", NULL},
+      {"lz", 1, 0, "height (z)", NULL},
+      {"nx", 20, 1, "cells along x", NULL},
+      {"ny", 2, 1, "cells along y", NULL},
+      {"nz", 2, 1, "cells along z", NULL},
+      {"split", 0, 1,
+       "kuhn: every cube alike (bends sideways); symmetric: mirrored about the y and z "
+       "mid-planes (even ny, nz)",
+       beam_splits}},
      beam_run,
      NULL},
 };
@@ -115,8 +121,13 @@ void tb_generator_list(FILE *f) {
   for (int i = 0; i < ngenerators; i++) {
     const tb_generator *g = &generators[i];
     fprintf(f, "%s: %s\n", g->name, g->summary);
-    for (int k = 0; k < nparams(g); k++)
-      fprintf(f, "  --set %s=%g\t%s\n", g->params[k].key, g->params[k].value, g->params[k].doc);
+    for (int k = 0; k < nparams(g); k++) {
+      const tb_gen_param *q = &g->params[k];
+      if (q->names)
+        fprintf(f, "  --set %s=%s\t%s\n", q->key, q->names[(int)q->value], q->doc);
+      else
+        fprintf(f, "  --set %s=%g\t%s\n", q->key, q->value, q->doc);
+    }
   }
 }
 
@@ -129,9 +140,18 @@ int tb_generator_set(const tb_generator *g, double *p, const char *kv) {
   for (int k = 0; eq && k < nparams(g); k++) {
     if (strlen(g->params[k].key) != (size_t)(eq - kv) || strncmp(g->params[k].key, kv, eq - kv))
       continue;
+    int nnames = 0;
+    for (const char *const *n = g->params[k].names; n && *n; n++, nnames++)
+      if (!strcmp(*n, eq + 1)) return p[k] = nnames, 0;
     char *end;
     errno = 0;
     double v = strtod(eq + 1, &end);
+    if (nnames && (end == eq + 1 || *end || !(v >= 0 && v < nnames) || v != floor(v))) {
+      fprintf(stderr, "tissuebench mesh %s: %s is one of", g->name, g->params[k].key);
+      for (int i = 0; i < nnames; i++) fprintf(stderr, " %s", g->params[k].names[i]);
+      fprintf(stderr, ", not '%s'\n", eq + 1);
+      return -1;
+    }
     if (end == eq + 1 || *end || errno == ERANGE || !isfinite(v) ||
         (g->params[k].integer && (v != floor(v) || fabs(v) > 1e9))) {
       fprintf(stderr, "tissuebench mesh %s: %s needs a %s, not '%s'\n", g->name, g->params[k].key,

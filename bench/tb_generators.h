@@ -15,6 +15,7 @@ typedef struct tb_gen_param {
   double value; /* default */
   int integer;  /* must be a whole number */
   const char *doc;
+  const char *const *names; /* NULL, or names of the values 0, 1, ... (NULL-terminated) */
 } tb_gen_param;
 
 /* Counts of a generated mesh (0 where not applicable). */
@@ -48,7 +49,8 @@ typedef enum tb_mesh_part {
 const tb_generator *tb_generator_find(const char *name);
 void tb_generator_list(FILE *f);
 void tb_generator_defaults(const tb_generator *g, double *p);
-/* "key=value"; prints the error and returns -1 on a bad key or value. */
+/* "key=value" (for a named setting, "key=name" or the value's number);
+ * prints the error and returns -1 on a bad key or value. */
 int tb_generator_set(const tb_generator *g, double *p, const char *kv);
 int tb_generator_run(const tb_generator *g, const double *p, tb_gen_result *r, tb_error *err);
 void tb_gen_result_free(tb_gen_result *r);

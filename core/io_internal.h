@@ -80,6 +80,8 @@ int tb_read_off(const char *path, tb_build *b, tb_error *err);
 int tb_read_stl(const char *path, tb_build *b, tb_error *err);
 int tb_read_tetgen(const char *path, tb_build *b, tb_error *err); /* .node or .ele */
 int tb_read_msh(const char *path, tb_build *b, tb_error *err);
+int tb_read_vtu(const char *path, tb_build *b, tb_error *err); /* VTK XML UnstructuredGrid */
+int tb_read_vtk(const char *path, tb_build *b, tb_error *err); /* VTK legacy ASCII */
 
 int tb_write_obj(const char *path, const tb_mesh *m, tb_error *err);
 int tb_write_off(const char *path, const tb_mesh *m, tb_error *err);

@@ -1,7 +1,9 @@
 /* Mesh writers: OBJ and OFF (triangles; a tet mesh without triangles is
- * written as its boundary), TetGen .node/.ele/.face (1-based, TetGen's
+ * written as its boundary; only the vertices the triangles use, renumbered
+ * in their original order), TetGen .node/.ele/.face (1-based, TetGen's
  * default) and VTK legacy ASCII ("VTK File Formats", Kitware: an
- * UNSTRUCTURED_GRID of VTK_TETRA cells, type 10, or POLYDATA polygons).
+ * UNSTRUCTURED_GRID of VTK_TETRA cells, type 10, or POLYDATA polygons over
+ * the vertices they use).
  * Doubles are printed with %.17g so a write-read round trip is exact. */
 #include <errno.h>
 #include <stdlib.h>
@@ -41,9 +43,11 @@ static int close_out(FILE *f, const char *path, tb_error *err) {
   return 0;
 }
 
-/* Each point as LEAD x y z, or "i x y z" (1-based) when lead is NULL. */
-static void put_points(FILE *f, const tb_mesh *m, const char *lead) {
+/* Each point (each with map[i] >= 0 when map is not NULL) as LEAD x y z,
+ * or "i x y z" (1-based) when lead is NULL. */
+static void put_points(FILE *f, const tb_mesh *m, const int *map, const char *lead) {
   for (int i = 0; i < m->nv; i++) {
+    if (map && map[i] < 0) continue;
     if (lead)
       fputs(lead, f);
     else
@@ -52,14 +56,17 @@ static void put_points(FILE *f, const tb_mesh *m, const char *lead) {
   }
 }
 
-/* Each k-index cell as LEAD i0+base ..., or "n i0+base ..." when lead is NULL. */
-static void put_cells(FILE *f, const int *idx, int n, int k, const char *lead, int base) {
+/* Each k-index cell as LEAD i0+base ..., or "n i0+base ..." when lead is
+ * NULL; indices through map when it is not NULL. */
+static void put_cells(FILE *f, const int *idx, const int *map, int n, int k, const char *lead,
+                      int base) {
   for (int i = 0; i < n; i++) {
     if (lead)
       fputs(lead, f);
     else
       fprintf(f, "%d", i + 1);
-    for (int j = 0; j < k; j++) fprintf(f, " %d", idx[k * i + j] + base);
+    for (int j = 0; j < k; j++)
+      fprintf(f, " %d", (map ? map[idx[k * i + j]] : idx[k * i + j]) + base);
     fputc('\n', f);
   }
 }
@@ -76,20 +83,36 @@ static int surface(const char *path, const tb_mesh *m, const int **tri, int **ow
   return n;
 }
 
+/* The vertices n triangles use, renumbered in their order: *map (malloc'ed,
+ * nv entries, -1 for unused vertices); returns how many are used, or -1.
+ * Without triangles every vertex is kept (a point cloud stays one). */
+static int compact(const char *path, const tb_mesh *m, const int *tri, int n, int **map,
+                   tb_error *err) {
+  *map = malloc(sizeof(int) * (size_t)(m->nv > 0 ? m->nv : 1));
+  if (!*map) return tb_error_set(err, path, 0, "out of memory");
+  for (int i = 0; i < m->nv; i++) (*map)[i] = n > 0 ? -1 : 0;
+  for (long i = 0; i < 3L * n; i++) (*map)[tri[i]] = 0;
+  int used = 0;
+  for (int i = 0; i < m->nv; i++)
+    if ((*map)[i] == 0) (*map)[i] = used++;
+  return used;
+}
+
 static int write_surface(const char *path, const tb_mesh *m, int off, tb_error *err) {
   const int *tri;
-  int *owned, n;
+  int *owned, *map = NULL, n, nv = -1;
   if (check(path, m, err) || (n = surface(path, m, &tri, &owned, err)) < 0) return -1;
-  FILE *f = open_out(path, err);
+  FILE *f = (nv = compact(path, m, tri, n, &map, err)) < 0 ? NULL : open_out(path, err);
   if (f) {
     if (off)
-      fprintf(f, "OFF\n%d %d 0\n", m->nv, n);
+      fprintf(f, "OFF\n%d %d 0\n", nv, n);
     else
-      fprintf(f, "# %d vertices, %d triangles\n", m->nv, n);
-    put_points(f, m, off ? "" : "v ");
-    put_cells(f, tri, n, 3, off ? "3" : "f", off ? 0 : 1);
+      fprintf(f, "# %d vertices, %d triangles\n", nv, n);
+    put_points(f, m, map, off ? "" : "v ");
+    put_cells(f, tri, map, n, 3, off ? "3" : "f", off ? 0 : 1);
   }
   free(owned);
+  free(map);
   return f ? close_out(f, path, err) : -1;
 }
 
@@ -119,13 +142,13 @@ int tb_write_tetgen(const char *path, const tb_mesh *m, tb_error *err) {
     }
     if (k == 0) {
       fprintf(f, "%d 3 0 0\n", m->nv);
-      put_points(f, m, NULL);
+      put_points(f, m, NULL, NULL);
     } else if (k == 1) {
       fprintf(f, "%d 4 0\n", m->ntet);
-      put_cells(f, m->tet, m->ntet, 4, NULL, 1);
+      put_cells(f, m->tet, NULL, m->ntet, 4, NULL, 1);
     } else {
       fprintf(f, "%d 0\n", m->ntri);
-      put_cells(f, m->tri, m->ntri, 3, NULL, 1);
+      put_cells(f, m->tri, NULL, m->ntri, 3, NULL, 1);
     }
     rc = close_out(f, name, err);
   }
@@ -135,20 +158,25 @@ int tb_write_tetgen(const char *path, const tb_mesh *m, tb_error *err) {
 
 int tb_write_vtk(const char *path, const tb_mesh *m, tb_error *err) {
   if (check(path, m, err)) return -1;
+  int tets = m->ntet > 0, *map = NULL, nv = m->nv;
+  if (!tets && (nv = compact(path, m, m->tri, m->ntri, &map, err)) < 0) return -1;
   FILE *f = open_out(path, err);
-  if (!f) return -1;
-  int tets = m->ntet > 0;
+  if (!f) {
+    free(map);
+    return -1;
+  }
   fprintf(f, "# vtk DataFile Version 3.0\ntissuebench mesh\nASCII\nDATASET %s\nPOINTS %d double\n",
-          tets ? "UNSTRUCTURED_GRID" : "POLYDATA", m->nv);
-  put_points(f, m, "");
+          tets ? "UNSTRUCTURED_GRID" : "POLYDATA", nv);
+  put_points(f, m, map, "");
   if (tets) {
     fprintf(f, "CELLS %d %ld\n", m->ntet, 5L * m->ntet);
-    put_cells(f, m->tet, m->ntet, 4, "4", 0);
+    put_cells(f, m->tet, NULL, m->ntet, 4, "4", 0);
     fprintf(f, "CELL_TYPES %d\n", m->ntet);
     for (int i = 0; i < m->ntet; i++) fputs("10\n", f);
   } else if (m->ntri > 0) {
     fprintf(f, "POLYGONS %d %ld\n", m->ntri, 4L * m->ntri);
-    put_cells(f, m->tri, m->ntri, 3, "3", 0);
+    put_cells(f, m->tri, map, m->ntri, 3, "3", 0);
   }
+  free(map);
   return close_out(f, path, err);
 }

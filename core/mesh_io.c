@@ -17,7 +17,8 @@ typedef struct writer {
 
 static const reader readers[] = {{".obj", tb_read_obj},    {".off", tb_read_off},
                                  {".stl", tb_read_stl},    {".node", tb_read_tetgen},
-                                 {".ele", tb_read_tetgen}, {".msh", tb_read_msh}};
+                                 {".ele", tb_read_tetgen}, {".msh", tb_read_msh},
+                                 {".vtu", tb_read_vtu},    {".vtk", tb_read_vtk}};
 static const writer writers[] = {{".obj", tb_write_obj},
                                  {".off", tb_write_off},
                                  {".node", tb_write_tetgen},
@@ -45,7 +46,8 @@ int tb_mesh_read(const char *path, tb_mesh *m, tb_error *err) {
     return 0;
   }
   return tb_error_set(err, path, 0,
-                      "unknown mesh format '%s' (reads .obj .off .stl .node .ele .msh)", ext);
+                      "unknown mesh format '%s' (reads .obj .off .stl .node .ele .msh .vtu .vtk)",
+                      ext);
 }
 
 int tb_mesh_write(const char *path, const tb_mesh *m, tb_error *err) {

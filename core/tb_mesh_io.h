@@ -1,6 +1,7 @@
 /* Mesh files: OBJ, OFF, STL (ASCII and binary), TetGen .node/.ele/.face,
- * Gmsh .msh v1, v2 and v4 (ASCII); writers for OBJ, OFF, .node/.ele and VTK
- * legacy. Every reader reports malformed input as "FILE:LINE: reason". */
+ * Gmsh .msh v1, v2 and v4 (ASCII), VTK XML .vtu (binary, core/tb_vtu.h) and
+ * VTK legacy ASCII .vtk; writers for OBJ, OFF, .node/.ele and VTK legacy. Every reader reports
+ * malformed input as "FILE:LINE: reason". */
 #ifndef TB_MESH_IO_H
 #define TB_MESH_IO_H
 
@@ -8,12 +9,14 @@
 #include "tb_mesh.h"
 
 /* Reads any supported format, chosen by extension (.obj .off .stl .node .ele
- * .msh; a TetGen base name with .node reads the .ele and .face beside it).
+ * .msh .vtu .vtk; a TetGen base name with .node reads the .ele and .face beside it).
  * On failure *m is left empty and err holds "FILE:LINE: reason". */
 int tb_mesh_read(const char *path, tb_mesh *m, tb_error *err);
 
 /* Writes by extension: .obj/.off (triangles), .node (with .ele beside it,
- * tets), .vtk (unstructured grid when the mesh has tets, else polydata). */
+ * tets), .vtk (unstructured grid when the mesh has tets, else polydata).
+ * Files holding only triangles (.obj, .off, polydata .vtk) carry only the
+ * vertices the triangles use, renumbered in their original order. */
 int tb_mesh_write(const char *path, const tb_mesh *m, tb_error *err);
 
 #endif

@@ -87,6 +87,7 @@ static const struct {
 } suites[] = {
     {"core", tb_tests_core},
     {"io", tb_tests_io},
+    {"vtu", tb_tests_vtu},
     {"mc", tb_tests_mc},
     {"results", tb_tests_results},
     {"meshgen", tb_tests_meshgen},

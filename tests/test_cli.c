@@ -39,6 +39,18 @@ static void mesh_generate_and_info(void) {
            strstr(tb_test_out, "surface_verts"));
 }
 
+/* A tet mesh written as a surface carries only its boundary's vertices. */
+static void mesh_surface_compact(void) {
+  char args[1024];
+  snprintf(args, sizeof args, "mesh beam --set nx=3 --set ny=3 --set nz=3 --out %s/b.off",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  snprintf(args, sizeof args, "mesh info %s/b.off", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  TB_CHECK_MSG(strstr(tb_test_out, "vertices    56\n") && strstr(tb_test_out, "closed      yes"),
+               "%s", tb_test_out);
+}
+
 static void mesh_info_errors(void) {
   const char *bad = tb_test_file("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", -1);
   char args[1024];
@@ -158,6 +170,7 @@ const tb_test_case tb_tests_cli[] = {
     {"setup_script", setup_script},
     {"help_lists_commands", help_lists_commands},
     {"mesh_generate_and_info", mesh_generate_and_info},
+    {"mesh_surface_compact", mesh_surface_compact},
     {"mesh_info_errors", mesh_info_errors},
     {"liver_stats_deterministic", liver_stats_deterministic},
     {"reproduce_meshes_suite", reproduce_meshes_suite},

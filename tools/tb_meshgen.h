@@ -84,7 +84,17 @@ int tb_instrument(const tb_instrument_def *def, tb_mesh *out, tb_error *err);
 int tb_geosphere(int nv, double radius, tb_mesh *out, tb_error *err);
 
 /* Box cantilever [0,lx]x[0,ly]x[0,lz] split into nx*ny*nz cubes of 6 tets
- * each (conforming), boundary triangles included. */
+ * each (conforming), boundary triangles included; tb_beam splits every cube
+ * the same way (TB_SPLIT_KUHN). */
 int tb_beam(double lx, double ly, double lz, int nx, int ny, int nz, tb_mesh *out, tb_error *err);
+
+/* How tb_beam_with_split cuts the cubes: KUHN, every cube around its
+ * (0,0,0)-(1,1,1) diagonal (tb_beam; a T4 beam under a vertical tip load
+ * also bends sideways), or SYMMETRIC, cubes of the upper half of each axis
+ * mirrored so the mesh is mirror-symmetric about y = ly/2 and z = lz/2
+ * (needs even ny and nz; same vertex and tet counts). */
+typedef enum tb_beam_split { TB_SPLIT_KUHN = 0, TB_SPLIT_SYMMETRIC = 1 } tb_beam_split;
+int tb_beam_with_split(double lx, double ly, double lz, int nx, int ny, int nz, tb_beam_split split,
+                       tb_mesh *out, tb_error *err);
 
 #endif
