@@ -15,10 +15,11 @@ static void list_all(void) {
   const char *const *names = tb_sim_scene_names(&n);
   printf("scenes:\n");
   for (int i = 0; i < n; i++) printf("  %-14s %s\n", names[i], tb_sim_scene_summary(names[i]));
-  printf("models:\n");
-  for (int i = 0; i < tb_model_count; i++)
-    printf("  %-14s %s\n    keys: %s\n", tb_model_classes[i]->name, tb_model_classes[i]->summary,
-           tb_model_classes[i]->keys);
+  printf("models (--set key=value; key, type, default, range, what it is):\n");
+  for (int i = 0; i < tb_model_count; i++) {
+    printf("  %-14s %s\n", tb_model_classes[i]->name, tb_model_classes[i]->summary);
+    tb_model_print_settings(stdout, tb_model_classes[i]);
+  }
   printf(
       "scene keys: dt duration amplitude release nodes gravity vmax inversion drag energy_factor "
       "energy_every\n");
@@ -30,7 +31,8 @@ int tb_cmd_simulate(int argc, char **argv) {
   tb_sim_def sd;
   memset(&sd, 0, sizeof sd);
   sd.seed = 1;
-  tb_model_def md = tb_model_default_def();
+  tb_settings mset; /* model keys, checked against the model's table below */
+  tb_settings_init(&mset);
   tb_error err;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -65,7 +67,7 @@ int tb_cmd_simulate(int argc, char **argv) {
       }
     } else if (!strcmp(a, "--set")) {
       int rc = tb_sim_def_set(&sd, v, &err);
-      if (rc == 1) rc = tb_model_def_set(&md, v, &err);
+      if (rc == 1) rc = tb_settings_set(&mset, v, &err);
       if (rc) {
         fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
         return TB_EXIT_INPUT;
@@ -87,12 +89,12 @@ int tb_cmd_simulate(int argc, char **argv) {
     fprintf(stderr, "tissuebench simulate: unknown scene '%s' (--list shows them)\n", scene);
     return TB_EXIT_INPUT;
   }
-  if (tb_model_def_check(&md, &err)) {
+  if (tb_model_check_settings(model, &mset, &err)) {
     fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
     return TB_EXIT_INPUT;
   }
   tb_sim s;
-  if (tb_sim_create(&s, scene, &sd, model, &md, NULL, &err)) {
+  if (tb_sim_create(&s, scene, &sd, model, &mset, NULL, &err)) {
     fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
     return TB_EXIT_FAIL;
   }
