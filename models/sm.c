@@ -398,7 +398,7 @@ static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const t
 
 #define S sm_settings
 static const tb_setting settings[] = {
-    TB_SETTINGS_MASS(S, 0.0),
+    TB_SETTINGS_MASS(S, 1.0), /* unit particle masses, as every suite runs sm */
     TB_SETTING_C(S, sm_mode, TB_SM_QUADRATIC, 2, "rigid|linear|quadratic",
                  "goal shapes (eqs. 3-37..3-45)"),
     TB_SETTING_R(S, alpha, 0.72, 0, 1, 0, "stiffness: pull towards the goals"),

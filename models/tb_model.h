@@ -73,7 +73,7 @@ typedef struct tb_setting {
   { #key, TB_SETTING_CHOICE, offsetof(T, key), def, 0, hi, choices, doc, 0 }
 
 /* Table fragments the models share. Every model takes the mass settings;
- * node_mass_def is its default (msm: 1, the thesis's unit masses). */
+ * node_mass_def is its default (msm, sm: 1, the thesis's unit masses). */
 #define TB_SETTINGS_MASS(T, node_mass_def)                                         \
   TB_SETTING_R(T, density, 1.0, 0.0, HUGE_VAL, 0,                                  \
                "mass per volume: node mass = density * (volume of its tets) / 4"), \
