@@ -25,6 +25,30 @@ static void list_all(void) {
       "energy_every\n");
 }
 
+/* The README's list: one row per model, its keys with their defaults
+ * (choices: the default's name, then the choices). */
+static void list_markdown(void) {
+  printf("| model | settings (`--set key=value`; default) |\n|---|---|\n");
+  for (int i = 0; i < tb_model_count; i++) {
+    const tb_model_class *c = tb_model_classes[i];
+    printf("| `%s` |", c->name);
+    for (int k = 0; k < c->nsettings; k++) {
+      const tb_setting *st = &c->settings[k];
+      printf("%s `%s` ", k ? "," : "", st->key);
+      if (st->type != TB_SETTING_CHOICE) {
+        printf("%g", st->def);
+        continue;
+      }
+      const char *p = st->choices;
+      for (int j = 0; j < (int)st->def && p; j++) p = strchr(p, '|'), p = p ? p + 1 : NULL;
+      printf("%.*s (", p ? (int)strcspn(p, "|") : 1, p ? p : "?");
+      for (const char *q = st->choices; *q; q++) printf(*q == '|' ? "\\|" : "%c", *q);
+      printf(")");
+    }
+    printf(" |\n");
+  }
+}
+
 int tb_cmd_simulate(int argc, char **argv) {
   const char *model = NULL, *scene = NULL, *vtk = NULL;
   long steps = 0, every = 0;
@@ -38,6 +62,10 @@ int tb_cmd_simulate(int argc, char **argv) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
     if (!strcmp(a, "--list")) {
       list_all();
+      return TB_EXIT_OK;
+    }
+    if (!strcmp(a, "--list-markdown")) {
+      list_markdown();
       return TB_EXIT_OK;
     }
     if (!v) {

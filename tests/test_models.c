@@ -477,6 +477,18 @@ static void simulate_cli(void) {
   TB_CHECK(strstr(tb_test_out, "unknown setting 'bogus' for model msm"));
   TB_CHECK(tb_test_cli_run("simulate --model msm --scene beam --set nu=0.3") == 2);
   TB_CHECK(strstr(tb_test_out, "'nu'") && strstr(tb_test_out, "msm"));
+  TB_CHECK(tb_test_cli_run("simulate --list-markdown") == 0);
+  char md[4096];
+  snprintf(md, sizeof md, "%s", tb_test_out);
+  TB_CHECK_MSG(strstr(md, "| `msm` | `density` 1, `node_mass` 1,") &&
+                   strstr(md, "`sm_mode` quadratic (rigid\\|linear\\|quadratic)"),
+               "%s", md);
+  snprintf(cmd, sizeof cmd, "cat %s/README.md", tb_test_source_root());
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK_MSG(strstr(tb_test_out, md),
+               "README.md's model settings differ from "
+               "`simulate --list-markdown`:\n%s",
+               md);
   TB_CHECK(tb_test_cli_run("simulate --list") == 0);
   TB_CHECK_MSG(strstr(tb_test_out, "node_mass") && strstr(tb_test_out, "rayleigh_stiffness") &&
                    strstr(tb_test_out, "rigid|linear|quadratic"),
