@@ -15,13 +15,38 @@ static void list_all(void) {
   const char *const *names = tb_sim_scene_names(&n);
   printf("scenes:\n");
   for (int i = 0; i < n; i++) printf("  %-14s %s\n", names[i], tb_sim_scene_summary(names[i]));
-  printf("models:\n");
-  for (int i = 0; i < tb_model_count; i++)
-    printf("  %-14s %s\n    keys: %s\n", tb_model_classes[i]->name, tb_model_classes[i]->summary,
-           tb_model_classes[i]->keys);
+  printf("models (--set key=value; key, type, default, range, what it is):\n");
+  for (int i = 0; i < tb_model_count; i++) {
+    printf("  %-14s %s\n", tb_model_classes[i]->name, tb_model_classes[i]->summary);
+    tb_model_print_settings(stdout, tb_model_classes[i]);
+  }
   printf(
       "scene keys: dt duration amplitude release nodes gravity vmax inversion drag energy_factor "
       "energy_every\n");
+}
+
+/* The README's list: one row per model, its keys with their defaults
+ * (choices: the default's name, then the choices). */
+static void list_markdown(void) {
+  printf("| model | settings (`--set key=value`; default) |\n|---|---|\n");
+  for (int i = 0; i < tb_model_count; i++) {
+    const tb_model_class *c = tb_model_classes[i];
+    printf("| `%s` |", c->name);
+    for (int k = 0; k < c->nsettings; k++) {
+      const tb_setting *st = &c->settings[k];
+      printf("%s `%s` ", k ? "," : "", st->key);
+      if (st->type != TB_SETTING_CHOICE) {
+        printf("%g", st->def);
+        continue;
+      }
+      const char *p = st->choices;
+      for (int j = 0; j < (int)st->def && p; j++) p = strchr(p, '|'), p = p ? p + 1 : NULL;
+      printf("%.*s (", p ? (int)strcspn(p, "|") : 1, p ? p : "?");
+      for (const char *q = st->choices; *q; q++) printf(*q == '|' ? "\\|" : "%c", *q);
+      printf(")");
+    }
+    printf(" |\n");
+  }
 }
 
 int tb_cmd_simulate(int argc, char **argv) {
@@ -30,12 +55,17 @@ int tb_cmd_simulate(int argc, char **argv) {
   tb_sim_def sd;
   memset(&sd, 0, sizeof sd);
   sd.seed = 1;
-  tb_model_def md = tb_model_default_def();
+  tb_settings mset; /* model keys, checked against the model's table below */
+  tb_settings_init(&mset);
   tb_error err;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
     if (!strcmp(a, "--list")) {
       list_all();
+      return TB_EXIT_OK;
+    }
+    if (!strcmp(a, "--list-markdown")) {
+      list_markdown();
       return TB_EXIT_OK;
     }
     if (!v) {
@@ -65,7 +95,7 @@ int tb_cmd_simulate(int argc, char **argv) {
       }
     } else if (!strcmp(a, "--set")) {
       int rc = tb_sim_def_set(&sd, v, &err);
-      if (rc == 1) rc = tb_model_def_set(&md, v, &err);
+      if (rc == 1) rc = tb_settings_set(&mset, v, &err);
       if (rc) {
         fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
         return TB_EXIT_INPUT;
@@ -87,12 +117,12 @@ int tb_cmd_simulate(int argc, char **argv) {
     fprintf(stderr, "tissuebench simulate: unknown scene '%s' (--list shows them)\n", scene);
     return TB_EXIT_INPUT;
   }
-  if (tb_model_def_check(&md, &err)) {
+  if (tb_model_check_settings(model, &mset, &err)) {
     fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
     return TB_EXIT_INPUT;
   }
   tb_sim s;
-  if (tb_sim_create(&s, scene, &sd, model, &md, NULL, &err)) {
+  if (tb_sim_create(&s, scene, &sd, model, &mset, NULL, &err)) {
     fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
     return TB_EXIT_FAIL;
   }

@@ -91,15 +91,21 @@ static double volume_of(const tb_mesh *m, const tb_vec3 *x) {
   return v;
 }
 
-int tb_fid_reference(const char *scene, const tb_sim_def *def, double t_eq,
-                     const tb_model_def *mdef, tb_fid_ref *out, tb_error *err) {
+int tb_fid_reference(const char *scene, const tb_sim_def *def, double t_eq, const tb_settings *mset,
+                     tb_fid_ref *out, tb_error *err) {
   memset(out, 0, sizeof *out);
   if (!has_static_problem(scene))
     return tb_error_set(err, scene, 0, "no static problem to compare (beam, liver-stretch)");
   snprintf(out->scene, sizeof out->scene, "%s", scene);
+  double density, E, nu;
+  if (tb_model_check_settings("fem", mset, err)) return -1;
+  tb_model_setting("fem", mset, "density", &density);
+  tb_model_setting("fem", mset, "E", &E);
+  tb_model_setting("fem", mset, "nu", &nu);
   tb_sim s;
-  /* the sim only poses the loads: msm is the cheapest model to build */
-  if (tb_sim_create(&s, scene, def, "msm", mdef, NULL, err)) return -1;
+  /* the sim only poses the loads: msm is the cheapest model to build (its
+   * masses do not enter the loads) */
+  if (tb_sim_create(&s, scene, def, "msm", NULL, NULL, err)) return -1;
   int rc = -1;
   char *driven = calloc((size_t)s.mesh.nv, 1);
   if (!driven) {
@@ -115,12 +121,12 @@ int tb_fid_reference(const char *scene, const tb_sim_def *def, double t_eq,
   tb_ref_problem p;
   memset(&p, 0, sizeof p);
   p.mesh = &out->mesh;
-  p.density = mdef->density;
+  p.density = density;
   p.gravity = s.gravity;
   p.force = s.force;
   p.nfixed = s.nfixed, p.fixed = s.fixed, p.fixed_x = s.fixed_x;
   tb_ref_def rd = tb_ref_default_def();
-  rd.E = mdef->E, rd.nu = mdef->nu;
+  rd.E = E, rd.nu = nu;
   uint64_t t0 = tb_time_ns();
   out->sol = tb_ref_solve(&p, &rd, err);
   out->seconds = (double)(tb_time_ns() - t0) * 1e-9;
@@ -275,7 +281,7 @@ static void unstable(tb_fid_result *out, const char *when, const char *why) {
 }
 
 int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
-               const tb_model_def *mdef, const tb_sim_def *def, const tb_fid_opts *o,
+               const tb_settings *mset, const tb_sim_def *def, const tb_fid_opts *o,
                tb_fid_result *out, tb_error *err) {
   memset(out, 0, sizeof *out);
   out->rms_err = out->max_err = out->volume_change = NAN;
@@ -286,11 +292,13 @@ int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
   tb_sim_def sd = *def;
   if (!(sd.dt > 0)) sd.dt = ref->def.dt;
   sd.dt /= o->substeps > 1 ? o->substeps : 1;
-  if (tb_sim_create(&r.s, ref->scene, &sd, model, mdef, &fm->mesh, err)) return -1;
+  if (tb_sim_create(&r.s, ref->scene, &sd, model, mset, &fm->mesh, err)) return -1;
+  double quasistatic = 0; /* 0 for models without the key */
+  tb_model_setting(model, mset, "quasistatic", &quasistatic);
   int stretch = !strcmp(ref->scene, "liver-stretch"), rc = -1, n = r.s.mesh.nv;
   r.dt = r.s.def.dt;
   r.window =
-      mdef->quasistatic ? 3 * r.dt : fmax(o->window > 0 ? o->window : o->max_time / 20, 10 * r.dt);
+      quasistatic != 0 ? 3 * r.dt : fmax(o->window > 0 ? o->window : o->max_time / 20, 10 * r.dt);
   double t_full = stretch ? 0.5 * r.s.def.release : 0; /* the load is complete */
   r.px = malloc(sizeof(tb_vec3) * (size_t)n);
   tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)n), *v = malloc(sizeof(tb_vec3) * (size_t)n);
@@ -308,7 +316,7 @@ int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
     goto timing;
   }
   out->settled = !isnan(at);
-  if (out->settled && !mdef->quasistatic) out->settle_time = fmax(0, at - t_full);
+  if (out->settled && quasistatic == 0) out->settle_time = fmax(0, at - t_full);
   const tb_vec3 *xs = tb_model_positions(&r.s.model);
   memcpy(x, xs, sizeof(tb_vec3) * (size_t)n);
   memcpy(v, tb_model_velocities(&r.s.model), sizeof(tb_vec3) * (size_t)n);
@@ -358,12 +366,13 @@ done:
 
 /* ---- plans ---- */
 
-int tb_fid_equal_masses(const tb_mesh *m, tb_model_def *mdef, tb_error *err) {
-  double v = volume_of(m, m->x);
-  if (!(v > 0) || m->nv < 1 || !(mdef->density > 0))
+int tb_fid_equal_masses(const tb_mesh *m, const char *model, tb_settings *mset, tb_error *err) {
+  double v = volume_of(m, m->x), density = 0;
+  if (tb_model_setting(model, mset, "density", &density))
+    return tb_error_set(err, model, 0, "no density setting (or a bad value)");
+  if (!(v > 0) || m->nv < 1 || !(density > 0))
     return tb_error_set(err, "masses", 0, "the mesh has no volume (or density <= 0)");
-  mdef->node_mass = mdef->density * v / m->nv;
-  return 0;
+  return tb_settings_setd(mset, "node_mass", density * v / m->nv, err);
 }
 
 int tb_fid_plan_for(const char *scene, int level, uint64_t seed, tb_fid_plan *p, tb_error *err) {

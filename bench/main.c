@@ -64,11 +64,12 @@ static const tb_command commands[] = {
      tb_cmd_collide},
     {"simulate", "run one deformation model on one scene",
      "tissuebench simulate --model NAME --scene NAME [--steps N] [--dt X] [--set key=value ...]\n"
-     "                    [--vtk DIR] [--every K] | --list\n"
+     "                    [--vtk DIR] [--every K] | --list | --list-markdown\n"
      "  models: msm, fem, fem-corot, sm; scenes: liver-stretch, liver-press, beam, drop,\n"
      "          beam-stretch, beam-twist, beam-crush\n"
      "  --set  a scene key (dt duration amplitude release nodes gravity vmax inversion drag\n"
-     "         energy_factor energy_every) or a model key (--list shows each model's keys),\n"
+     "         energy_factor energy_every) or a model key (--list shows each model's keys\n"
+     "         with defaults and ranges; --list-markdown the README's table of them),\n"
      "         e.g. --set ks=180 --set sm_mode=linear\n"
      "  --vtk  write the surface every K steps (default: 30 frames per simulated second)\n"
      "  prints the median time per step and the final state's metrics; a run that blows up\n"

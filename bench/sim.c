@@ -149,7 +149,7 @@ int tb_sim_mesh(const char *scene, const tb_sim_def *def, tb_mesh *out, tb_error
 }
 
 int tb_sim_create(tb_sim *s, const char *scene, const tb_sim_def *def, const char *model,
-                  const tb_model_def *mdef, const tb_mesh *mesh, tb_error *err) {
+                  const tb_settings *mset, const tb_mesh *mesh, tb_error *err) {
   memset(s, 0, sizeof *s);
   const tb_sim_scene *sc = find(scene);
   if (!sc)
@@ -185,8 +185,12 @@ int tb_sim_create(tb_sim *s, const char *scene, const tb_sim_def *def, const cha
   if (!(s->def.vmax > 0)) s->def.vmax = 100.0 * s->size / s->def.duration;
   if (!(s->def.energy_factor > 0)) s->def.energy_factor = ENERGY_FACTOR;
   if (s->def.energy_every <= 0) s->def.energy_every = ENERGY_EVERY;
-  if (tb_model_create(&s->model, model, &s->mesh, mdef, err) ||
-      tb_lumped_masses(&s->mesh, mdef, s->mass, err) || sc->setup(s, err)) {
+  if (tb_model_create(&s->model, model, &s->mesh, mset, err)) {
+    tb_sim_destroy(s);
+    return -1;
+  }
+  memcpy(s->mass, tb_model_masses(&s->model), sizeof(double) * n);
+  if (sc->setup(s, err)) {
     tb_sim_destroy(s);
     return -1;
   }

@@ -11,7 +11,7 @@
 #include "tb_results.h"
 
 typedef struct tb_stab_model {
-  const char *name, *key, *label; /* model, tb_model_def key, axis label */
+  const char *name, *key, *label; /* model, its settings key, axis label */
   double lo, hi;
   int logy;
   double ref; /* stiffness at which the tip load is the beam's default (0: load fixed) */

@@ -39,10 +39,9 @@ static int stage_make(stage *st, const char *scene, int level, int res_index, ui
   memset(st, 0, sizeof *st);
   st->scene = scene;
   if (tb_fid_plan_for(scene, level, seed, &st->plan, err)) return -1;
-  tb_model_def base = tb_model_default_def();
   tb_sim_def rd = st->plan.def;
   rd.nodes = st->plan.ref_res;
-  if (tb_fid_reference(scene, &rd, st->plan.t_eq, &base, &st->ref, err)) return -1;
+  if (tb_fid_reference(scene, &rd, st->plan.t_eq, NULL, &st->ref, err)) return -1;
   st->sd = st->plan.def;
   st->sd.nodes = st->plan.res[res_index];
   if (tb_fid_mesh_make(&st->ref, &st->sd, &st->fm, err)) return tb_fid_ref_free(&st->ref), -1;
@@ -57,9 +56,10 @@ static void stage_free(stage *st) {
 }
 
 /* A run with up to 64 substeps when the scene's dt blows up; *sub: used. */
-static int run(stage *st, const char *model, tb_model_def md, tb_fid_result *fr, int *sub,
+static int run(stage *st, const char *model, const tb_settings *set, tb_fid_result *fr, int *sub,
                tb_error *err) {
-  if (tb_fid_equal_masses(&st->fm.mesh, &md, err)) return -1;
+  tb_settings md = *set;
+  if (tb_fid_equal_masses(&st->fm.mesh, model, &md, err)) return -1;
   for (*sub = 1; *sub <= 64; *sub *= 4) {
     tb_fid_opts o = st->fo;
     o.substeps = *sub;
@@ -80,15 +80,23 @@ typedef struct fit {
   tb_error err;
 } fit;
 
-static tb_model_def fit_def(const fit *f, const double *p) {
-  tb_model_def d = tb_model_default_def();
+static tb_settings fit_def(const fit *f, const double *p) {
+  tb_settings d;
+  tb_settings_init(&d);
   if (!f->sm) {
-    d.ks = pow(10, p[0]), d.kd = KD_LIGHT;
+    tb_settings_setd(&d, "ks", pow(10, p[0]), NULL), tb_settings_setd(&d, "kd", KD_LIGHT, NULL);
   } else {
-    d.alpha = pow(10, fmin(0, p[0]));
-    d.beta = fmin(1, fmax(0, p[1]));
+    tb_settings_setd(&d, "alpha", pow(10, fmin(0, p[0])), NULL);
+    tb_settings_setd(&d, "beta", fmin(1, fmax(0, p[1])), NULL);
   }
   return d;
+}
+
+/* A model's default for key (the labels). */
+static double dflt(const char *model, const char *key) {
+  double v = NAN;
+  tb_model_setting(model, NULL, key, &v);
+  return v;
 }
 
 /* rms error on the calibration scene; unstable, or outside the box: large. */
@@ -98,7 +106,8 @@ static double objective(fit *f, const double *p) {
   if (f->sm) penalty = fmax(0, p[0]) + fmax(0, -p[1]) + fmax(0, p[1] - 1);
   tb_fid_result fr;
   int sub;
-  if (f->failed || run(f->st, f->sm ? "sm" : "msm", fit_def(f, p), &fr, &sub, &f->err)) {
+  tb_settings d = fit_def(f, p);
+  if (f->failed || run(f->st, f->sm ? "sm" : "msm", &d, &fr, &sub, &f->err)) {
     f->failed = 1;
     return 1e9;
   }
@@ -167,7 +176,7 @@ static void nelder_mead(fit *f, double x[2], const double s[2], int evals) {
 typedef struct row {
   const char *model;
   char label[96];
-  tb_model_def def;
+  tb_settings def;
 } row;
 
 static void cell_pct(tb_table *t, double v) {
@@ -181,7 +190,7 @@ static void cell_pct(tb_table *t, double v) {
 static int cells(tb_suite *su, tb_table *t, stage *st, const row *r, int reaction, tb_error *err) {
   tb_fid_result fr;
   int sub;
-  if (run(st, r->model, r->def, &fr, &sub, err)) return -1;
+  if (run(st, r->model, &r->def, &fr, &sub, err)) return -1;
   char bname[160]; /* the step's time; errors (%) and substeps as counters */
   snprintf(bname, sizeof bname, "calibration/%s/%s/%s", r->model, r->label,
            reaction ? "liver" : "beam");
@@ -244,23 +253,25 @@ int tb_suite_calibration(const tb_suite_opts *o) {
     tb_progress("calibration", 2, 3);
     row rows[8];
     int n = 0;
-    tb_model_def d = tb_model_default_def();
-    rows[n].model = "msm", rows[n].def = d;
-    snprintf(rows[n++].label, 96, "documents: ks %g, kd %g", d.ks, d.kd);
-    rows[n].model = "msm", rows[n].def = d, rows[n].def.kd = KD_LIGHT;
-    snprintf(rows[n++].label, 96, "documents' ks %g, kd %g", d.ks, KD_LIGHT);
-    rows[n].model = "msm", rows[n].def = d, rows[n].def.ks = pow(10, ks_log),
-    rows[n].def.kd = KD_LIGHT;
+    for (int k = 0; k < 8; k++) tb_settings_init(&rows[k].def);
+    rows[n].model = "msm";
+    snprintf(rows[n++].label, 96, "documents: ks %g, kd %g", dflt("msm", "ks"), dflt("msm", "kd"));
+    rows[n].model = "msm", tb_settings_setd(&rows[n].def, "kd", KD_LIGHT, NULL);
+    snprintf(rows[n++].label, 96, "documents' ks %g, kd %g", dflt("msm", "ks"), KD_LIGHT);
+    rows[n].model = "msm", tb_settings_setd(&rows[n].def, "ks", pow(10, ks_log), NULL);
+    tb_settings_setd(&rows[n].def, "kd", KD_LIGHT, NULL);
     snprintf(rows[n++].label, 96, "fitted: ks %.4g, kd %g", pow(10, ks_log), KD_LIGHT);
-    rows[n].model = "msm", rows[n].def = d, rows[n].def.calibrated = 1, rows[n].def.kd = KD_LIGHT;
+    rows[n].model = "msm", tb_settings_set(&rows[n].def, "calibrated=1", NULL);
+    tb_settings_setd(&rows[n].def, "kd", KD_LIGHT, NULL);
     snprintf(rows[n++].label, 96, "from E (Van Gelder, calibrated=1), kd %g", KD_LIGHT);
-    rows[n].model = "sm", rows[n].def = d;
-    snprintf(rows[n++].label, 96, "documents: alpha %g, beta %g", d.alpha, d.beta);
-    rows[n].model = "sm", rows[n].def = d, rows[n].def.alpha = pow(10, ab[0]),
-    rows[n].def.beta = ab[1];
+    rows[n].model = "sm";
+    snprintf(rows[n++].label, 96, "documents: alpha %g, beta %g", dflt("sm", "alpha"),
+             dflt("sm", "beta"));
+    rows[n].model = "sm", tb_settings_setd(&rows[n].def, "alpha", pow(10, ab[0]), NULL);
+    tb_settings_setd(&rows[n].def, "beta", ab[1], NULL);
     snprintf(rows[n++].label, 96, "fitted: alpha %.4g, beta %.4g", pow(10, ab[0]), ab[1]);
-    rows[n].model = "fem", rows[n].def = d;
-    snprintf(rows[n++].label, 96, "physical: E %g, nu %g", d.E, d.nu);
+    rows[n].model = "fem";
+    snprintf(rows[n++].label, 96, "physical: E %g, nu %g", dflt("fem", "E"), dflt("fem", "nu"));
     static const char *cols[] = {
         "model",      "parameters",          "beam rms error (%)",  "beam max error (%)",
         "beam state", "liver rms error (%)", "liver max error (%)", "liver reaction error (%)",
@@ -287,24 +298,24 @@ int tb_suite_calibration(const tb_suite_opts *o) {
     tb_table_row(ft);
     tb_table_cell(ft, "msm");
     tb_table_cell(ft, "ks");
-    tb_table_cell(ft, "%g", d.ks);
+    tb_table_cell(ft, "%g", dflt("msm", "ks"));
     tb_table_cell(ft, "%.4g", pow(10, ks_log));
     tb_table_cell(ft, "golden section on log10 ks in [1, 4]");
     tb_table_cell(ft, "%d", ks_n);
-    tb_suite_counter(su, "fit/msm/ks", "documents", d.ks);
+    tb_suite_counter(su, "fit/msm/ks", "documents", dflt("msm", "ks"));
     tb_suite_counter(su, "fit/msm/ks", "fitted", pow(10, ks_log));
     tb_suite_counter(su, "fit/msm/ks", "evaluations", ks_n);
-    tb_suite_counter(su, "fit/sm/alpha", "documents", d.alpha);
+    tb_suite_counter(su, "fit/sm/alpha", "documents", dflt("sm", "alpha"));
     tb_suite_counter(su, "fit/sm/alpha", "fitted", pow(10, ab[0]));
     tb_suite_counter(su, "fit/sm/alpha", "evaluations", nm_n);
-    tb_suite_counter(su, "fit/sm/beta", "documents", d.beta);
+    tb_suite_counter(su, "fit/sm/beta", "documents", dflt("sm", "beta"));
     tb_suite_counter(su, "fit/sm/beta", "fitted", ab[1]);
     tb_suite_counter(su, "fit/sm/beta", "evaluations", nm_n);
     for (int k = 0; k < 2; k++) { /* one row per parameter: one number per cell */
       tb_table_row(ft);
       tb_table_cell(ft, "sm");
       tb_table_cell(ft, "%s", k ? "beta" : "alpha");
-      tb_table_cell(ft, "%g", k ? d.beta : d.alpha);
+      tb_table_cell(ft, "%g", k ? dflt("sm", "beta") : dflt("sm", "alpha"));
       tb_table_cell(ft, "%.4g", k ? ab[1] : pow(10, ab[0]));
       tb_table_cell(ft, "Nelder-Mead on (log10 alpha, beta) from the documents' values");
       tb_table_cell(ft, "%d", nm_n);
@@ -323,8 +334,9 @@ int tb_suite_calibration(const tb_suite_opts *o) {
                   "the reaction does; a fit on a force-loaded beam is tested there on what it "
                   "did not see. sm's stiffness under a force is alpha m / h^2: the fitted alpha "
                   "holds for this dt and these node masses only.",
-                  d.E, d.nu, cal.plan.ref_res, val.ref.mesh.nv, cal.ref.umax, val.ref.umax,
-                  cal.plan.load, val.plan.load, cal.plan.def.dt, KD_LIGHT);
+                  dflt("fem", "E"), dflt("fem", "nu"), cal.plan.ref_res, val.ref.mesh.nv,
+                  cal.ref.umax, val.ref.umax, cal.plan.load, val.plan.load, cal.plan.def.dt,
+                  KD_LIGHT);
     tb_progress("calibration", 3, 3);
   }
   if (have_cal) stage_free(&cal);

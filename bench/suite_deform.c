@@ -38,8 +38,9 @@ typedef struct deform_result {
 /* Runs one model on one deform scene into r; -1 when the scene cannot be built. */
 static int deform_run(const char *model, const char *scene, const tb_sim_def *sd, deform_result *r,
                       tb_error *err) {
-  tb_model_def md = tb_model_default_def();
-  md.node_mass = NODE_MASS;
+  tb_settings md;
+  tb_settings_init(&md);
+  if (tb_settings_setd(&md, "node_mass", NODE_MASS, err)) return -1;
   tb_sim s;
   if (tb_sim_create(&s, scene, sd, model, &md, NULL, err)) return -1;
   long n = lround(s.def.duration / s.def.dt), at_release = lround(s.def.release / s.def.dt);

@@ -29,17 +29,19 @@ static int cloud(int n, tb_rng *r, tb_mesh *m) {
   return 0;
 }
 
-static tb_model_def sm_def(int clusters, int mode) {
-  tb_model_def d = tb_model_default_def();
-  d.node_mass = 1;
-  d.clusters = clusters, d.sm_mode = mode;
-  d.radius = 0.6 * SIDE / cbrt((double)clusters); /* overlapping regions */
+static tb_settings sm_def(int clusters, const char *mode) {
+  tb_settings d;
+  tb_settings_init(&d);
+  tb_settings_setd(&d, "node_mass", 1, NULL);
+  tb_settings_setd(&d, "clusters", clusters, NULL);
+  tb_settings_set(&d, mode, NULL);
+  tb_settings_setd(&d, "radius", 0.6 * SIDE / cbrt((double)clusters), NULL); /* overlapping */
   return d;
 }
 
 /* Median ms per frame of `frames` steps of `count` models (each of the
  * cloud m, perturbed), or -1 with err. */
-static double time_frames(const tb_mesh *m, int count, const tb_model_def *d, int frames, tb_rng *r,
+static double time_frames(const tb_mesh *m, int count, const tb_settings *d, int frames, tb_rng *r,
                           tb_error *err) {
   tb_model *models = calloc((size_t)count, sizeof *models);
   tb_vec3 *fx = malloc(sizeof(tb_vec3) * (size_t)m->nv);
@@ -106,7 +108,7 @@ int tb_suite_fig310(const tb_suite_opts *o) {
     tb_table_row(t);
     tb_table_cell(t, "%d", sizes[i]);
     for (int v = 0; v < 6 && !failed; v++) {
-      tb_model_def d = sm_def(clusters[v % 3], v < 3 ? TB_SM_LINEAR : TB_SM_QUADRATIC);
+      tb_settings d = sm_def(clusters[v % 3], v < 3 ? "sm_mode=linear" : "sm_mode=quadratic");
       ms[i][v] = time_frames(&m, 1, &d, frames, &rng, &err);
       if (ms[i][v] < 0) {
         fprintf(stderr, "figure 3.10: %s\n", err.msg);
@@ -158,7 +160,7 @@ int tb_suite_fig310(const tb_suite_opts *o) {
   if (!failed) {
     tb_mesh m;
     if (cloud(100, &rng, &m)) failed = 1;
-    tb_model_def d = sm_def(8, TB_SM_QUADRATIC);
+    tb_settings d = sm_def(8, "sm_mode=quadratic");
     double f = failed ? -1 : time_frames(&m, 100, &d, frames, &rng, &err);
     if (!failed) tb_mesh_free(&m);
     static const char *oc[] = {"case", "frames/s (ours)", "thesis fps", "ours / thesis"};

@@ -24,7 +24,7 @@
 
 typedef struct variant {
   const char *model;
-  const char *params; /* tb_model_def keys, space separated ("" for the defaults) */
+  const char *params; /* the model's settings, space separated ("" for the defaults) */
   int level;          /* least level that runs it: 0 smoke, 1 quick, 2 full */
 } variant;
 
@@ -45,14 +45,14 @@ static const variant variants[] = {
 };
 #define NVARIANTS ((int)(sizeof variants / sizeof variants[0]))
 
-/* mdef from the variant's params ("lumped" is fem's default, no key). */
-static int variant_def(const variant *v, tb_model_def *d, tb_error *err) {
-  *d = tb_model_default_def();
+/* Settings from the variant's params ("lumped" is fem's default, no key). */
+static int variant_def(const variant *v, tb_settings *d, tb_error *err) {
+  tb_settings_init(d);
   char buf[160];
   snprintf(buf, sizeof buf, "%s", v->params);
   for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
-    if (strchr(tok, '=') && tb_model_def_set(d, tok, err)) return -1;
-  return 0;
+    if (strchr(tok, '=') && tb_settings_set(d, tok, err)) return -1;
+  return tb_model_check_settings(v->model, d, err);
 }
 
 /* The points of one scene: every variant at every resolution. */
@@ -163,11 +163,13 @@ static int run_scene(const tb_suite_opts *o, const char *scene) {
   snprintf(title, sizeof title, "Error against the reference vs speed: %s", scene);
   tb_suite *su = tb_suite_begin(dir, "pareto", title, o->seed, &err);
   if (!su) return fprintf(stderr, "pareto: %s\n", err.msg), 1;
-  tb_model_def base = tb_model_default_def();
+  double E = 0, nu = 0; /* the reference's material: fem's defaults */
+  tb_model_setting("fem", NULL, "E", &E);
+  tb_model_setting("fem", NULL, "nu", &nu);
   tb_fid_ref ref;
   tb_sim_def rd = plan.def;
   rd.nodes = plan.ref_res;
-  if (tb_fid_reference(scene, &rd, plan.t_eq, &base, &ref, &err)) {
+  if (tb_fid_reference(scene, &rd, plan.t_eq, NULL, &ref, &err)) {
     fprintf(stderr, "pareto: %s: reference: %s\n", scene, err.msg);
     tb_suite_note(su, "The reference could not be computed: %s", err.msg);
     tb_suite_end(su, &err);
@@ -180,8 +182,8 @@ static int run_scene(const tb_suite_opts *o, const char *scene) {
                 "scene's mesh at resolution %d (%d nodes, %d tets, quadratic tets), solved in "
                 "%.2f s (%d Newton iterations, %d load steps); largest displacement %.4g, "
                 "volume change %+.4f%%%s.",
-                scene, plan.load, base.E, base.nu, plan.ref_res, ref.mesh.nv, ref.mesh.ntet,
-                ref.seconds, ref.iterations, ref.load_steps, ref.umax, 100 * ref.volume_change,
+                scene, plan.load, E, nu, plan.ref_res, ref.mesh.nv, ref.mesh.ntet, ref.seconds,
+                ref.iterations, ref.load_steps, ref.umax, 100 * ref.volume_change,
                 ref.has_reaction ? ", a reaction on the pulled patch" : "");
   scene_run r;
   memset(&r, 0, sizeof r);
@@ -199,8 +201,9 @@ static int run_scene(const tb_suite_opts *o, const char *scene) {
     for (int v = 0; v < NVARIANTS && !failed; v++) {
       if (variants[v].level > level) continue;
       tb_progress("pareto", done++, total);
-      tb_model_def md;
-      if (variant_def(&variants[v], &md, &err) || tb_fid_equal_masses(&fm.mesh, &md, &err)) {
+      tb_settings md;
+      if (variant_def(&variants[v], &md, &err) ||
+          tb_fid_equal_masses(&fm.mesh, variants[v].model, &md, &err)) {
         fprintf(stderr, "pareto: %s\n", err.msg);
         failed = 1;
         break;

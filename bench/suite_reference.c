@@ -23,14 +23,18 @@ static double tip_deflection(int cells, int quadratic, int material, double *sec
   tb_sim_def sd;
   memset(&sd, 0, sizeof sd);
   sd.nodes = cells;
-  tb_model_def md = tb_model_default_def();
-  md.quasistatic = 1;
-  if (tb_sim_create(&s, "beam", &sd, "fem", &md, NULL, err)) return NAN;
+  tb_settings md;
+  tb_settings_init(&md);
+  double density;
+  if (tb_settings_set(&md, "quasistatic=1", err) ||
+      tb_model_setting("fem", &md, "density", &density) ||
+      tb_sim_create(&s, "beam", &sd, "fem", &md, NULL, err))
+    return NAN;
   double out = NAN;
   if (!tb_sim_loads(&s, s.def.dt, err)) {
     tb_ref_problem p;
     memset(&p, 0, sizeof p);
-    p.mesh = &s.mesh, p.density = md.density, p.force = s.force;
+    p.mesh = &s.mesh, p.density = density, p.force = s.force;
     p.nfixed = s.nfixed, p.fixed = s.fixed, p.fixed_x = s.fixed_x;
     tb_ref_def rd = tb_ref_default_def();
     rd.quadratic = quadratic, rd.material = material;

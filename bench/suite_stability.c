@@ -117,12 +117,12 @@ static void run_to_end(tb_sim *s, tb_stab_cell *c) {
   c->t = s->t;
 }
 
-static tb_model_def model_def(const tb_stab_model *mm, double stiffness, tb_error *err, int *bad) {
-  tb_model_def md = tb_model_default_def();
-  md.node_mass = NODE_MASS;
-  char kv[64];
-  snprintf(kv, sizeof kv, "%s=%.17g", mm->key, stiffness);
-  *bad = tb_model_def_set(&md, kv, err) != 0;
+static tb_settings model_def(const tb_stab_model *mm, double stiffness, tb_error *err, int *bad) {
+  tb_settings md;
+  tb_settings_init(&md);
+  *bad = tb_settings_setd(&md, "node_mass", NODE_MASS, err) ||
+         tb_settings_setd(&md, mm->key, stiffness, err) ||
+         tb_model_check_settings(mm->name, &md, err);
   return md;
 }
 
@@ -131,7 +131,7 @@ static tb_model_def model_def(const tb_stab_model *mm, double stiffness, tb_erro
 static int map_cell(const tb_mesh *mesh, const tb_stab_model *mm, int cells, double dt,
                     double stiffness, double duration, tb_stab_cell *c, tb_error *err) {
   int bad;
-  tb_model_def md = model_def(mm, stiffness, err, &bad);
+  tb_settings md = model_def(mm, stiffness, err, &bad);
   if (bad) return -1;
   tb_sim_def sd;
   memset(&sd, 0, sizeof sd);
@@ -269,7 +269,7 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
     }
     /* the mesh's linearised bounds (a sim only for its masses and anchors) */
     int bad;
-    tb_model_def md = model_def(mm, k, err, &bad);
+    tb_settings md = model_def(mm, k, err, &bad);
     tb_sim_def sd;
     memset(&sd, 0, sizeof sd);
     sd.nodes = cells, sd.seed = 1;
@@ -278,8 +278,10 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
       rc = -1;
       break;
     }
+    double kd = 0;
+    tb_model_setting("msm", &md, "kd", &kd);
     double lk = k * largest_eigen(&s, edges, ne, 1, seed),
-           lc = md.kd * largest_eigen(&s, edges, ne, 0, seed);
+           lc = kd * largest_eigen(&s, edges, ne, 0, seed);
     double mmin = s.mass[0];
     for (int i = 1; i < s.mesh.nv; i++) mmin = fmin(mmin, s.mass[i]);
     tb_sim_destroy(&s);
@@ -319,6 +321,8 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
   }
   free(edges);
   tb_suite_table(su, t);
+  double kd_default = 0;
+  tb_model_setting("msm", NULL, "kd", &kd_default);
   tb_suite_note(su,
                 "The one-spring bound 2 sqrt(m/k) (m = %g, the smallest node mass) is optimistic "
                 "for a tet mesh: a node hangs on many springs, so the stiffest mode of the mesh, "
@@ -330,7 +334,7 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
                 "scale between the grid's last stable and first unstable dt, the same run and "
                 "detector as the cells) should lie between the with-kd estimate (a lower bound: "
                 "the worst K and C modes taken together) and the kd = 0 one.",
-                NODE_MASS, tb_model_default_def().kd, g->bisect);
+                NODE_MASS, kd_default, g->bisect);
   return rc;
 }
 

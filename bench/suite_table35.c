@@ -35,17 +35,20 @@ static const struct {
 
 static double radius96 = 1.0; /* set by speed(): sm regions of 96 particles on average */
 
-static tb_model_def thesis_def(int row) {
-  tb_model_def d = tb_model_default_def();
-  d.node_mass = NODE_MASS;
-  if (rows[row].members) d.radius = radius96;
+static tb_settings thesis_def(int row) {
+  tb_settings d;
+  tb_settings_init(&d);
+  tb_settings_setd(&d, "node_mass", NODE_MASS, NULL);
+  if (rows[row].members) tb_settings_setd(&d, "radius", radius96, NULL);
   return d;
 }
 
 /* Mean particles per cluster of sm on mesh with region radius r (-1 on error). */
 static double members_at(const tb_mesh *mesh, double r) {
-  tb_model_def d = tb_model_default_def();
-  d.node_mass = NODE_MASS, d.radius = r;
+  tb_settings d;
+  tb_settings_init(&d);
+  tb_settings_setd(&d, "node_mass", NODE_MASS, NULL);
+  tb_settings_setd(&d, "radius", r, NULL);
   tb_model m;
   tb_error err;
   int nc;
@@ -76,7 +79,7 @@ static int run(const tb_mesh *liver, int row, const tb_sim_def *sd, double *ms, 
                double *series, int every, tb_sim_metrics *end, tb_sim_metrics *peak,
                tb_sim_metrics *before, tb_error *err) {
   tb_sim s;
-  tb_model_def md = thesis_def(row);
+  tb_settings md = thesis_def(row);
   if (tb_sim_create(&s, "liver-stretch", sd, rows[row].model, &md, liver, err)) return -1;
   int rc = 0;
   for (long k = 0; k < steps && !rc; k++) {

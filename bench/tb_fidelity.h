@@ -45,11 +45,12 @@ typedef struct tb_fid_ref {
 } tb_fid_ref;
 
 /* Poses scene (beam or liver-stretch; others have no static problem here)
- * with settings def at time t_eq to the reference solver with material
- * (E, nu) and mdef's density: the same loads, supports and prescribed
- * positions the scene gives its models (tb_sim_loads). */
-int tb_fid_reference(const char *scene, const tb_sim_def *def, double t_eq,
-                     const tb_model_def *mdef, tb_fid_ref *out, tb_error *err);
+ * with settings def at time t_eq to the reference solver with the material
+ * (E, nu, density) model fem reads from mset (NULL: its defaults): the
+ * same loads, supports and prescribed positions the scene gives its models
+ * (tb_sim_loads). */
+int tb_fid_reference(const char *scene, const tb_sim_def *def, double t_eq, const tb_settings *mset,
+                     tb_fid_ref *out, tb_error *err);
 void tb_fid_ref_free(tb_fid_ref *r);
 
 /* ---- a model run against the reference ---- */
@@ -86,14 +87,14 @@ typedef struct tb_fid_result {
   double recovery_err; /* largest surface displacement left after release / umax; NAN if not run */
 } tb_fid_result;
 
-/* Runs model (with mdef) on the scene of ref at resolution fm with scene
+/* Runs model (with settings mset) on the scene of ref at resolution fm with scene
  * settings def (def->nodes is fm's resolution): loads as the scene gives
  * them, held until settled (liver-stretch: the pull is held past its
  * `release` until then), the errors measured; with o->recovery the driven
  * set is let go and the run continues until settled again. Returns 0 (the
  * result says stable or not) or -1 for a setup failure (err). */
 int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
-               const tb_model_def *mdef, const tb_sim_def *def, const tb_fid_opts *o,
+               const tb_settings *mset, const tb_sim_def *def, const tb_fid_opts *o,
                tb_fid_result *out, tb_error *err);
 
 /* ---- the settings the fidelity suites (pareto, calibration) use ---- */
@@ -106,10 +107,10 @@ typedef struct tb_fid_plan {
   tb_fid_opts opts; /* settle_speed relative to the reference: times its umax per s */
   const char *load; /* the load in words, for notes */
 } tb_fid_plan;
-/* Equal node masses of the body's mass at mdef->density (node_mass =
- * density * volume / nodes): the static answer does not depend on masses,
- * and no sliver node's tiny mass limits the explicit models' step. */
-int tb_fid_equal_masses(const tb_mesh *m, tb_model_def *mdef, tb_error *err);
+/* Equal node masses of the body's mass at model's density in mset (sets
+ * node_mass = density * volume / nodes): the static answer does not depend
+ * on masses, and no sliver node's tiny mass limits the explicit models' step. */
+int tb_fid_equal_masses(const tb_mesh *m, const char *model, tb_settings *mset, tb_error *err);
 /* level 0: smoke (tiny meshes), 1: quick, 2: full. Scenes: beam, liver-stretch. */
 int tb_fid_plan_for(const char *scene, int level, uint64_t seed, tb_fid_plan *p, tb_error *err);
 

@@ -61,7 +61,7 @@ typedef struct tb_sim {
   tb_vec3 *force;
   char *mark;      /* per node: prescribed this step (scenes set mark and target) */
   tb_vec3 *target; /* per node: its prescribed position */
-  double *mass;    /* lumped node masses (for drag) */
+  double *mass;    /* the model's lumped node masses (for drag) */
   /* scene bookkeeping: an anchored set, a driven set and its direction */
   int nanchor, *anchor;
   int ndriven, *driven;
@@ -86,10 +86,10 @@ typedef struct tb_sim {
   double energy_bound;  /* the bound it was held to (0: not checked: driven or no energy) */
 } tb_sim;
 
-/* Builds the scene's mesh (or copies `mesh` when not NULL), the model and
- * the scene's sets. */
+/* Builds the scene's mesh (or copies `mesh` when not NULL), the model with
+ * settings mset (NULL: the model's defaults) and the scene's sets. */
 int tb_sim_create(tb_sim *s, const char *scene, const tb_sim_def *def, const char *model,
-                  const tb_model_def *mdef, const tb_mesh *mesh, tb_error *err);
+                  const tb_settings *mset, const tb_mesh *mesh, tb_error *err);
 /* The scene's rest mesh alone (to share one mesh among several models). */
 int tb_sim_mesh(const char *scene, const tb_sim_def *def, tb_mesh *out, tb_error *err);
 /* One step: the scene's inputs at t, the model's step, the health check.

@@ -10,7 +10,8 @@
 
 #include "fem_priv.h"
 
-static void *create(const tb_mesh *mesh, const tb_model_def *def, tb_error *err) {
+static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
+  const tb_fem_settings *def = settings;
   tb_fem *f = tb_fem_create(mesh, def, 0, "fem", err);
   if (!f) return NULL;
   for (int t = 0; t < f->ntet; t++) tb_fem_add_element(f, t, f->ke + 144 * (size_t)t);
@@ -43,13 +44,20 @@ static double energy(const void *self) {
 
 static void destroy(void *self) { tb_fem_destroy(self); }
 
+static const tb_setting settings[] = {TB_FEM_SETTINGS};
+
 const tb_model_class tb_model_fem = {
-    "fem",
-    "linear tetrahedral FEM, implicit Euler + Rayleigh damping, CHOLMOD factor reused",
-    "density node_mass E nu rayleigh_mass rayleigh_stiffness consistent_mass quasistatic",
-    create,
-    step,
-    positions,
-    velocities,
-    energy,
-    destroy};
+    .name = "fem",
+    .summary = "linear tetrahedral FEM, implicit Euler + Rayleigh damping, CHOLMOD factor reused",
+    .settings = settings,
+    .nsettings = (int)(sizeof settings / sizeof settings[0]),
+    .settings_size = sizeof(tb_fem_settings),
+    .create = create,
+    .step = step,
+    .positions = positions,
+    .velocities = velocities,
+    .energy = energy,
+    .destroy = destroy,
+    .masses = tb_fem_masses,
+    .correct = tb_fem_correct,
+};

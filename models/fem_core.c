@@ -200,7 +200,7 @@ static int build_matrix(tb_fem *f, tb_error *err) {
   return 0;
 }
 
-tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_model_def *def, int corot, const char *name,
+tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot, const char *name,
                       tb_error *err) {
   if (mesh->nv < 1 || mesh->ntet < 1) {
     tb_error_set(err, name, 0, "needs a tet mesh (nodes %d, tets %d)", mesh->nv, mesh->ntet);
@@ -248,7 +248,7 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_model_def *def, int corot, c
   f->dm_inv = malloc(sizeof(tb_mat3) * nt);
   f->ke = malloc(sizeof(double) * 144 * nt);
   f->tet_blk = malloc(sizeof(int) * 16 * nt);
-  double *mass = malloc(sizeof(double) * nv);
+  double *mass = f->mass = malloc(sizeof(double) * nv);
   if (!f->x || !f->v || !f->X || !f->fel || !f->yc || !f->fixed || !f->fixed_list || !f->tet ||
       !f->dm_inv || !f->ke || !f->tet_blk || !mass) {
     tb_error_set(err, name, 0, "out of memory");
@@ -281,7 +281,7 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_model_def *def, int corot, c
     }
     tb_fem_element_k(f->dm_inv[t], vol, lambda, mu, f->ke + 144 * (size_t)t);
   }
-  if (tb_lumped_masses(mesh, def, mass, err)) goto fail;
+  if (tb_lumped_masses(mesh, def->density, def->node_mass, mass, err)) goto fail;
   if (build_blocks(f, mesh, err)) goto fail;
   for (int t = 0; t < f->ntet; t++)
     for (int a = 0; a < 4; a++)
@@ -298,7 +298,6 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_model_def *def, int corot, c
   } else {
     for (int n = 0; n < f->nv; n++) f->mb[f->diag[n]] = mass[n];
   }
-  free(mass), mass = NULL;
   if (build_matrix(f, err)) goto fail;
   f->L = cholmod_analyze(f->A, &f->cc);
   f->B = cholmod_zeros((size_t)f->A->nrow, 1, CHOLMOD_REAL, &f->cc);
@@ -309,7 +308,6 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_model_def *def, int corot, c
   }
   return f;
 fail:
-  free(mass);
   tb_fem_destroy(f);
   return NULL;
 }
@@ -326,7 +324,7 @@ void tb_fem_destroy(tb_fem *f) {
   free(f->x), free(f->v), free(f->X), free(f->fel), free(f->yc), free(f->fixed);
   free(f->fixed_list), free(f->tet), free(f->dm_inv), free(f->ke), free(f->tet_blk);
   free(f->row), free(f->col), free(f->diag), free(f->kb), free(f->mb);
-  free(f->a_blk), free(f->a_mass), free(f->a_diag);
+  free(f->a_blk), free(f->a_mass), free(f->a_diag), free(f->mass);
   free(f);
 }
 
@@ -514,6 +512,16 @@ int tb_fem_get_stats(tb_model *m, tb_fem_stats *s, tb_error *err) {
     s->residual = nb > 0 ? nr / nb : nr;
   }
   return 0;
+}
+
+const double *tb_fem_masses(const void *self) { return ((const tb_fem *)self)->mass; }
+
+void tb_fem_correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
+  tb_fem *f = self;
+  for (int k = 0; k < n; k++) {
+    if (x) f->x[ids[k]] = x[k];
+    if (v) f->v[ids[k]] = v[k];
+  }
 }
 
 int tb_fem_set_state(tb_model *m, const tb_vec3 *x, const tb_vec3 *v, tb_error *err) {

@@ -10,6 +10,24 @@
 
 #include "tb_model.h"
 
+/* The settings fem and fem-corot read; each declares its table in its own
+ * file from TB_FEM_SETTINGS. */
+typedef struct tb_fem_settings {
+  double density, node_mass, E, nu;
+  double rayleigh_mass, rayleigh_stiffness; /* C = a M + b K */
+  int consistent_mass, quasistatic;
+} tb_fem_settings;
+#define TB_FEM_SETTINGS                                                                 \
+  TB_SETTINGS_MASS(tb_fem_settings, 0.0), TB_SETTINGS_MATERIAL(tb_fem_settings),        \
+      TB_SETTING_R(tb_fem_settings, rayleigh_mass, 0.0, 0.0, HUGE_VAL, 0,               \
+                   "Rayleigh damping a of C = a M + b K"),                              \
+      TB_SETTING_R(tb_fem_settings, rayleigh_stiffness, 0.02, 0.0, HUGE_VAL, 0,         \
+                   "Rayleigh damping b of C = a M + b K"),                              \
+      TB_SETTING_I(tb_fem_settings, consistent_mass, 0, 0, 1,                           \
+                   "1: consistent mass matrix instead of lumped (not with node_mass)"), \
+      TB_SETTING_I(tb_fem_settings, quasistatic, 0, 0, 1,                               \
+                   "1: each step solves the static equilibrium (velocities 0)")
+
 typedef struct tb_fem {
   /* hot state: current and rest positions, velocities (nv each) */
   tb_vec3 *x, *v, *X;
@@ -18,6 +36,7 @@ typedef struct tb_fem {
   const char *name; /* "fem" or "fem-corot", for errors */
   double a, b;      /* Rayleigh factors: C = a M + b K */
   int quasistatic;
+  double *mass; /* lumped node masses */
 
   /* per tet */
   int *tet;        /* 4*ntet node indices */
@@ -57,8 +76,11 @@ typedef struct tb_fem {
 /* Builds everything but the rotations: masses (lumped, or consistent when
  * def->consistent_mass and no node_mass), K_e, the patterns, the symbolic
  * analysis, workspaces. Returns NULL with err filled. */
-tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_model_def *def, int corot, const char *name,
+tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot, const char *name,
                       tb_error *err);
+/* The class functions fem and fem-corot share. */
+const double *tb_fem_masses(const void *self);
+void tb_fem_correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v);
 void tb_fem_destroy(tb_fem *f);
 
 /* Adds the 12x12 element matrix k (node blocks, 144 doubles) of tet t into kb. */

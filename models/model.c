@@ -1,5 +1,6 @@
-/* The table of deformation models, their shared settings (defaults are the
- * thesis's §3.5 parameters) and the thin wrappers scenes and suites call. */
+/* The table of deformation models; settings as key=value text checked
+ * against each model's own table (parsing, ranges, listing); the thin
+ * wrappers scenes and suites call. */
 #include <errno.h>
 #include <stddef.h>
 #include <math.h>
@@ -21,124 +22,223 @@ const tb_model_class *tb_model_find(const char *name) {
   return NULL;
 }
 
-tb_model_def tb_model_default_def(void) {
-  tb_model_def d;
-  memset(&d, 0, sizeof d);
-  d.density = 1.0; /* SOFA's liver scene */
-  d.E = 3000.0, d.nu = 0.3;
-  d.ks = 180.0, d.kd = 5.0;
-  d.rayleigh_stiffness = 0.02;
-  d.sm_mode = TB_SM_QUADRATIC;
-  d.alpha = 0.72, d.beta = 0.63;
-  d.clusters = 50, d.radius = 1.0;
-  d.cluster_mode = TB_CLUSTER_REGIONS;
-  return d;
-}
+/* ---- tb_settings: key=value text, checked by the model that reads it ---- */
 
-/* The settable fields: name, offset, kind (d double, i int, m sm_mode, c cluster_mode). */
-typedef struct field {
-  const char *key;
-  size_t off;
-  char kind;
-} field;
-#define F(name, kind) \
-  { #name, offsetof(tb_model_def, name), kind }
-static const field fields[] = {
-    F(density, 'd'),
-    F(node_mass, 'd'),
-    F(E, 'd'),
-    F(nu, 'd'),
-    F(ks, 'd'),
-    F(kd, 'd'),
-    F(calibrated, 'i'),
-    F(rayleigh_mass, 'd'),
-    F(rayleigh_stiffness, 'd'),
-    F(consistent_mass, 'i'),
-    F(quasistatic, 'i'),
-    F(sm_mode, 'm'),
-    F(alpha, 'd'),
-    F(beta, 'd'),
-    F(clusters, 'i'),
-    F(radius, 'd'),
-    F(cluster_mode, 'c'),
-    F(sm_damping, 'd'),
-};
-#undef F
+void tb_settings_init(tb_settings *s) { memset(s, 0, sizeof *s); }
 
-static int pick(const char *v, const char *const *names, int n) {
-  for (int i = 0; i < n; i++)
-    if (!strcmp(v, names[i])) return i;
-  return -1;
-}
-
-int tb_model_def_set(tb_model_def *def, const char *kv, tb_error *err) {
+int tb_settings_set(tb_settings *s, const char *kv, tb_error *err) {
   const char *eq = strchr(kv, '=');
-  if (!eq || eq == kv) return tb_error_set(err, "--set", 0, "expected key=value, got '%s'", kv);
-  size_t klen = (size_t)(eq - kv);
-  const char *v = eq + 1;
-  for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
-    const field *f = &fields[i];
-    if (strlen(f->key) != klen || strncmp(f->key, kv, klen)) continue;
-    char *p = (char *)def + f->off, *end;
-    if (f->kind == 'm' || f->kind == 'c') {
-      static const char *const modes[] = {"rigid", "linear", "quadratic"};
-      static const char *const cmodes[] = {"regions", "tets"};
-      int k = f->kind == 'm' ? pick(v, modes, 3) : pick(v, cmodes, 2);
-      if (k < 0)
-        return tb_error_set(err, "--set", 0, "%s: '%s' is not one of %s", f->key, v,
-                            f->kind == 'm' ? "rigid, linear, quadratic" : "regions, tets");
-      memcpy(p, &k, sizeof k);
-      return 0;
-    }
-    errno = 0;
-    if (f->kind == 'i') {
-      long n = strtol(v, &end, 10);
-      if (!*v || *end || errno || n < 0 || n > 100000000)
-        return tb_error_set(err, "--set", 0, "%s: '%s' is not a whole number >= 0", f->key, v);
-      int k = (int)n;
-      memcpy(p, &k, sizeof k);
-    } else {
-      double x = strtod(v, &end);
-      if (!*v || *end || errno || !isfinite(x))
-        return tb_error_set(err, "--set", 0, "%s: '%s' is not a finite number", f->key, v);
-      memcpy(p, &x, sizeof x);
-    }
-    return 0;
+  if (!eq || eq == kv) return tb_error_set(err, "settings", 0, "expected key=value, got '%s'", kv);
+  size_t klen = (size_t)(eq - kv), vlen = strlen(eq + 1);
+  if (klen >= sizeof s->kv[0].key || vlen >= sizeof s->kv[0].value)
+    return tb_error_set(err, "settings", 0, "'%s': key (< %d) or value (< %d characters) too long",
+                        kv, (int)sizeof s->kv[0].key, (int)sizeof s->kv[0].value);
+  int i = 0;
+  while (i < s->n && (strlen(s->kv[i].key) != klen || strncmp(s->kv[i].key, kv, klen))) i++;
+  if (i == s->n) {
+    if (s->n >= TB_SETTINGS_MAX)
+      return tb_error_set(err, "settings", 0, "'%s': more than %d settings", kv, TB_SETTINGS_MAX);
+    s->n++;
   }
-  return tb_error_set(err, "--set", 0, "unknown model setting '%.*s'", (int)klen, kv);
-}
-
-int tb_model_def_check(const tb_model_def *d, tb_error *err) {
-#define REQUIRE(cond, ...) \
-  if (!(cond)) return tb_error_set(err, "model settings", 0, __VA_ARGS__)
-  REQUIRE(d->density > 0 || d->node_mass > 0, "density or node_mass must be > 0");
-  REQUIRE(d->node_mass >= 0, "node_mass must be >= 0");
-  REQUIRE(d->E > 0, "E must be > 0 (got %g)", d->E);
-  REQUIRE(d->nu > -1 && d->nu < 0.5, "nu must be in (-1, 0.5) (got %g)", d->nu);
-  REQUIRE(d->ks >= 0 && d->kd >= 0, "ks and kd must be >= 0");
-  REQUIRE(d->rayleigh_mass >= 0 && d->rayleigh_stiffness >= 0, "Rayleigh factors must be >= 0");
-  REQUIRE(d->alpha >= 0 && d->alpha <= 1, "alpha must be in [0, 1] (got %g)", d->alpha);
-  REQUIRE(d->beta >= 0 && d->beta <= 1, "beta must be in [0, 1] (got %g)", d->beta);
-  REQUIRE(d->clusters >= 1, "clusters must be >= 1");
-  REQUIRE(d->radius > 0, "radius must be > 0");
-  REQUIRE(d->sm_damping >= 0 && d->sm_damping < 1, "sm_damping must be in [0, 1)");
-  REQUIRE(d->sm_mode >= TB_SM_RIGID && d->sm_mode <= TB_SM_QUADRATIC, "bad sm_mode");
-  REQUIRE(d->cluster_mode == TB_CLUSTER_REGIONS || d->cluster_mode == TB_CLUSTER_TETS,
-          "bad cluster_mode");
-#undef REQUIRE
+  memcpy(s->kv[i].key, kv, klen);
+  s->kv[i].key[klen] = 0;
+  memcpy(s->kv[i].value, eq + 1, vlen + 1);
   return 0;
 }
 
-int tb_model_create(tb_model *m, const char *name, const tb_mesh *mesh, const tb_model_def *def,
+int tb_settings_setd(tb_settings *s, const char *key, double v, tb_error *err) {
+  char buf[128];
+  snprintf(buf, sizeof buf, "%s=%.17g", key, v);
+  return tb_settings_set(s, buf, err);
+}
+
+/* ---- a model's table ---- */
+
+static const tb_setting *find_setting(const tb_model_class *c, const char *key) {
+  for (int i = 0; i < c->nsettings; i++)
+    if (!strcmp(c->settings[i].key, key)) return &c->settings[i];
+  return NULL;
+}
+
+/* Index of name in "a|b|c", or -1. */
+static int choice_index(const char *choices, const char *name) {
+  size_t n = strlen(name);
+  int k = 0;
+  for (const char *p = choices; p; k++) {
+    const char *bar = strchr(p, '|');
+    size_t len = bar ? (size_t)(bar - p) : strlen(p);
+    if (len == n && !strncmp(p, name, n)) return k;
+    p = bar ? bar + 1 : NULL;
+  }
+  return -1;
+}
+
+/* Name k of "a|b|c" into out. */
+static void choice_name(const char *choices, int k, char *out, size_t cap) {
+  const char *p = choices;
+  for (int i = 0; i < k && p; i++) p = strchr(p, '|'), p = p ? p + 1 : NULL;
+  if (!p) p = "?";
+  const char *bar = strchr(p, '|');
+  int len = bar ? (int)(bar - p) : (int)strlen(p);
+  snprintf(out, cap, "%.*s", len, p);
+}
+
+/* "[lo, hi]" with open bounds as ( ). */
+static void range_text(const tb_setting *st, char *out, size_t cap) {
+  snprintf(out, cap, "%c%g, %g%c", st->open & TB_OPEN_LO ? '(' : '[', st->lo, st->hi,
+           st->open & TB_OPEN_HI || isinf(st->hi) ? ')' : ']');
+}
+
+/* Parses text for setting st of model c into *out (REAL: the number; INT:
+ * a whole number; CHOICE: the index) and checks the range. */
+static int parse_value(const tb_model_class *c, const tb_setting *st, const char *text, double *out,
+                       tb_error *err) {
+  char *end;
+  double x;
+  if (st->type == TB_SETTING_CHOICE) {
+    int k = choice_index(st->choices, text);
+    if (k >= 0) return *out = k, 0;
+    errno = 0;
+    x = strtod(text, &end);
+    if (!*text || *end || errno || x != floor(x) || x < st->lo || x > st->hi)
+      return tb_error_set(err, c->name, 0, "%s: '%s' is not one of %s", st->key, text, st->choices);
+    return *out = x, 0;
+  }
+  errno = 0;
+  x = strtod(text, &end);
+  if (!*text || *end || errno || !isfinite(x))
+    return tb_error_set(err, c->name, 0, "%s: '%s' is not a finite number", st->key, text);
+  if (st->type == TB_SETTING_INT && x != floor(x))
+    return tb_error_set(err, c->name, 0, "%s: '%s' is not a whole number", st->key, text);
+  int below = st->open & TB_OPEN_LO ? !(x > st->lo) : !(x >= st->lo);
+  int above = st->open & TB_OPEN_HI ? !(x < st->hi) : !(x <= st->hi);
+  if (below || above) {
+    char r[96];
+    range_text(st, r, sizeof r);
+    return tb_error_set(err, c->name, 0, "%s = %s is outside %s", st->key, text, r);
+  }
+  *out = x;
+  return 0;
+}
+
+static void store(const tb_setting *st, void *dst, double x) {
+  char *p = (char *)dst + st->offset;
+  if (st->type == TB_SETTING_REAL) {
+    memcpy(p, &x, sizeof x);
+  } else {
+    int k = (int)x;
+    memcpy(p, &k, sizeof k);
+  }
+}
+
+/* The effective value of st (set's text, else the default); 1 when set has
+ * the key, 0 when defaulted, -1 on a bad value. */
+static int value_of(const tb_model_class *c, const tb_setting *st, const tb_settings *set,
+                    double *out, tb_error *err) {
+  *out = st->def;
+  for (int i = 0; set && i < set->n; i++)
+    if (!strcmp(set->kv[i].key, st->key))
+      return parse_value(c, st, set->kv[i].value, out, err) ? -1 : 1;
+  return 0;
+}
+
+/* Fills dst (NULL: only checks) from the table's defaults and set's values. */
+static int resolve(const tb_model_class *c, const tb_settings *set, void *dst, tb_error *err) {
+  for (int i = 0; set && i < set->n; i++)
+    if (!find_setting(c, set->kv[i].key)) {
+      char keys[512];
+      size_t len = 0;
+      keys[0] = 0;
+      for (int k = 0; k < c->nsettings && len < sizeof keys; k++)
+        len += (size_t)snprintf(keys + len, sizeof keys - len, "%s%s", k ? " " : "",
+                                c->settings[k].key);
+      return tb_error_set(err, c->name, 0, "unknown setting '%s' for model %s (its keys: %s)",
+                          set->kv[i].key, c->name, keys);
+    }
+  for (int i = 0; i < c->nsettings; i++) {
+    double x;
+    if (value_of(c, &c->settings[i], set, &x, err) < 0) return -1;
+    if (dst) store(&c->settings[i], dst, x);
+  }
+  /* the mass fragment: one of the two must give a mass */
+  const tb_setting *rho = find_setting(c, "density"), *nm = find_setting(c, "node_mass");
+  double r, m;
+  if (rho && nm && value_of(c, rho, set, &r, err) >= 0 && value_of(c, nm, set, &m, err) >= 0 &&
+      !(r > 0 || m > 0))
+    return tb_error_set(err, c->name, 0, "density or node_mass must be > 0");
+  return 0;
+}
+
+static const tb_model_class *find_or_error(const char *name, tb_error *err) {
+  const tb_model_class *c = tb_model_find(name);
+  if (!c) {
+    char names[256];
+    size_t len = 0;
+    for (int i = 0; i < tb_model_count && len < sizeof names; i++)
+      len += (size_t)snprintf(names + len, sizeof names - len, "%s%s", i ? ", " : "",
+                              tb_model_classes[i]->name);
+    tb_error_set(err, name, 0, "unknown model (%s)", names);
+  }
+  return c;
+}
+
+int tb_model_check_settings(const char *name, const tb_settings *set, tb_error *err) {
+  const tb_model_class *c = find_or_error(name, err);
+  return c ? resolve(c, set, NULL, err) : -1;
+}
+
+int tb_model_setting(const char *name, const tb_settings *set, const char *key, double *out) {
+  const tb_model_class *c = tb_model_find(name);
+  const tb_setting *st = c ? find_setting(c, key) : NULL;
+  if (!st) return -1;
+  return value_of(c, st, set, out, NULL) < 0 ? -1 : 0;
+}
+
+void tb_model_print_settings(FILE *f, const tb_model_class *c) {
+  for (int i = 0; i < c->nsettings; i++) {
+    const tb_setting *st = &c->settings[i];
+    char def[64], range[96];
+    if (st->type == TB_SETTING_CHOICE) {
+      choice_name(st->choices, (int)st->def, def, sizeof def);
+      snprintf(range, sizeof range, "%s", st->choices);
+    } else {
+      snprintf(def, sizeof def, "%g", st->def);
+      range_text(st, range, sizeof range);
+    }
+    static const char *const types[] = {"real", "int", "choice"};
+    fprintf(f, "    %-18s %-6s %-9s %-24s %s\n", st->key, types[st->type], def, range, st->doc);
+  }
+}
+
+/* ---- instances ---- */
+
+int tb_model_create(tb_model *m, const char *name, const tb_mesh *mesh, const tb_settings *set,
                     tb_error *err) {
   memset(m, 0, sizeof *m);
-  const tb_model_class *c = tb_model_find(name);
-  if (!c) return tb_error_set(err, name, 0, "unknown model (msm, fem, fem-corot, sm)");
-  if (tb_model_def_check(def, err)) return -1;
+  const tb_model_class *c = find_or_error(name, err);
+  if (!c) return -1;
   if (mesh->nv < 1) return tb_error_set(err, name, 0, "the mesh has no nodes");
-  void *self = c->create(mesh, def, err);
+  void *settings = calloc(1, c->settings_size ? c->settings_size : 1);
+  if (!settings) return tb_error_set(err, name, 0, "out of memory");
+  if (resolve(c, set, settings, err)) {
+    free(settings);
+    return -1;
+  }
+  void *self = c->create(mesh, settings, err);
+  free(settings);
   if (!self) return -1;
   m->cls = c, m->self = self, m->nv = mesh->nv;
+  if (!c->surface) { /* the default surface: the rest mesh's boundary */
+    m->ntri = mesh->ntet > 0 ? tb_mesh_tet_boundary(mesh, &m->tri) : mesh->ntri;
+    if (mesh->ntet < 1 && mesh->ntri > 0) {
+      m->tri = malloc(sizeof(int) * 3 * (size_t)mesh->ntri);
+      if (m->tri) memcpy(m->tri, mesh->tri, sizeof(int) * 3 * (size_t)mesh->ntri);
+    }
+    if (m->ntri < 0 || (m->ntri > 0 && !m->tri)) {
+      tb_model_destroy(m);
+      return tb_error_set(err, name, 0, "out of memory");
+    }
+  }
   return 0;
 }
 
@@ -149,7 +249,20 @@ int tb_model_step(tb_model *m, const tb_step *in, tb_error *err) {
 const tb_vec3 *tb_model_positions(const tb_model *m) { return m->cls->positions(m->self); }
 const tb_vec3 *tb_model_velocities(const tb_model *m) { return m->cls->velocities(m->self); }
 double tb_model_energy(const tb_model *m) { return m->cls->energy(m->self); }
+const double *tb_model_masses(const tb_model *m) { return m->cls->masses(m->self); }
+int tb_model_npoints(const tb_model *m) {
+  return m->cls->npoints ? m->cls->npoints(m->self) : m->nv;
+}
+tb_surface tb_model_surface(const tb_model *m) {
+  if (m->cls->surface) return m->cls->surface(m->self);
+  tb_surface s = {m->nv, m->ntri, tb_model_positions(m), m->tri, 0};
+  return s;
+}
+void tb_model_correct(tb_model *m, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
+  m->cls->correct(m->self, n, ids, x, v);
+}
 void tb_model_destroy(tb_model *m) {
   if (m->cls && m->self) m->cls->destroy(m->self);
+  free(m->tri);
   memset(m, 0, sizeof *m);
 }

@@ -8,9 +8,10 @@
 
 #include "tb_model.h"
 
-int tb_lumped_masses(const tb_mesh *mesh, const tb_model_def *def, double *mass, tb_error *err) {
-  if (def->node_mass > 0) {
-    for (int i = 0; i < mesh->nv; i++) mass[i] = def->node_mass;
+int tb_lumped_masses(const tb_mesh *mesh, double density, double node_mass, double *mass,
+                     tb_error *err) {
+  if (node_mass > 0) {
+    for (int i = 0; i < mesh->nv; i++) mass[i] = node_mass;
     return 0;
   }
   memset(mass, 0, sizeof(double) * (size_t)mesh->nv);
@@ -18,7 +19,7 @@ int tb_lumped_masses(const tb_mesh *mesh, const tb_model_def *def, double *mass,
     const int *e = mesh->tet + 4 * t;
     double vol = tb_tet_volume(mesh->x[e[0]], mesh->x[e[1]], mesh->x[e[2]], mesh->x[e[3]]);
     if (!(vol > 0)) return tb_error_set(err, "mesh", 0, "tet %d has volume %g <= 0", t, vol);
-    for (int k = 0; k < 4; k++) mass[e[k]] += def->density * vol / 4.0;
+    for (int k = 0; k < 4; k++) mass[e[k]] += density * vol / 4.0;
   }
   for (int i = 0; i < mesh->nv; i++)
     if (!(mass[i] > 0))

@@ -5,7 +5,8 @@
  *   f_ij = k_e (|x_ij| - l_ij) x_ij / |x_ij| + kd (v_j - v_i),  x_ij = x_j - x_i,
  * summed per node (eq. 3-3), plus m_i g and the external forces (eq. 3-1),
  * integrated by symplectic Euler: v first (eq. 3-5), then x with the new v
- * (eq. 3-6). Lumped masses from density (or node_mass). A prescribed node
+ * (eq. 3-6). Lumped masses from density, or node_mass (default: unit
+ * masses, as the thesis). A prescribed node
  * ends the step at fixed_x with velocity (fixed_x - x_old) / dt.
  *
  * calibrated=1: per-spring stiffness after Van Gelder 1998 ("Approximate
@@ -26,10 +27,17 @@
  * Hot data are flat arrays: x, v, f, 1/m per node; (i, j), l0, k per spring.
  * A step allocates nothing. */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "tb_model.h"
+
+/* msm's settings (its table is at the end of this file). */
+typedef struct msm_settings {
+  double density, node_mass, E, ks, kd;
+  int calibrated;
+} msm_settings;
 
 typedef struct msm {
   int nv, ns;
@@ -88,7 +96,8 @@ static int calibrate(msm *s, const tb_mesh *mesh, double E, tb_error *err) {
   return 0;
 }
 
-static void *create(const tb_mesh *mesh, const tb_model_def *def, tb_error *err) {
+static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
+  const msm_settings *def = settings;
   for (int t = 0; t < mesh->ntet; t++) { /* also with node_mass, which skips the volumes */
     const int *n = mesh->tet + 4 * t;
     for (int k = 0; k < 4; k++)
@@ -120,7 +129,7 @@ static void *create(const tb_mesh *mesh, const tb_model_def *def, tb_error *err)
     goto fail;
   }
   memcpy(s->x, mesh->x, sizeof(tb_vec3) * nv);
-  if (tb_lumped_masses(mesh, def, s->mass, err)) goto fail;
+  if (tb_lumped_masses(mesh, def->density, def->node_mass, s->mass, err)) goto fail;
   for (int i = 0; i < s->nv; i++) s->invm[i] = 1.0 / s->mass[i];
 
   s->ns = tb_mesh_edges(mesh, &s->ij);
@@ -232,13 +241,41 @@ static double energy(const void *self) {
   return w + t;
 }
 
+static const double *masses(const void *self) { return ((const msm *)self)->mass; }
+
+static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
+  msm *s = self;
+  for (int k = 0; k < n; k++) {
+    if (x) s->x[ids[k]] = x[k];
+    if (v) s->v[ids[k]] = v[k];
+  }
+}
+
+#define S msm_settings
+static const tb_setting settings[] = {
+    TB_SETTINGS_MASS(S, 1.0), /* the thesis's unit node masses */
+    TB_SETTING_R(S, ks, 180.0, 0.0, HUGE_VAL, 0, "spring stiffness (eq. 3-2)"),
+    TB_SETTING_R(S, kd, 5.0, 0.0, HUGE_VAL, 0, "spring damping (eq. 3-2)"),
+    TB_SETTING_I(S, calibrated, 0, 0, 1,
+                 "1: stiffness per spring from E (Van Gelder 1998) instead of ks"),
+    TB_SETTING_YOUNG(S, "Young's modulus the calibrated springs follow"),
+};
+#undef S
+
 const tb_model_class tb_model_msm = {
-    "msm",
-    "mass-spring: Kelvin springs on the tet edges, symplectic Euler (thesis eqs 3-1..3-6)",
-    "density node_mass ks kd calibrated E",
-    create,
-    step,
-    positions,
-    velocities,
-    energy,
-    destroy};
+    .name = "msm",
+    .summary =
+        "mass-spring: Kelvin springs on the tet edges, symplectic Euler (thesis eqs "
+        "3-1..3-6)",
+    .settings = settings,
+    .nsettings = (int)(sizeof settings / sizeof settings[0]),
+    .settings_size = sizeof(msm_settings),
+    .create = create,
+    .step = step,
+    .positions = positions,
+    .velocities = velocities,
+    .energy = energy,
+    .destroy = destroy,
+    .masses = masses,
+    .correct = correct,
+};

@@ -23,6 +23,7 @@
  *    or singular A_pq): the same rotation, about 3x faster.
  * The step allocates nothing; the member loops read flat CSR arrays. */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -30,12 +31,24 @@
 
 extern const tb_model_class tb_model_sm;
 
+/* sm's settings (its table is at the end of this file). */
+typedef struct sm_settings {
+  double density, node_mass;
+  int sm_mode;       /* TB_SM_* */
+  double alpha;      /* stiffness in [0, 1] */
+  double beta;       /* linear/quadratic blend in [0, 1] */
+  int clusters;      /* number of regions (TB_CLUSTER_REGIONS); 1 = the whole body */
+  double radius;     /* region radius (nodes outside every region join the nearest) */
+  int cluster_mode;  /* TB_CLUSTER_* */
+  double sm_damping; /* velocity damping per step in [0, 1) */
+} sm_settings;
+
 typedef struct sm {
   int nv, mode, dim; /* dim: 3 (rigid, linear) or 9 (quadratic) */
   double alpha, beta, damping;
   tb_vec3 *x, *v; /* hot state */
   tb_vec3 *goal;  /* per step: sum of the node's cluster goals */
-  double *inv_mass, *inv_count;
+  double *mass, *inv_mass, *inv_count;
   /* clusters: CSR members, per member weight and rest vector, per cluster
    * 1 / sum of weights, length scale and A_qq^-1 (dim x dim) */
   tb_sm_clusters cl;
@@ -131,13 +144,14 @@ static void precompute_cluster(sm *s, const tb_vec3 *x0, int c) {
 static void destroy(void *self) {
   sm *s = self;
   if (!s) return;
-  free(s->x), free(s->v), free(s->goal), free(s->inv_mass), free(s->inv_count);
+  free(s->x), free(s->v), free(s->goal), free(s->mass), free(s->inv_mass), free(s->inv_count);
   tb_sm_clusters_free(&s->cl);
   free(s->w), free(s->q), free(s->inv_wsum), free(s->scale), free(s->aqq_inv);
   free(s);
 }
 
-static void *create(const tb_mesh *mesh, const tb_model_def *def, tb_error *err) {
+static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
+  const sm_settings *def = settings;
   if (def->sm_mode < TB_SM_RIGID || def->sm_mode > TB_SM_QUADRATIC) {
     tb_error_set(err, "sm", 0, "bad sm_mode %d", def->sm_mode);
     return NULL;
@@ -153,7 +167,7 @@ static void *create(const tb_mesh *mesh, const tb_model_def *def, tb_error *err)
     tb_error_set(err, "sm", 0, "out of memory");
     return NULL;
   }
-  if (tb_sm_clusters_build(mesh, def, &s->cl, err)) {
+  if (tb_sm_clusters_build(mesh, def->cluster_mode, def->clusters, def->radius, &s->cl, err)) {
     free(s);
     return NULL;
   }
@@ -164,6 +178,7 @@ static void *create(const tb_mesh *mesh, const tb_model_def *def, tb_error *err)
   s->x = malloc(sizeof(tb_vec3) * (size_t)nv);
   s->v = calloc((size_t)nv, sizeof(tb_vec3));
   s->goal = malloc(sizeof(tb_vec3) * (size_t)nv);
+  s->mass = malloc(sizeof(double) * (size_t)nv);
   s->inv_mass = malloc(sizeof(double) * (size_t)nv);
   s->inv_count = calloc((size_t)nv, sizeof(double));
   s->w = malloc(sizeof(double) * (size_t)nm);
@@ -171,21 +186,22 @@ static void *create(const tb_mesh *mesh, const tb_model_def *def, tb_error *err)
   s->inv_wsum = malloc(sizeof(double) * (size_t)nc);
   s->scale = malloc(sizeof(double) * (size_t)nc);
   s->aqq_inv = malloc(sizeof(double) * d * d * (size_t)nc);
-  if (!s->x || !s->v || !s->goal || !s->inv_mass || !s->inv_count || !s->w || !s->q ||
+  if (!s->x || !s->v || !s->goal || !s->mass || !s->inv_mass || !s->inv_count || !s->w || !s->q ||
       !s->inv_wsum || !s->scale || !s->aqq_inv) {
     destroy(s);
     tb_error_set(err, "sm", 0, "out of memory");
     return NULL;
   }
   memcpy(s->x, mesh->x, sizeof(tb_vec3) * (size_t)nv);
-  double *mass = s->inv_mass; /* masses first, inverted below */
-  if (tb_lumped_masses(mesh, def, mass, err)) {
+  double *mass = s->mass;
+  if (tb_lumped_masses(mesh, def->density, def->node_mass, mass, err)) {
     destroy(s);
     return NULL;
   }
   for (int k = 0; k < nm; k++) s->inv_count[s->cl.node[k]] += 1.0; /* counts for now */
   for (int k = 0; k < nm; k++) s->w[k] = mass[s->cl.node[k]] / s->inv_count[s->cl.node[k]];
-  for (int i = 0; i < nv; i++) s->inv_count[i] = 1.0 / s->inv_count[i], mass[i] = 1.0 / mass[i];
+  for (int i = 0; i < nv; i++)
+    s->inv_count[i] = 1.0 / s->inv_count[i], s->inv_mass[i] = 1.0 / mass[i];
   for (int c = 0; c < nc; c++) precompute_cluster(s, mesh->x, c);
   return s;
 }
@@ -370,14 +386,47 @@ int tb_sm_cluster_stats(const tb_model *m, int *nclusters, double *mean_members)
   return 0;
 }
 
+static const double *masses(const void *self) { return ((const sm *)self)->mass; }
+
+static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
+  sm *s = self;
+  for (int k = 0; k < n; k++) {
+    if (x) s->x[ids[k]] = x[k];
+    if (v) s->v[ids[k]] = v[k];
+  }
+}
+
+#define S sm_settings
+static const tb_setting settings[] = {
+    TB_SETTINGS_MASS(S, 1.0), /* unit particle masses, as every suite runs sm */
+    TB_SETTING_C(S, sm_mode, TB_SM_QUADRATIC, 2, "rigid|linear|quadratic",
+                 "goal shapes (eqs. 3-37..3-45)"),
+    TB_SETTING_R(S, alpha, 0.72, 0, 1, 0, "stiffness: pull towards the goals"),
+    TB_SETTING_R(S, beta, 0.63, 0, 1, 0, "linear/quadratic blend with rigid"),
+    TB_SETTING_I(S, clusters, 50, 1, 100000000,
+                 "regions (cluster_mode=regions); 1: the whole body"),
+    TB_SETTING_R(S, radius, 1.0, 0, HUGE_VAL, TB_OPEN_LO,
+                 "region radius (nodes in no region join the nearest)"),
+    TB_SETTING_C(S, cluster_mode, TB_CLUSTER_REGIONS, 1, "regions|tets",
+                 "regions around sampled centres, or one per node with its tet neighbours"),
+    TB_SETTING_R(S, sm_damping, 0, 0, 1, TB_OPEN_HI, "velocity damping per step"),
+};
+#undef S
+
 const tb_model_class tb_model_sm = {
-    "sm",
-    "meshless shape matching (Muller et al. 2005): rigid, linear or quadratic goals on "
-    "overlapping clusters, eq. 3-41",
-    "density node_mass sm_mode alpha beta clusters radius cluster_mode sm_damping",
-    create,
-    step,
-    positions,
-    velocities,
-    energy,
-    destroy};
+    .name = "sm",
+    .summary =
+        "meshless shape matching (Muller et al. 2005): rigid, linear or quadratic goals on "
+        "overlapping clusters, eq. 3-41",
+    .settings = settings,
+    .nsettings = (int)(sizeof settings / sizeof settings[0]),
+    .settings_size = sizeof(sm_settings),
+    .create = create,
+    .step = step,
+    .positions = positions,
+    .velocities = velocities,
+    .energy = energy,
+    .destroy = destroy,
+    .masses = masses,
+    .correct = correct,
+};

@@ -45,8 +45,8 @@ static void farthest_points(const tb_mesh *mesh, int k, int *centre, int *near, 
   }
 }
 
-static int build_regions(const tb_mesh *mesh, const tb_model_def *def, tb_sm_clusters *out) {
-  int nv = mesh->nv, k = def->clusters < nv ? def->clusters : nv;
+static int build_regions(const tb_mesh *mesh, int clusters, double radius, tb_sm_clusters *out) {
+  int nv = mesh->nv, k = clusters < nv ? clusters : nv;
   out->n = k;
   out->start = malloc(sizeof(int) * (size_t)(k + 1));
   if (!out->start) return -1;
@@ -63,7 +63,7 @@ static int build_regions(const tb_mesh *mesh, const tb_model_def *def, tb_sm_clu
   int rc = -1;
   if (!centre || !near || !dmin || !inside) goto done;
   farthest_points(mesh, k, centre, near, dmin);
-  double r2 = def->radius * def->radius;
+  double r2 = radius * radius;
   long total = 0;
   for (int i = 0; i < nv; i++) {
     for (int c = 0; c < k; c++)
@@ -119,8 +119,8 @@ static int build_tets(const tb_mesh *mesh, tb_sm_clusters *out) {
   return 0;
 }
 
-int tb_sm_clusters_build(const tb_mesh *mesh, const tb_model_def *def, tb_sm_clusters *out,
-                         tb_error *err) {
+int tb_sm_clusters_build(const tb_mesh *mesh, int cluster_mode, int clusters, double radius,
+                         tb_sm_clusters *out, tb_error *err) {
   memset(out, 0, sizeof *out);
   if (mesh->nv < 1) return tb_error_set(err, "sm", 0, "the mesh has no nodes");
   for (int i = 0; i < mesh->nv; i++)
@@ -131,18 +131,18 @@ int tb_sm_clusters_build(const tb_mesh *mesh, const tb_model_def *def, tb_sm_clu
       return tb_error_set(err, "sm", 0, "tet %d has node index %d outside [0, %d)", t / 4,
                           mesh->tet[t], mesh->nv);
   int rc;
-  if (def->cluster_mode == TB_CLUSTER_TETS) {
+  if (cluster_mode == TB_CLUSTER_TETS) {
     if (mesh->ntet < 1)
       return tb_error_set(err, "sm", 0,
                           "cluster_mode=tets needs a tet mesh (this one has no tets; use "
                           "cluster_mode=regions for a point cloud)");
     rc = build_tets(mesh, out);
-  } else if (def->cluster_mode == TB_CLUSTER_REGIONS) {
-    if (def->clusters < 1 || !(def->radius > 0))
+  } else if (cluster_mode == TB_CLUSTER_REGIONS) {
+    if (clusters < 1 || !(radius > 0))
       return tb_error_set(err, "sm", 0, "regions need clusters >= 1 and radius > 0");
-    rc = build_regions(mesh, def, out);
+    rc = build_regions(mesh, clusters, radius, out);
   } else {
-    return tb_error_set(err, "sm", 0, "bad cluster_mode %d", def->cluster_mode);
+    return tb_error_set(err, "sm", 0, "bad cluster_mode %d", cluster_mode);
   }
   if (rc) {
     tb_sm_clusters_free(out);

@@ -2,56 +2,87 @@
  * tb_model_class (a small table of functions) and one entry in the table of
  * models/model.c; scenes and suites never switch on a model's name.
  *
- * Every model works on the nodes of a tet mesh (shape matching treats them
- * as particles and may ignore the tets), with lumped node masses from the
- * density and the tet volumes. A step advances the state by dt under
+ * Every model built so far works on the nodes of a tet mesh (shape
+ * matching treats them as particles and may ignore the tets), with lumped
+ * node masses from the density and the tet volumes; the interface also
+ * serves models whose points are not the mesh's nodes (npoints, surface)
+ * and contact response between steps (correct). A step advances the state by dt under
  * gravity, external node forces and prescribed (Dirichlet) node positions:
  * a prescribed node ends the step exactly at its position, with the
  * velocity that moved it there. */
 #ifndef TB_MODEL_H
 #define TB_MODEL_H
 
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+
 #include "tb_error.h"
 #include "tb_mesh.h"
 
-/* Shape-matching variants (Müller et al. 2005; thesis §3.4.4). */
-enum { TB_SM_RIGID = 0, TB_SM_LINEAR = 1, TB_SM_QUADRATIC = 2 };
-/* Shape-matching clusters: overlapping spheres of a radius around centres
- * chosen by farthest-point sampling (thesis: "region radius 1"), or one
- * cluster per node made of the node and its tet neighbours. */
-enum { TB_CLUSTER_REGIONS = 0, TB_CLUSTER_TETS = 1 };
+/* ---- settings ----
+ * A model declares its own settings as one table of tb_setting (key, type,
+ * default, range, one-line doc) in its own file, over its own settings
+ * struct. Callers pass key=value text in a tb_settings; tb_model_create
+ * fills the model's struct from the table's defaults, then the user's
+ * values, each parsed and range-checked against the table. `simulate
+ * --set`, `simulate --list` and the README's lists come from the tables. */
+#define TB_SETTINGS_MAX 32
+typedef struct tb_settings {
+  int n;
+  struct {
+    char key[32];
+    char value[64];
+  } kv[TB_SETTINGS_MAX];
+} tb_settings;
 
-/* Settings of every model; tb_model_default_def() gives the thesis's values
- * (§3.5). A model reads only the fields it needs (its class lists them). */
-typedef struct tb_model_def {
-  double density;   /* mass per volume; node mass = density * (sum of its tets' volumes) / 4 */
-  double node_mass; /* > 0: every node gets this mass instead (thesis MSM: unit masses) */
-  /* material (fem, fem-corot; msm when calibrated) */
-  double E, nu; /* Young's modulus, Poisson ratio: 3000, 0.3 */
-  /* msm: Kelvin springs on the tet edges (eq. 3-2) */
-  double ks, kd;  /* 180, 5 */
-  int calibrated; /* 1: spring stiffness from E and nu (Van Gelder 1998), kd unchanged */
-  /* fem, fem-corot: implicit (backward) Euler with Rayleigh damping C = a M + b K */
-  double rayleigh_mass, rayleigh_stiffness; /* a = 0, b = 0.02 */
-  int consistent_mass;                      /* 1: consistent mass matrix instead of lumped */
-  int quasistatic; /* 1: each step solves the static equilibrium (velocities 0) */
-  /* sm: shape matching, eq. 3-41 */
-  int sm_mode;       /* TB_SM_*: quadratic */
-  double alpha;      /* stiffness in [0, 1]: 0.72 */
-  double beta;       /* linear/quadratic blend in [0, 1]: 0.63 */
-  int clusters;      /* number of regions (TB_CLUSTER_REGIONS): 50; 1 = the whole body */
-  double radius;     /* region radius: 1 (nodes outside every region join the nearest) */
-  int cluster_mode;  /* TB_CLUSTER_* */
-  double sm_damping; /* velocity damping per step in [0, 1): 0 */
-} tb_model_def;
+/* Empty: every model's defaults. */
+void tb_settings_init(tb_settings *s);
+/* Syntax only ("key=value"; the model checks key and value at create);
+ * replaces an earlier value of the same key; an error when full or when the
+ * key or value is too long. */
+int tb_settings_set(tb_settings *s, const char *key_eq_value, tb_error *err);
+/* key=v with v printed %.17g (reads back exactly). */
+int tb_settings_setd(tb_settings *s, const char *key, double v, tb_error *err);
 
-tb_model_def tb_model_default_def(void);
-/* Sets one field from "key=value" text (the keys are the field names above;
- * sm_mode takes rigid|linear|quadratic, cluster_mode regions|tets). Unknown
- * keys and bad values are errors naming the key. */
-int tb_model_def_set(tb_model_def *def, const char *key_eq_value, tb_error *err);
-/* Range checks shared by all models (E > 0, -1 < nu < 0.5, 0 <= alpha <= 1, ...). */
-int tb_model_def_check(const tb_model_def *def, tb_error *err);
+typedef enum { TB_SETTING_REAL, TB_SETTING_INT, TB_SETTING_CHOICE } tb_setting_type;
+/* tb_setting.open: which bounds of [lo, hi] are excluded. */
+enum { TB_OPEN_LO = 1, TB_OPEN_HI = 2 };
+
+/* One entry of a model's settings table. REAL is a double in the model's
+ * struct, INT and CHOICE an int (CHOICE: the index into choices; the value
+ * text is a name or the index). */
+typedef struct tb_setting {
+  const char *key;
+  tb_setting_type type;
+  size_t offset;       /* into the model's own settings struct */
+  double def, lo, hi;  /* default and range, inclusive unless open says (CHOICE: index) */
+  const char *choices; /* CHOICE: "rigid|linear|quadratic" */
+  const char *doc;     /* one line */
+  int open;            /* TB_OPEN_LO | TB_OPEN_HI: that bound is excluded */
+} tb_setting;
+
+/* Table entries over the model's settings struct T, whose field has the
+ * key's name: a real in [lo, hi] (open: TB_OPEN_*), a whole number in
+ * [lo, hi], a choice of "a|b|c" (hi: the last index). */
+#define TB_SETTING_R(T, key, def, lo, hi, open, doc) \
+  { #key, TB_SETTING_REAL, offsetof(T, key), def, lo, hi, NULL, doc, open }
+#define TB_SETTING_I(T, key, def, lo, hi, doc) \
+  { #key, TB_SETTING_INT, offsetof(T, key), def, lo, hi, NULL, doc, 0 }
+#define TB_SETTING_C(T, key, def, hi, choices, doc) \
+  { #key, TB_SETTING_CHOICE, offsetof(T, key), def, 0, hi, choices, doc, 0 }
+
+/* Table fragments the models share. Every model takes the mass settings;
+ * node_mass_def is its default (msm, sm: 1, the thesis's unit masses). */
+#define TB_SETTINGS_MASS(T, node_mass_def)                                         \
+  TB_SETTING_R(T, density, 1.0, 0.0, HUGE_VAL, 0,                                  \
+               "mass per volume: node mass = density * (volume of its tets) / 4"), \
+      TB_SETTING_R(T, node_mass, node_mass_def, 0.0, HUGE_VAL, 0,                  \
+                   "> 0: every node gets this mass instead (0: from density)")
+#define TB_SETTING_YOUNG(T, doc) TB_SETTING_R(T, E, 3000.0, 0.0, HUGE_VAL, TB_OPEN_LO, doc)
+#define TB_SETTINGS_MATERIAL(T)           \
+  TB_SETTING_YOUNG(T, "Young's modulus"), \
+      TB_SETTING_R(T, nu, 0.3, -1.0, 0.5, TB_OPEN_LO | TB_OPEN_HI, "Poisson ratio")
 
 /* What one step receives. */
 typedef struct tb_step {
@@ -63,12 +94,28 @@ typedef struct tb_step {
   const tb_vec3 *fixed_x; /* their positions at the end of the step */
 } tb_step;
 
+/* The current surface of a model: nv points x (the model's points for tet
+ * models), ntri triangles. version changes whenever nv, ntri or tri change
+ * (a cut, a remesh), so a collision hierarchy refits while it is the same
+ * and rebuilds when it is not. */
+typedef struct tb_surface {
+  int nv, ntri;
+  const tb_vec3 *x;
+  const int *tri;
+  unsigned long version;
+} tb_surface;
+
 typedef struct tb_model_class {
   const char *name;
   const char *summary;
-  const char *keys; /* the tb_model_def fields it reads, space separated */
-  /* Builds the model from a tet mesh (copied; mesh may be freed after). */
-  void *(*create)(const tb_mesh *mesh, const tb_model_def *def, tb_error *err);
+  /* its settings table and the size of the struct the table describes */
+  const tb_setting *settings;
+  int nsettings;
+  size_t settings_size;
+  /* Builds the model from a tet mesh (copied; mesh may be freed after);
+   * settings points at the model's own struct, filled from the table's
+   * defaults and then the user's values (already range-checked). */
+  void *(*create)(const tb_mesh *mesh, const void *settings, tb_error *err);
   /* Advances one step; a failure (e.g. a matrix that is not positive
    * definite) returns non-zero with err filled in. */
   int (*step)(void *self, const tb_step *in, tb_error *err);
@@ -77,6 +124,17 @@ typedef struct tb_model_class {
   /* Elastic potential + kinetic energy, or NAN where a model has no energy. */
   double (*energy)(const void *self);
   void (*destroy)(void *self);
+  /* Lumped point masses, npoints of them. */
+  const double *(*masses)(const void *self);
+  /* Current number of points (NULL: the mesh's nodes); fixes, forces and
+   * correct index these. */
+  int (*npoints)(const void *self);
+  /* Current surface (NULL: the rest mesh's boundary triangles over the
+   * current positions, version 0). */
+  tb_surface (*surface)(const void *self);
+  /* Overwrites positions and velocities of points ids[0..n) between steps
+   * (contact response); x or v may be NULL to leave that one as it is. */
+  void (*correct)(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v);
 } tb_model_class;
 
 /* The table of models (models/model.c). */
@@ -84,26 +142,46 @@ extern const tb_model_class *const tb_model_classes[];
 extern const int tb_model_count;
 const tb_model_class *tb_model_find(const char *name);
 
-/* A model instance: its class, the data, and the rest mesh. */
+/* A model instance: its class, the data, the rest mesh's node count and
+ * boundary triangles (the default surface). */
 typedef struct tb_model {
   const tb_model_class *cls;
   void *self;
   int nv;
+  int ntri;
+  int *tri;
 } tb_model;
 
-/* Creates model `name` (see tb_model_find) after tb_model_def_check. */
-int tb_model_create(tb_model *m, const char *name, const tb_mesh *mesh, const tb_model_def *def,
+/* Creates model `name` (see tb_model_find) with settings set (NULL: the
+ * model's defaults). An unknown key for that model, a bad value or one out
+ * of range is an error naming the key and the model. */
+int tb_model_create(tb_model *m, const char *name, const tb_mesh *mesh, const tb_settings *set,
                     tb_error *err);
+/* The same checks without a mesh (e.g. for command-line input). */
+int tb_model_check_settings(const char *name, const tb_settings *set, tb_error *err);
+/* The effective value of key for model name: set's value, else the
+ * default (CHOICE: the index). -1 when the model has no such key (or the
+ * value does not parse), 0 otherwise. */
+int tb_model_setting(const char *name, const tb_settings *set, const char *key, double *out);
+/* One line per key: key, type, default, range, doc. */
+void tb_model_print_settings(FILE *f, const tb_model_class *c);
+
 int tb_model_step(tb_model *m, const tb_step *in, tb_error *err);
 const tb_vec3 *tb_model_positions(const tb_model *m);
 const tb_vec3 *tb_model_velocities(const tb_model *m);
 double tb_model_energy(const tb_model *m);
+const double *tb_model_masses(const tb_model *m);
+int tb_model_npoints(const tb_model *m);
+tb_surface tb_model_surface(const tb_model *m);
+void tb_model_correct(tb_model *m, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v);
 void tb_model_destroy(tb_model *m);
 
 /* ---- helpers the models share (models/model_util.c) ---- */
-/* Lumped node masses (density or node_mass as in tb_model_def) into mass[nv];
- * tets with non-positive volume are an error naming the tet. */
-int tb_lumped_masses(const tb_mesh *mesh, const tb_model_def *def, double *mass, tb_error *err);
+/* Lumped node masses into mass[nv]: node_mass > 0 for every node, else
+ * density * (sum of its tets' volumes) / 4; tets with non-positive volume
+ * are an error naming the tet. */
+int tb_lumped_masses(const tb_mesh *mesh, double density, double node_mass, double *mass,
+                     tb_error *err);
 /* Rotation R closest to A (polar decomposition A = R S, det R = +1, also for
  * singular or inverted A: the smallest singular direction is flipped). */
 tb_mat3 tb_m3_polar(tb_mat3 a);

@@ -14,6 +14,7 @@
 #include "tb_meshgen.h"
 #include "tb_model.h"
 #include "tb_test.h"
+#include "tb_test_models.h"
 
 static const char *const models[] = {"fem", "fem-corot"};
 
@@ -25,7 +26,7 @@ static tb_mesh beam(double lx, int nx, int ny, int nz) {
   return m;
 }
 
-static int create(tb_model *m, const char *name, const tb_mesh *mesh, const tb_model_def *d) {
+static int create(tb_model *m, const char *name, const tb_mesh *mesh, const tb_settings *d) {
   tb_error err;
   int rc = tb_model_create(m, name, mesh, d, &err);
   TB_CHECK_MSG(rc == 0, "create %s: %s", name, err.msg);
@@ -93,8 +94,7 @@ static void patch(const tb_mesh *m, const char *name) {
     else
       interior++;
   TB_CHECK_MSG(interior >= 5, "%s: only %d interior nodes", name, interior);
-  tb_model_def d = tb_model_default_def();
-  d.quasistatic = 1;
+  tb_settings d = tb_test_settings("quasistatic=1");
   tb_model mod;
   if (create(&mod, name, m, &d) == 0) {
     tb_step s = plain(0.01, tb_v3(0, 0, 0));
@@ -142,8 +142,9 @@ static void test_residual(void) {
   int nf = clamp_left(&m, 0, idx, pos);
   for (int k = 0; k < 2; k++)
     for (int qs = 0; qs < 2; qs++) {
-      tb_model_def d = tb_model_default_def();
-      d.quasistatic = qs, d.consistent_mass = k; /* lumped for fem, consistent for corot */
+      tb_settings d = tb_test_settings(""); /* lumped for fem, consistent for corot */
+      tb_settings_setd(&d, "quasistatic", qs, NULL),
+          tb_settings_setd(&d, "consistent_mass", k, NULL);
       tb_model mod;
       if (create(&mod, models[k], &m, &d)) continue;
       tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
@@ -185,7 +186,7 @@ static void test_factor_once(void) {
   tb_vec3 pos[64];
   int nf = clamp_left(&m, 0, idx, pos);
   count_cholmod_allocations();
-  tb_model_def d = tb_model_default_def();
+  tb_settings d = tb_test_settings("");
   tb_model mod;
   if (create(&mod, "fem", &m, &d) == 0) {
     tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
@@ -213,7 +214,7 @@ static void test_factor_once(void) {
     tb_model_destroy(&mod);
   }
   /* quasi-static: dt does not enter K */
-  d.quasistatic = 1;
+  tb_settings_set(&d, "quasistatic=1", NULL);
   if (create(&mod, "fem", &m, &d) == 0) {
     tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
     s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
@@ -224,7 +225,7 @@ static void test_factor_once(void) {
     tb_model_destroy(&mod);
   }
   /* corot refactors every step (numerically, same analysis) */
-  d.quasistatic = 0;
+  tb_settings_set(&d, "quasistatic=0", NULL);
   if (create(&mod, "fem-corot", &m, &d) == 0) {
     tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
     s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
@@ -244,7 +245,7 @@ static void test_rigid_motion(void) {
   tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)m.nv);
   for (int i = 0; i < m.nv; i++) x[i] = tb_add(tb_m3_mulv(r, m.x[i]), t);
   for (int k = 0; k < 2; k++) {
-    tb_model_def d = tb_model_default_def();
+    tb_settings d = tb_test_settings("");
     tb_model mod;
     tb_error err;
     if (create(&mod, models[k], &m, &d)) continue;
@@ -278,8 +279,7 @@ static void test_not_positive_definite(void) {
   tb_vec3 pos[64];
   int nf = clamp_left(&m, 0, idx, pos);
   for (int k = 0; k < 2; k++) {
-    tb_model_def d = tb_model_default_def();
-    d.quasistatic = 1;
+    tb_settings d = tb_test_settings("quasistatic=1");
     tb_model mod;
     tb_error err;
     if (create(&mod, models[k], &m, &d)) continue;
@@ -300,7 +300,7 @@ static void test_not_positive_definite(void) {
   }
   /* bad prescribed lists are errors, not crashes */
   {
-    tb_model_def d = tb_model_default_def();
+    tb_settings d = tb_test_settings("");
     tb_model mod;
     tb_error err;
     if (create(&mod, "fem", &m, &d) == 0) {
@@ -319,8 +319,7 @@ static void test_not_positive_definite(void) {
   m.tet[4 * 7 + 1] = m.tet[4 * 7 + 2], m.tet[4 * 7 + 2] = tmp;
   for (int k = 0; k < 2; k++)
     for (int nm = 0; nm < 2; nm++) {
-      tb_model_def d = tb_model_default_def();
-      d.node_mass = nm;
+      tb_settings d = tb_test_settings(nm ? "node_mass=1" : "node_mass=0");
       tb_model mod;
       tb_error err;
       memset(&err, 0, sizeof err);
@@ -353,8 +352,8 @@ static void test_free_fall(void) {
     for (int cm = 0; cm < 2; cm++) {
       double zdrop[2];
       for (int damped = 0; damped < 2; damped++) {
-        tb_model_def d = tb_model_default_def();
-        d.consistent_mass = cm, d.rayleigh_mass = damped ? 2.0 : 0.0;
+        tb_settings d = tb_test_settings(damped ? "rayleigh_mass=2" : "rayleigh_mass=0");
+        tb_settings_setd(&d, "consistent_mass", cm, NULL);
         tb_model mod;
         if (create(&mod, models[k], &m, &d)) continue;
         tb_step s = plain(dt, tb_v3(0, 0, g));
@@ -363,7 +362,7 @@ static void test_free_fall(void) {
           continue;
         }
         /* backward Euler with C = a M: v+ = (v + dt g) / (1 + dt a), x+ = x + dt v+ */
-        double a = d.rayleigh_mass, v = 0, z = 0;
+        double a = damped ? 2.0 : 0.0, v = 0, z = 0;
         for (int i = 0; i < n; i++) v = (v + dt * g) / (1 + dt * a), z += dt * v;
         tb_vec3 c = centre(&m, tb_model_positions(&mod));
         zdrop[damped] = c.z - c0.z;
@@ -391,16 +390,16 @@ static void test_forces_like_gravity(void) {
   int idx[64];
   tb_vec3 pos[64];
   int nf = clamp_left(&m, 0, idx, pos);
-  tb_model_def d = tb_model_default_def();
+  tb_settings d = tb_test_settings("");
   double *mass = malloc(sizeof(double) * (size_t)m.nv);
   tb_vec3 *force = malloc(sizeof(tb_vec3) * (size_t)m.nv), g = tb_v3(0.5, -1, -9.81);
   tb_error err;
-  TB_CHECK(tb_lumped_masses(&m, &d, mass, &err) == 0);
+  TB_CHECK(tb_lumped_masses(&m, 1.0, 0.0, mass, &err) == 0); /* fem's defaults */
   for (int i = 0; i < m.nv; i++) force[i] = tb_scale(g, mass[i]);
   for (int k = 0; k < 2; k++)
     for (int qs = 0; qs < 2; qs++) {
       tb_model a, b;
-      d.quasistatic = qs;
+      tb_settings_setd(&d, "quasistatic", qs, NULL);
       if (create(&a, models[k], &m, &d)) continue;
       if (create(&b, models[k], &m, &d)) {
         tb_model_destroy(&a);
@@ -433,8 +432,7 @@ static void test_energy_decays(void) {
   tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)m.nv);
   for (int i = 0; i < m.nv; i++) x[i] = tb_v3(1.05 * m.x[i].x, m.x[i].y, 0.97 * m.x[i].z);
   for (int k = 0; k < 2; k++) {
-    tb_model_def d = tb_model_default_def();
-    d.rayleigh_stiffness = 0;
+    tb_settings d = tb_test_settings("rayleigh_stiffness=0");
     tb_model mod;
     tb_error err;
     if (create(&mod, models[k], &m, &d)) continue;
@@ -463,7 +461,7 @@ static void test_prescribed_motion(void) {
   tb_vec3 pos[64], goal[64];
   int nf = clamp_left(&m, 0, idx, pos);
   for (int k = 0; k < 2; k++) {
-    tb_model_def d = tb_model_default_def();
+    tb_settings d = tb_test_settings("");
     tb_model mod;
     if (create(&mod, models[k], &m, &d)) continue;
     tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
@@ -493,8 +491,8 @@ static void test_corot_small_strain(void) {
   int nf = clamp_left(&m, 0, idx, pos);
   for (int qs = 0; qs < 2; qs++) {
     tb_model lin, cor;
-    tb_model_def d = tb_model_default_def();
-    d.quasistatic = qs;
+    tb_settings d = tb_test_settings("");
+    tb_settings_setd(&d, "quasistatic", qs, NULL);
     if (create(&lin, "fem", &m, &d)) continue;
     if (create(&cor, "fem-corot", &m, &d)) {
       tb_model_destroy(&lin);
@@ -527,7 +525,7 @@ static void test_deterministic(void) {
   for (int k = 0; k < 2; k++) {
     tb_vec3 *run[2] = {NULL, NULL};
     for (int r = 0; r < 2; r++) {
-      tb_model_def d = tb_model_default_def();
+      tb_settings d = tb_test_settings("");
       tb_model mod;
       if (create(&mod, models[k], &m, &d)) continue;
       tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
@@ -557,8 +555,8 @@ static void test_cantilever(void) {
     int *idx = malloc(sizeof(int) * (size_t)m.nv);
     tb_vec3 *pos = malloc(sizeof(tb_vec3) * (size_t)m.nv);
     int nf = clamp_left(&m, 0, idx, pos);
-    tb_model_def d = tb_model_default_def();
-    d.quasistatic = 1, d.E = E, d.density = rho;
+    tb_settings d = tb_test_settings("quasistatic=1");
+    tb_settings_setd(&d, "E", E, NULL), tb_settings_setd(&d, "density", rho, NULL);
     tb_model mod;
     if (create(&mod, "fem", &m, &d) == 0) {
       tb_step s = plain(0.01, tb_v3(0, 0, -g));

@@ -10,6 +10,7 @@
 #include "tb_fidelity.h"
 #include "tb_meshgen.h"
 #include "tb_test.h"
+#include "tb_test_models.h"
 
 /* ---- metrics on arrays ---- */
 
@@ -179,7 +180,7 @@ static void run_settles(void) {
   TB_CHECK(tb_fid_plan_for("liver-press", 0, 1, &plan, &err) == -1 &&
            strstr(err.msg, "no static problem"));
   TB_CHECK(tb_fid_plan_for("beam", 0, 1, &plan, &err) == 0);
-  tb_model_def md = tb_model_default_def();
+  tb_settings md = tb_test_settings("");
   tb_fid_ref ref;
   tb_sim_def rd = plan.def;
   rd.nodes = plan.ref_res;
@@ -196,9 +197,11 @@ static void run_settles(void) {
   o.settle_speed *= ref.umax;
   o.max_time = 40;
   tb_fid_result dyn, qs;
-  TB_CHECK(tb_fid_equal_masses(&fm.mesh, &md, &err) == 0 && md.node_mass > 0);
+  double node_mass = 0;
+  TB_CHECK(tb_fid_equal_masses(&fm.mesh, "fem", &md, &err) == 0 &&
+           tb_model_setting("fem", &md, "node_mass", &node_mass) == 0 && node_mass > 0);
   TB_CHECK(tb_fid_run(&ref, &fm, "fem", &md, &sd, &o, &dyn, &err) == 0);
-  md.quasistatic = 1;
+  tb_settings_set(&md, "quasistatic=1", NULL);
   TB_CHECK(tb_fid_run(&ref, &fm, "fem", &md, &sd, &o, &qs, &err) == 0);
   TB_CHECK_MSG(dyn.stable && dyn.settled && qs.stable && qs.settled, "%s / %s", dyn.state,
                qs.state);
@@ -209,9 +212,8 @@ static void run_settles(void) {
   TB_CHECK(dyn.settle_time > 0 && isnan(qs.settle_time) && dyn.ms_step > 0);
   TB_CHECK(isnan(dyn.reaction_err) && isnan(dyn.recovery_err));
   /* a model that blows up says so */
-  tb_model_def hot = tb_model_default_def();
-  hot.ks = 1e6;
-  TB_CHECK(tb_fid_equal_masses(&fm.mesh, &hot, &err) == 0);
+  tb_settings hot = tb_test_settings("ks=1e6");
+  TB_CHECK(tb_fid_equal_masses(&fm.mesh, "msm", &hot, &err) == 0);
   tb_fid_result bad;
   TB_CHECK(tb_fid_run(&ref, &fm, "msm", &hot, &sd, &o, &bad, &err) == 0);
   TB_CHECK_MSG(!bad.stable && !strncmp(bad.state, "unstable (", 10), "%s", bad.state);
@@ -224,11 +226,10 @@ static void run_reaction(void) {
   tb_fid_plan plan;
   tb_error err;
   TB_CHECK(tb_fid_plan_for("liver-stretch", 0, 1, &plan, &err) == 0);
-  tb_model_def md = tb_model_default_def();
   tb_fid_ref ref;
   tb_sim_def rd = plan.def;
   rd.nodes = plan.ref_res;
-  TB_CHECK_MSG(tb_fid_reference("liver-stretch", &rd, plan.t_eq, &md, &ref, &err) == 0, "%s",
+  TB_CHECK_MSG(tb_fid_reference("liver-stretch", &rd, plan.t_eq, NULL, &ref, &err) == 0, "%s",
                err.msg);
   if (!ref.sol) return;
   TB_CHECK_NEAR(ref.umax, plan.def.amplitude, 1e-9); /* the patch moved by the pull */
@@ -247,10 +248,9 @@ static void run_reaction(void) {
   /* fem: reaction from the energy; msm (light damper): from the release step */
   const char *models[2] = {"fem", "msm"};
   for (int k = 0; k < 2; k++) {
-    tb_model_def d = tb_model_default_def();
-    d.calibrated = 1, d.kd = 0.05;
+    tb_settings d = tb_test_settings(k ? "calibrated=1 kd=0.05" : ""); /* fem: its defaults */
     tb_fid_result r;
-    TB_CHECK(tb_fid_equal_masses(&fm.mesh, &d, &err) == 0);
+    TB_CHECK(tb_fid_equal_masses(&fm.mesh, models[k], &d, &err) == 0);
     o.substeps = k ? 4 : 1;
     TB_CHECK(tb_fid_run(&ref, &fm, models[k], &d, &sd, &o, &r, &err) == 0);
     TB_CHECK_MSG(r.stable, "%s: %s", models[k], r.state);

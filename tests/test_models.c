@@ -10,6 +10,7 @@
 #include "tb_rng.h"
 #include "tb_sim.h"
 #include "tb_test.h"
+#include "tb_test_models.h"
 
 static double m3_diff(tb_mat3 a, tb_mat3 b) {
   double d = 0;
@@ -73,33 +74,251 @@ static void eigen_and_inverse(void) {
   TB_CHECK(!tb_m3_inverse(diag(1, 1, 0), &inv));
 }
 
-static void settings_parse_and_check(void) {
-  tb_model_def d = tb_model_default_def();
+tb_settings tb_test_settings(const char *kvs) {
+  tb_settings s;
+  tb_settings_init(&s);
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", kvs);
   tb_error err;
-  TB_CHECK(d.ks == 180 && d.kd == 5 && d.E == 3000 && d.nu == 0.3 && d.clusters == 50 &&
-           d.alpha == 0.72 && d.beta == 0.63 && d.sm_mode == TB_SM_QUADRATIC && d.radius == 1);
-  TB_CHECK(tb_model_def_set(&d, "ks=200.5", &err) == 0 && d.ks == 200.5);
-  TB_CHECK(tb_model_def_set(&d, "sm_mode=linear", &err) == 0 && d.sm_mode == TB_SM_LINEAR);
-  TB_CHECK(tb_model_def_set(&d, "cluster_mode=tets", &err) == 0 && d.cluster_mode == 1);
-  TB_CHECK(tb_model_def_set(&d, "clusters=8", &err) == 0 && d.clusters == 8);
-  TB_CHECK(tb_model_def_set(&d, "clusters=8.5", &err) && strstr(err.msg, "clusters"));
-  TB_CHECK(tb_model_def_set(&d, "sm_mode=cubic", &err) && strstr(err.msg, "rigid, linear"));
-  TB_CHECK(tb_model_def_set(&d, "E=abc", &err) && strstr(err.msg, "E: 'abc'"));
-  TB_CHECK(tb_model_def_set(&d, "E=inf", &err));
-  TB_CHECK(tb_model_def_set(&d, "stiffness=3", &err) && strstr(err.msg, "unknown model setting"));
-  TB_CHECK(tb_model_def_set(&d, "ks", &err) && strstr(err.msg, "key=value"));
-  TB_CHECK(tb_model_def_check(&d, &err) == 0);
-  d.nu = 0.5;
-  TB_CHECK(tb_model_def_check(&d, &err) && strstr(err.msg, "nu"));
-  d = tb_model_default_def(), d.alpha = 1.5;
-  TB_CHECK(tb_model_def_check(&d, &err) && strstr(err.msg, "alpha"));
+  for (char *tok = strtok(buf, " "); tok; tok = strtok(NULL, " "))
+    TB_CHECK_MSG(tb_settings_set(&s, tok, &err) == 0, "%s", err.msg);
+  return s;
+}
+
+/* tb_settings holds text: replaces, fills up, keeps %.17g exact. */
+static void settings_text(void) {
+  tb_settings s;
+  tb_settings_init(&s);
+  tb_error err;
+  TB_CHECK(s.n == 0);
+  TB_CHECK(tb_settings_set(&s, "ks=200.5", &err) == 0 && s.n == 1);
+  TB_CHECK(tb_settings_set(&s, "ks=300", &err) == 0 && s.n == 1 && !strcmp(s.kv[0].value, "300"));
+  TB_CHECK(tb_settings_set(&s, "ks", &err) && strstr(err.msg, "key=value"));
+  TB_CHECK(tb_settings_set(&s, "=3", &err) && strstr(err.msg, "key=value"));
+  double third = 1.0 / 3.0, back = 0;
+  TB_CHECK(tb_settings_setd(&s, "radius", third, &err) == 0 && s.n == 2);
+  TB_CHECK(tb_model_setting("sm", &s, "radius", &back) == 0 && back == third);
+  for (int i = s.n; i < TB_SETTINGS_MAX; i++) {
+    char kv[32];
+    snprintf(kv, sizeof kv, "k%d=1", i);
+    TB_CHECK(tb_settings_set(&s, kv, &err) == 0);
+  }
+  TB_CHECK(tb_settings_set(&s, "one_more=1", &err) && strstr(err.msg, "more than"));
+  TB_CHECK(tb_settings_set(&s, "ks=1", &err) == 0); /* replacing still works when full */
+}
+
+/* Every model's table: keys, defaults (today's values), ranges, errors
+ * that name the key and the model. */
+static void settings_tables(void) {
+  tb_error err;
+  static const struct {
+    const char *model, *key;
+    double def;
+  } defs[] = {
+      {"msm", "density", 1},
+      {"msm", "node_mass", 1},
+      {"msm", "ks", 180},
+      {"msm", "kd", 5},
+      {"msm", "calibrated", 0},
+      {"msm", "E", 3000},
+      {"fem", "density", 1},
+      {"fem", "node_mass", 0},
+      {"fem", "E", 3000},
+      {"fem", "nu", 0.3},
+      {"fem", "rayleigh_mass", 0},
+      {"fem", "rayleigh_stiffness", 0.02},
+      {"fem", "consistent_mass", 0},
+      {"fem", "quasistatic", 0},
+      {"fem-corot", "E", 3000},
+      {"fem-corot", "nu", 0.3},
+      {"fem-corot", "rayleigh_stiffness", 0.02},
+      {"sm", "density", 1},
+      {"sm", "node_mass", 1},
+      {"sm", "sm_mode", 2},
+      {"sm", "alpha", 0.72},
+      {"sm", "beta", 0.63},
+      {"sm", "clusters", 50},
+      {"sm", "radius", 1},
+      {"sm", "cluster_mode", 0},
+      {"sm", "sm_damping", 0},
+  };
+  for (size_t i = 0; i < sizeof defs / sizeof defs[0]; i++) {
+    double v = -99;
+    TB_CHECK_MSG(tb_model_setting(defs[i].model, NULL, defs[i].key, &v) == 0 && v == defs[i].def,
+                 "%s %s: %g, want %g", defs[i].model, defs[i].key, v, defs[i].def);
+  }
+  double v;
+  TB_CHECK(tb_model_setting("msm", NULL, "nu", &v) == -1); /* msm does not read nu */
+  TB_CHECK(tb_model_setting("sm", NULL, "E", &v) == -1);
+  TB_CHECK(tb_model_setting("springs", NULL, "E", &v) == -1);
+  /* every model takes the mass settings */
+  for (int i = 0; i < tb_model_count; i++) {
+    TB_CHECK(tb_model_setting(tb_model_classes[i]->name, NULL, "density", &v) == 0);
+    TB_CHECK(tb_model_setting(tb_model_classes[i]->name, NULL, "node_mass", &v) == 0);
+  }
+  /* values set, choices by name or index */
+  tb_settings s = tb_test_settings("ks=200.5 sm_mode=linear cluster_mode=tets clusters=8");
+  TB_CHECK(tb_model_setting("msm", &s, "ks", &v) == 0 && v == 200.5);
+  TB_CHECK(tb_model_setting("sm", &s, "sm_mode", &v) == 0 && v == 1);
+  TB_CHECK(tb_model_setting("sm", &s, "cluster_mode", &v) == 0 && v == 1);
+  TB_CHECK(tb_model_setting("sm", &s, "clusters", &v) == 0 && v == 8);
+  s = tb_test_settings("sm_mode=0");
+  TB_CHECK(tb_model_check_settings("sm", &s, &err) == 0);
+  /* errors name the key and the model */
+  s = tb_test_settings("nu=0.3");
+  TB_CHECK(tb_model_check_settings("msm", &s, &err) && strstr(err.msg, "'nu'") &&
+           strstr(err.msg, "msm"));
+  TB_CHECK(tb_model_check_settings("fem", &s, &err) == 0);
+  s = tb_test_settings("stiffness=3");
+  TB_CHECK(tb_model_check_settings("sm", &s, &err) &&
+           strstr(err.msg, "unknown setting 'stiffness'") && strstr(err.msg, "model sm"));
+  s = tb_test_settings("nu=0.5");
+  TB_CHECK_MSG(tb_model_check_settings("fem", &s, &err) && strstr(err.msg, "fem") &&
+                   strstr(err.msg, "nu") && strstr(err.msg, "(-1, 0.5)"),
+               "%s", err.msg);
+  s = tb_test_settings("nu=-1");
+  TB_CHECK(tb_model_check_settings("fem-corot", &s, &err) && strstr(err.msg, "(-1, 0.5)"));
+  s = tb_test_settings("nu=0.4999");
+  TB_CHECK(tb_model_check_settings("fem-corot", &s, &err) == 0);
+  s = tb_test_settings("E=0");
+  TB_CHECK(tb_model_check_settings("fem", &s, &err) && strstr(err.msg, "(0, inf)"));
+  s = tb_test_settings("alpha=1.5");
+  TB_CHECK_MSG(tb_model_check_settings("sm", &s, &err) && strstr(err.msg, "alpha") &&
+                   strstr(err.msg, "[0, 1]"),
+               "%s", err.msg);
+  s = tb_test_settings("alpha=1");
+  TB_CHECK(tb_model_check_settings("sm", &s, &err) == 0); /* closed bound */
+  s = tb_test_settings("sm_damping=1");
+  TB_CHECK(tb_model_check_settings("sm", &s, &err) && strstr(err.msg, "[0, 1)"));
+  s = tb_test_settings("ks=-1");
+  TB_CHECK(tb_model_check_settings("msm", &s, &err) && strstr(err.msg, "ks"));
+  s = tb_test_settings("clusters=8.5");
+  TB_CHECK_MSG(tb_model_check_settings("sm", &s, &err) && strstr(err.msg, "clusters") &&
+                   strstr(err.msg, "whole number"),
+               "%s", err.msg);
+  s = tb_test_settings("clusters=0");
+  TB_CHECK(tb_model_check_settings("sm", &s, &err) && strstr(err.msg, "clusters"));
+  s = tb_test_settings("calibrated=2");
+  TB_CHECK(tb_model_check_settings("msm", &s, &err) && strstr(err.msg, "calibrated"));
+  s = tb_test_settings("sm_mode=cubic");
+  TB_CHECK_MSG(tb_model_check_settings("sm", &s, &err) && strstr(err.msg, "sm_mode") &&
+                   strstr(err.msg, "rigid|linear|quadratic"),
+               "%s", err.msg);
+  s = tb_test_settings("sm_mode=3");
+  TB_CHECK(tb_model_check_settings("sm", &s, &err) && strstr(err.msg, "rigid|linear|quadratic"));
+  s = tb_test_settings("E=abc");
+  TB_CHECK(tb_model_check_settings("fem", &s, &err) && strstr(err.msg, "E: 'abc'"));
+  s = tb_test_settings("E=inf");
+  TB_CHECK(tb_model_check_settings("fem", &s, &err) && strstr(err.msg, "E"));
+  s = tb_test_settings("density=0 node_mass=0");
+  TB_CHECK(tb_model_check_settings("fem", &s, &err) && strstr(err.msg, "density or node_mass"));
+  s = tb_test_settings("density=0 node_mass=2");
+  TB_CHECK(tb_model_check_settings("fem", &s, &err) == 0);
+  s = tb_test_settings("node_mass=-1");
+  TB_CHECK(tb_model_check_settings("msm", &s, &err) && strstr(err.msg, "node_mass"));
+  TB_CHECK(tb_model_check_settings("springs", NULL, &err) && strstr(err.msg, "unknown model"));
+  /* create checks the same way */
   tb_mesh m;
-  memset(&m, 0, sizeof m);
+  TB_CHECK(tb_beam(2, 1, 1, 2, 1, 1, &m, &err) == 0);
   tb_model model;
-  d = tb_model_default_def();
-  TB_CHECK(tb_model_create(&model, "springs", &m, &d, &err) && strstr(err.msg, "unknown model"));
+  s = tb_test_settings("alpha=2");
+  TB_CHECK(tb_model_create(&model, "sm", &m, &s, &err) && strstr(err.msg, "alpha"));
+  TB_CHECK(tb_model_create(&model, "springs", &m, NULL, &err) && strstr(err.msg, "unknown model"));
+  tb_mesh_free(&m);
   for (int i = 0; i < tb_model_count; i++)
     TB_CHECK(tb_model_find(tb_model_classes[i]->name) == tb_model_classes[i]);
+  /* the listing: one line per key with its default and range */
+  char *text = NULL;
+  size_t len = 0;
+  FILE *f = open_memstream(&text, &len);
+  TB_CHECK(f != NULL);
+  if (!f) return;
+  tb_model_print_settings(f, tb_model_find("sm"));
+  fclose(f);
+  int lines = 0;
+  for (size_t i = 0; i < len; i++) lines += text[i] == '\n';
+  TB_CHECK(lines == tb_model_find("sm")->nsettings);
+  TB_CHECK_MSG(strstr(text, "sm_mode") && strstr(text, "quadratic") &&
+                   strstr(text, "rigid|linear|quadratic") && strstr(text, "0.72") &&
+                   strstr(text, "[0, 1)"),
+               "%s", text);
+  free(text);
+}
+
+/* The interface beyond stepping: masses, points, the default surface,
+ * correct. */
+static void model_interface(void) {
+  tb_mesh m;
+  tb_error err;
+  TB_CHECK(tb_beam(3, 1, 1, 3, 1, 1, &m, &err) == 0);
+  int *bnd = NULL, nb = tb_mesh_tet_boundary(&m, &bnd);
+  TB_CHECK(nb > 0);
+  double vol = tb_mesh_volume(&m);
+  for (int i = 0; i < tb_model_count; i++) {
+    const char *name = tb_model_classes[i]->name;
+    tb_model model;
+    tb_settings s = tb_test_settings("node_mass=0 density=2 sm_mode=linear clusters=2");
+    if (strcmp(name, "sm")) s = tb_test_settings("node_mass=0 density=2");
+    TB_CHECK_MSG(tb_model_create(&model, name, &m, &s, &err) == 0, "%s: %s", name, err.msg);
+    if (!model.self) continue;
+    TB_CHECK(tb_model_npoints(&model) == m.nv);
+    const double *mass = tb_model_masses(&model);
+    double total = 0;
+    for (int k = 0; k < m.nv; k++) total += mass[k];
+    TB_CHECK_MSG(fabs(total - 2 * vol) < 1e-9 * vol, "%s: mass %g, 2 V = %g", name, total, 2 * vol);
+    tb_surface surf = tb_model_surface(&model);
+    TB_CHECK(surf.nv == m.nv && surf.ntri == nb && surf.version == 0);
+    TB_CHECK(surf.x == tb_model_positions(&model));
+    TB_CHECK(surf.tri && !memcmp(surf.tri, bnd, sizeof(int) * 3 * (size_t)nb));
+    int ids[2] = {1, m.nv - 1};
+    tb_vec3 x[2] = {tb_v3(7, 8, 9), tb_v3(-1, -2, -3)}, v[2] = {tb_v3(1, 0, 0), tb_v3(0, 0, 2)};
+    tb_vec3 x0 = tb_model_positions(&model)[0];
+    tb_model_correct(&model, 2, ids, x, v);
+    const tb_vec3 *px = tb_model_positions(&model), *pv = tb_model_velocities(&model);
+    TB_CHECK_MSG(tb_dist(px[1], x[0]) == 0 && tb_dist(px[m.nv - 1], x[1]) == 0, "%s", name);
+    TB_CHECK(tb_dist(pv[1], v[0]) == 0 && tb_dist(pv[m.nv - 1], v[1]) == 0);
+    TB_CHECK(tb_dist(px[0], x0) == 0);         /* the others untouched */
+    tb_model_correct(&model, 1, ids, NULL, x); /* velocities only */
+    TB_CHECK(tb_dist(px[1], x[0]) == 0 && tb_dist(pv[1], x[0]) == 0);
+    tb_model_destroy(&model);
+  }
+  free(bnd);
+  /* msm's default is the thesis's unit masses */
+  tb_model model;
+  TB_CHECK(tb_model_create(&model, "msm", &m, NULL, &err) == 0);
+  if (model.self) {
+    for (int k = 0; k < m.nv; k++) TB_CHECK(tb_model_masses(&model)[k] == 1.0);
+    tb_model_destroy(&model);
+  }
+  tb_mesh_free(&m);
+}
+
+/* Defaults run: every model on every scene at default settings stays
+ * healthy (msm blew up on every scene with masses from the density). */
+static void defaults_are_stable(void) {
+  int n;
+  const char *const *names = tb_sim_scene_names(&n);
+  for (int i = 0; i < tb_model_count; i++)
+    for (int k = 0; k < n; k++) {
+      const char *model = tb_model_classes[i]->name;
+      /* the beam scenes to their end; the liver's 100 steps (the implicit
+       * models on a coarser liver, to keep the test quick) */
+      int liver = !strncmp(names[k], "liver", 5) || !strcmp(names[k], "drop");
+      tb_sim_def sd;
+      memset(&sd, 0, sizeof sd);
+      if (liver && strcmp(model, "msm") && strcmp(model, "sm")) sd.nodes = 300;
+      tb_sim s;
+      tb_error err;
+      if (tb_sim_create(&s, names[k], &sd, model, NULL, NULL, &err)) {
+        TB_CHECK_MSG(0, "%s on %s: %s", model, names[k], err.msg);
+        continue;
+      }
+      long steps = liver ? 100 : lround(s.def.duration / s.def.dt);
+      int bad = 0;
+      for (long q = 0; q < steps && !bad; q++) bad = tb_sim_step(&s, &err);
+      TB_CHECK_MSG(!bad, "%s on %s at defaults: %s", model, names[k], err.msg);
+      tb_sim_destroy(&s);
+    }
 }
 
 static void health_detects_blow_up(void) {
@@ -138,16 +357,14 @@ static void scene_settings(void) {
   const char *const *names = tb_sim_scene_names(&n);
   TB_CHECK(n >= 4 && !strcmp(names[0], "liver-stretch"));
   tb_sim s;
-  tb_model_def md = tb_model_default_def();
-  TB_CHECK(tb_sim_create(&s, "liver-squeeze", NULL, "msm", &md, NULL, &err) &&
+  TB_CHECK(tb_sim_create(&s, "liver-squeeze", NULL, "msm", NULL, NULL, &err) &&
            strstr(err.msg, "unknown scene"));
 }
 
 /* Runs a scene with a model for n steps; returns the sim (caller destroys). */
 static int run_scene(tb_sim *s, const char *scene, const char *model, tb_sim_def *sd, long n,
                      tb_error *err) {
-  tb_model_def md = tb_model_default_def();
-  md.node_mass = 1;
+  tb_settings md = tb_test_settings("node_mass=1");
   if (tb_sim_create(s, scene, sd, model, &md, NULL, err)) return -1;
   for (long k = 0; k < n; k++)
     if (tb_sim_step(s, err)) return -1;
@@ -215,8 +432,7 @@ static void press_contacts(void) {
   sd.nodes = 300, sd.amplitude = 0.8, sd.duration = 0.8;
   tb_sim s;
   tb_error err;
-  tb_model_def md = tb_model_default_def();
-  md.node_mass = 1;
+  tb_settings md = tb_test_settings("node_mass=1");
   TB_CHECK_MSG(tb_sim_create(&s, "liver-press", &sd, "fem", &md, NULL, &err) == 0, "%s", err.msg);
   int most = 0;
   for (int k = 0; k < 80; k++) {
@@ -258,7 +474,25 @@ static void simulate_cli(void) {
   TB_CHECK(strstr(tb_test_out, "unknown model 'springs'"));
   TB_CHECK(tb_test_cli_run("simulate --model msm --scene oven") == 2);
   TB_CHECK(tb_test_cli_run("simulate --model msm --scene beam --set bogus=1") == 2);
-  TB_CHECK(strstr(tb_test_out, "unknown model setting 'bogus'"));
+  TB_CHECK(strstr(tb_test_out, "unknown setting 'bogus' for model msm"));
+  TB_CHECK(tb_test_cli_run("simulate --model msm --scene beam --set nu=0.3") == 2);
+  TB_CHECK(strstr(tb_test_out, "'nu'") && strstr(tb_test_out, "msm"));
+  TB_CHECK(tb_test_cli_run("simulate --list-markdown") == 0);
+  static char md[sizeof tb_test_out];
+  memcpy(md, tb_test_out, sizeof md);
+  TB_CHECK_MSG(strstr(md, "| `msm` | `density` 1, `node_mass` 1,") &&
+                   strstr(md, "`sm_mode` quadratic (rigid\\|linear\\|quadratic)"),
+               "%s", md);
+  snprintf(cmd, sizeof cmd, "cat %s/README.md", tb_test_source_root());
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK_MSG(strstr(tb_test_out, md),
+               "README.md's model settings differ from "
+               "`simulate --list-markdown`:\n%s",
+               md);
+  TB_CHECK(tb_test_cli_run("simulate --list") == 0);
+  TB_CHECK_MSG(strstr(tb_test_out, "node_mass") && strstr(tb_test_out, "rayleigh_stiffness") &&
+                   strstr(tb_test_out, "rigid|linear|quadratic"),
+               "%s", tb_test_out);
   TB_CHECK(tb_test_cli_run("simulate --model msm --scene beam --dt 0") == 2);
   TB_CHECK(tb_test_cli_run("simulate --model sm --scene beam --set alpha=2") == 2);
   TB_CHECK(tb_test_cli_run("simulate --model msm") == 2);
@@ -292,7 +526,10 @@ static void suites_smoke(void) {
 const tb_test_case tb_tests_models[] = {
     {"polar_recovers_rotation", polar_recovers_rotation},
     {"eigen_and_inverse", eigen_and_inverse},
-    {"settings_parse_and_check", settings_parse_and_check},
+    {"settings_text", settings_text},
+    {"settings_tables", settings_tables},
+    {"model_interface", model_interface},
+    {"defaults_are_stable", defaults_are_stable},
     {"health_detects_blow_up", health_detects_blow_up},
     {"scene_settings", scene_settings},
     {"drop_follows_gravity", drop_follows_gravity},

@@ -11,6 +11,7 @@
 #include "tb_model.h"
 #include "tb_rng.h"
 #include "tb_test.h"
+#include "tb_test_models.h"
 
 /* The 4x1x1 beam split into 8x2x2 cubes (81 nodes, 576 tets, spacing 0.5). */
 static int beam(tb_mesh *m) {
@@ -22,7 +23,7 @@ static int beam(tb_mesh *m) {
   return 0;
 }
 
-static int create(tb_model *m, const tb_mesh *mesh, const tb_model_def *d) {
+static int create(tb_model *m, const tb_mesh *mesh, const tb_settings *d) {
   tb_error err;
   if (tb_model_create(m, "msm", mesh, d, &err)) {
     tb_test_fail(__FILE__, __LINE__, "create: %s", err.msg);
@@ -81,8 +82,7 @@ static double max_speed(const tb_model *m) {
 static void msm_energy_symplectic(void) {
   tb_mesh mesh;
   if (beam(&mesh)) return;
-  tb_model_def d = tb_model_default_def();
-  d.node_mass = 1, d.ks = 180, d.kd = 0;
+  tb_settings d = tb_test_settings("node_mass=1 ks=180 kd=0");
   tb_vec3 *x0 = perturbed(&mesh, 0.02, 11);
   tb_model m;
   if (create(&m, &mesh, &d)) return;
@@ -128,7 +128,7 @@ static void msm_energy_symplectic(void) {
 static void msm_rest_and_rigid(void) {
   tb_mesh mesh;
   if (beam(&mesh)) return;
-  tb_model_def d = tb_model_default_def();
+  tb_settings d = tb_test_settings("node_mass=0"); /* masses from the density */
   tb_model m;
   if (create(&m, &mesh, &d)) return;
   tb_step s = no_load(1e-3);
@@ -138,7 +138,7 @@ static void msm_rest_and_rigid(void) {
   TB_CHECK(tb_model_energy(&m) == 0);
   tb_model_destroy(&m);
 
-  d.kd = 0;
+  tb_settings_set(&d, "kd=0", NULL);
   tb_mat3 r = tb_m3_rotation(tb_v3(1, 2, 3), 0.9);
   tb_vec3 t = tb_v3(3, -1, 2);
   tb_vec3 *xr = malloc(sizeof(tb_vec3) * (size_t)mesh.nv);
@@ -168,11 +168,11 @@ static void msm_rest_and_rigid(void) {
 static void msm_free_fall(void) {
   tb_mesh mesh;
   if (beam(&mesh)) return;
-  tb_model_def d = tb_model_default_def();
-  d.density = 100; /* lumped masses 0.5 .. 12.5: explicit-stable at dt 1e-3 with kd 5 */
+  /* lumped masses 0.5 .. 12.5: explicit-stable at dt 1e-3 with kd 5 */
+  tb_settings d = tb_test_settings("node_mass=0 density=100");
   double *mass = malloc(sizeof(double) * (size_t)mesh.nv);
   tb_error err;
-  TB_CHECK(!tb_lumped_masses(&mesh, &d, mass, &err));
+  TB_CHECK(!tb_lumped_masses(&mesh, 100, 0, mass, &err));
   tb_model m;
   if (create(&m, &mesh, &d)) return;
   tb_vec3 *f = calloc((size_t)mesh.nv, sizeof(tb_vec3));
@@ -213,7 +213,7 @@ static void msm_free_fall(void) {
 static void msm_prescribed(void) {
   tb_mesh mesh;
   if (beam(&mesh)) return;
-  tb_model_def d = tb_model_default_def();
+  tb_settings d = tb_test_settings("node_mass=0");
   tb_model m;
   if (create(&m, &mesh, &d)) return;
   const int nv = mesh.nv;
@@ -285,7 +285,7 @@ static void msm_prescribed(void) {
 static void msm_zero_length_spring(void) {
   tb_mesh mesh;
   if (beam(&mesh)) return;
-  tb_model_def d = tb_model_default_def();
+  tb_settings d = tb_test_settings("node_mass=0");
   tb_model m;
   if (create(&m, &mesh, &d)) return;
   int pair[2] = {0, 1}; /* node 1 is node 0's neighbour along x */
@@ -310,8 +310,8 @@ static void msm_damping(void) {
   tb_vec3 *x0 = perturbed(&mesh, 0.02, 5);
   double ratio[2] = {0, 0};
   for (int damped = 0; damped < 2; damped++) {
-    tb_model_def d = tb_model_default_def();
-    d.node_mass = 1, d.ks = 180, d.kd = damped ? 5 : 0;
+    tb_settings d =
+        tb_test_settings(damped ? "node_mass=1 ks=180 kd=5" : "node_mass=1 ks=180 kd=0");
     tb_model m;
     if (create(&m, &mesh, &d)) break;
     place(&m, x0);
@@ -340,8 +340,8 @@ static void msm_calibrated(void) {
   double w[3], wr[3];
   const double es[3] = {3000, 6000, 3000}, kss[3] = {180, 180, 0};
   for (int k = 0; k < 3; k++) {
-    tb_model_def d = tb_model_default_def();
-    d.calibrated = 1, d.E = es[k], d.ks = kss[k];
+    tb_settings d = tb_test_settings("node_mass=0 calibrated=1");
+    tb_settings_setd(&d, "E", es[k], NULL), tb_settings_setd(&d, "ks", kss[k], NULL);
     tb_model m;
     if (create(&m, &mesh, &d)) return;
     place(&m, xs);
@@ -360,8 +360,10 @@ static void msm_calibrated(void) {
   free(xr);
 
   /* pull: x = 0 face held, x = 4 face moved by 0.5% of the length */
-  tb_model_def d = tb_model_default_def();
-  d.calibrated = 1, d.node_mass = 1, d.kd = 30; /* masses do not change the equilibrium */
+  /* masses do not change the equilibrium */
+  tb_settings d = tb_test_settings("calibrated=1 node_mass=1 kd=30");
+  double E = 0;
+  tb_model_setting("msm", &d, "E", &E);
   tb_model m;
   if (create(&m, &mesh, &d)) return;
   int *ends = malloc(sizeof(int) * (size_t)nv), ne = 0;
@@ -387,8 +389,8 @@ static void msm_calibrated(void) {
   double delta = strain * len;
   double e_eff = 2 * elastic * len / (area * delta * delta); /* W = 1/2 (E A / L) delta^2 */
   printf("msm calibrated beam 4x1x1 (8x2x2 cubes), ends clamped, strain %g: E_eff/E = %.4f\n",
-         strain, e_eff / d.E);
-  TB_CHECK_MSG(e_eff > 0.6 * d.E && e_eff < 1.4 * d.E, "E_eff/E = %g", e_eff / d.E);
+         strain, e_eff / E);
+  TB_CHECK_MSG(e_eff > 0.6 * E && e_eff < 1.4 * E, "E_eff/E = %g", e_eff / E);
   tb_model_destroy(&m);
   free(ends), free(xs);
   tb_mesh_free(&mesh);
@@ -402,7 +404,7 @@ static void msm_deterministic(void) {
   tb_vec3 *f = perturbed(&mesh, 1.0, 3); /* used as random forces */
   int held[3] = {0, 1, 2};
   for (int run = 0; run < 2; run++) {
-    tb_model_def d = tb_model_default_def();
+    tb_settings d = tb_test_settings("node_mass=0");
     tb_model m;
     if (create(&m, &mesh, &d)) break;
     tb_step s = no_load(1e-3);
@@ -427,8 +429,7 @@ static void msm_bad_input(void) {
   tb_error err;
   tb_model m;
   for (int mode = 0; mode < 2; mode++) { /* density, then node_mass (no volumes needed) */
-    tb_model_def d = tb_model_default_def();
-    d.node_mass = mode ? 1 : 0;
+    tb_settings d = tb_test_settings(mode ? "node_mass=1" : "node_mass=0");
     if (tb_mesh_copy(&bad, &mesh)) return;
     int t = bad.tet[4 * 5];
     bad.tet[4 * 5] = bad.tet[4 * 5 + 1], bad.tet[4 * 5 + 1] = t; /* inverted */
@@ -444,7 +445,7 @@ static void msm_bad_input(void) {
     tb_mesh_free(&bad);
   }
   /* a node outside every tet has no lumped mass (tb_lumped_masses' message) */
-  tb_model_def d = tb_model_default_def();
+  tb_settings d = tb_test_settings("node_mass=0");
   if (tb_mesh_copy(&bad, &mesh)) return;
   bad.x = realloc(bad.x, sizeof(tb_vec3) * (size_t)(bad.nv + 1));
   bad.x[bad.nv++] = tb_v3(9, 9, 9);
@@ -454,21 +455,19 @@ static void msm_bad_input(void) {
   /* calibration needs tets */
   if (tb_mesh_copy(&bad, &mesh)) return;
   bad.ntet = 0;
-  d.node_mass = 1, d.calibrated = 1;
+  d = tb_test_settings("node_mass=1 calibrated=1");
   TB_CHECK(tb_model_create(&m, "msm", &bad, &d, &err) != 0);
   TB_CHECK_MSG(strstr(err.msg, "tets") != NULL, "%s", err.msg);
-  d.calibrated = 0; /* a triangle spring mesh with unit masses is fine */
+  d = tb_test_settings("node_mass=1"); /* a triangle spring mesh with unit masses is fine */
   TB_CHECK(tb_model_create(&m, "msm", &bad, &d, &err) == 0);
   tb_model_destroy(&m);
   bad.ntet = mesh.ntet;
   tb_mesh_free(&bad);
-  /* negative stiffness is rejected by the shared settings check */
-  d = tb_model_default_def();
-  d.ks = -1;
+  /* negative stiffness is rejected by msm's table */
+  d = tb_test_settings("ks=-1");
   TB_CHECK(tb_model_create(&m, "msm", &mesh, &d, &err) != 0);
   TB_CHECK_MSG(strstr(err.msg, "ks") != NULL, "%s", err.msg);
-  d = tb_model_default_def();
-  d.kd = -0.5;
+  d = tb_test_settings("kd=-0.5");
   TB_CHECK(tb_model_create(&m, "msm", &mesh, &d, &err) != 0);
   tb_mesh_free(&mesh);
 }

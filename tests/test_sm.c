@@ -14,6 +14,7 @@
 #include "tb_rng.h"
 #include "tb_sm.h"
 #include "tb_test.h"
+#include "tb_test_models.h"
 
 static const char *const mode_name[] = {"rigid", "linear", "quadratic"};
 
@@ -28,14 +29,23 @@ static tb_mesh beam(void) {
 
 /* Settings for the beam: 4 overlapping regions of radius 1.5 (with 1.2 one
  * region shares only 2 nodes with the rest: a hinge, a zero-energy mode). */
-static tb_model_def beam_def(int mode, int cluster_mode) {
-  tb_model_def d = tb_model_default_def();
-  d.sm_mode = mode, d.cluster_mode = cluster_mode;
-  d.clusters = 4, d.radius = 1.5;
+static tb_settings beam_def(int mode, int cluster_mode) {
+  tb_settings d = tb_test_settings("node_mass=0 clusters=4 radius=1.5"); /* density masses */
+  tb_settings_setd(&d, "sm_mode", mode, NULL),
+      tb_settings_setd(&d, "cluster_mode", cluster_mode, NULL);
   return d;
 }
 
-static int create(tb_model *m, const tb_mesh *mesh, const tb_model_def *d) {
+/* tb_sm_clusters_build with the cluster settings of d. */
+static int build(const tb_mesh *mesh, const tb_settings *d, tb_sm_clusters *cl, tb_error *err) {
+  double mode = -1, n = 0, r = 0;
+  TB_CHECK(tb_model_setting("sm", d, "cluster_mode", &mode) == 0);
+  TB_CHECK(tb_model_setting("sm", d, "clusters", &n) == 0);
+  TB_CHECK(tb_model_setting("sm", d, "radius", &r) == 0);
+  return tb_sm_clusters_build(mesh, (int)mode, (int)n, r, cl, err);
+}
+
+static int create(tb_model *m, const tb_mesh *mesh, const tb_settings *d) {
   tb_error err;
   int rc = tb_model_create(m, "sm", mesh, d, &err);
   TB_CHECK_MSG(rc == 0, "create: %s", err.msg);
@@ -105,8 +115,8 @@ static void rigid_motion_invariance(void) {
   tb_vec3 shift = tb_v3(1.5, -2.0, 3.0);
   for (int mode = TB_SM_RIGID; mode <= TB_SM_QUADRATIC; mode++)
     for (int variant = 0; variant < 3; variant++) { /* regions, one cluster, tets */
-      tb_model_def d = beam_def(mode, variant == 2 ? TB_CLUSTER_TETS : TB_CLUSTER_REGIONS);
-      if (variant == 1) d.clusters = 1;
+      tb_settings d = beam_def(mode, variant == 2 ? TB_CLUSTER_TETS : TB_CLUSTER_REGIONS);
+      if (variant == 1) tb_settings_setd(&d, "clusters", 1, NULL);
       tb_model m;
       if (create(&m, &mesh, &d)) continue;
       tb_vec3 *x = xs(&m);
@@ -129,8 +139,8 @@ static void rigid_motion_invariance(void) {
  * rigid motion of its rest shape. */
 static void alpha_one_is_rigid(void) {
   tb_mesh mesh = beam();
-  tb_model_def d = beam_def(TB_SM_RIGID, TB_CLUSTER_REGIONS);
-  d.clusters = 1, d.alpha = 1.0;
+  tb_settings d = beam_def(TB_SM_RIGID, TB_CLUSTER_REGIONS);
+  tb_settings_setd(&d, "clusters", 1, NULL), tb_settings_setd(&d, "alpha", 1.0, NULL);
   tb_model m;
   if (create(&m, &mesh, &d)) return;
   tb_vec3 *x = xs(&m);
@@ -152,7 +162,7 @@ static void alpha_one_is_rigid(void) {
 }
 
 /* Largest distance a model's nodes move in one step from x (no forces). */
-static double one_step_motion(const tb_mesh *mesh, const tb_model_def *d, const tb_vec3 *x) {
+static double one_step_motion(const tb_mesh *mesh, const tb_settings *d, const tb_vec3 *x) {
   tb_model m;
   if (create(&m, mesh, d)) return INFINITY;
   memcpy(xs(&m), x, sizeof(tb_vec3) * (size_t)mesh->nv);
@@ -185,22 +195,22 @@ static void exact_affine_and_quadratic(void) {
     xq[i] = tb_add(p, qq);
   }
   for (int cm = 0; cm < 3; cm++) { /* regions, one cluster, tets */
-    tb_model_def d = beam_def(TB_SM_LINEAR, cm == 2 ? TB_CLUSTER_TETS : TB_CLUSTER_REGIONS);
-    if (cm == 1) d.clusters = 1;
-    d.beta = 1.0;
+    tb_settings d = beam_def(TB_SM_LINEAR, cm == 2 ? TB_CLUSTER_TETS : TB_CLUSTER_REGIONS);
+    if (cm == 1) tb_settings_setd(&d, "clusters", 1, NULL);
+    tb_settings_setd(&d, "beta", 1.0, NULL);
     double e = one_step_motion(&mesh, &d, xa);
     TB_CHECK_MSG(e <= 1e-9, "linear, clusters %d: volume-preserving affine moved %g", cm, e);
     e = one_step_motion(&mesh, &d, xb); /* volume change: A / cbrt(det A) differs */
     TB_CHECK_MSG(e > 1e-3, "linear, clusters %d: a volume change should be resisted (%g)", cm, e);
-    d.sm_mode = TB_SM_QUADRATIC;
+    tb_settings_setd(&d, "sm_mode", TB_SM_QUADRATIC, NULL);
     e = one_step_motion(&mesh, &d, xq);
     TB_CHECK_MSG(e <= 1e-9, "quadratic, clusters %d: quadratic deformation moved %g", cm, e);
-    d.beta = 0.5; /* a blend with R pulls towards the rest shape */
+    tb_settings_setd(&d, "beta", 0.5, NULL); /* a blend with R pulls towards the rest shape */
     e = one_step_motion(&mesh, &d, xq);
     TB_CHECK_MSG(e > 1e-3, "quadratic, beta 0.5, clusters %d: moved only %g", cm, e);
   }
-  tb_model_def d = beam_def(TB_SM_LINEAR, TB_CLUSTER_REGIONS); /* linear cannot bend */
-  d.clusters = 1, d.beta = 1.0;
+  tb_settings d = beam_def(TB_SM_LINEAR, TB_CLUSTER_REGIONS); /* linear cannot bend */
+  tb_settings_setd(&d, "clusters", 1, NULL), tb_settings_setd(&d, "beta", 1.0, NULL);
   TB_CHECK(one_step_motion(&mesh, &d, xq) > 1e-3);
   free(xa), free(xb), free(xq);
   tb_mesh_free(&mesh);
@@ -222,8 +232,8 @@ static void unconditional_stability(void) {
   for (int i = 0; i < nv; i++) r0 = fmax(r0, tb_dist(mesh.x[i], c0));
   for (int mode = TB_SM_RIGID; mode <= TB_SM_QUADRATIC; mode++)
     for (int cm = 0; cm < 2; cm++) {
-      tb_model_def d = beam_def(mode, cm ? TB_CLUSTER_TETS : TB_CLUSTER_REGIONS);
-      d.sm_damping = 0.1;
+      tb_settings d = beam_def(mode, cm ? TB_CLUSTER_TETS : TB_CLUSTER_REGIONS);
+      tb_settings_setd(&d, "sm_damping", 0.1, NULL);
       tb_model m;
       if (create(&m, &mesh, &d)) continue;
       tb_vec3 *x = xs(&m);
@@ -254,11 +264,9 @@ static void unconditional_stability(void) {
 }
 
 /* Total momentum and centre of mass. */
-static void momentum(const tb_mesh *mesh, const tb_model_def *d, const tb_model *m, tb_vec3 *p,
-                     tb_vec3 *cm, double *mtot) {
-  double *mass = malloc(sizeof(double) * (size_t)mesh->nv);
-  tb_error err;
-  TB_CHECK(tb_lumped_masses(mesh, d, mass, &err) == 0);
+static void momentum(const tb_mesh *mesh, const tb_model *m, tb_vec3 *p, tb_vec3 *cm,
+                     double *mtot) {
+  const double *mass = tb_model_masses(m);
   *p = *cm = tb_v3(0, 0, 0), *mtot = 0;
   for (int i = 0; i < mesh->nv; i++) {
     *p = tb_madd(*p, mass[i], tb_model_velocities(m)[i]);
@@ -266,7 +274,6 @@ static void momentum(const tb_mesh *mesh, const tb_model_def *d, const tb_model 
     *mtot += mass[i];
   }
   *cm = tb_scale(*cm, 1.0 / *mtot);
-  free(mass);
 }
 
 /* 5. Free fall of a deforming body: the matching forces sum to zero, so the
@@ -284,7 +291,7 @@ static void free_fall_momentum(void) {
   }
   for (int mode = TB_SM_RIGID; mode <= TB_SM_QUADRATIC; mode++)
     for (int cm = 0; cm < 2; cm++) {
-      tb_model_def d = beam_def(mode, cm ? TB_CLUSTER_TETS : TB_CLUSTER_REGIONS);
+      tb_settings d = beam_def(mode, cm ? TB_CLUSTER_TETS : TB_CLUSTER_REGIONS);
       tb_model m;
       if (create(&m, &mesh, &d)) continue;
       tb_vec3 *x = xs(&m), *v = vs(&m), v0 = tb_v3(0.5, 0.2, -0.1);
@@ -294,13 +301,13 @@ static void free_fall_momentum(void) {
       }
       tb_vec3 p0, c0, p, c;
       double mt;
-      momentum(&mesh, &d, &m, &p0, &c0, &mt);
+      momentum(&mesh, &m, &p0, &c0, &mt);
       tb_vec3 a = tb_add(tb_v3(0, -9.81, 0), tb_scale(fsum, 1.0 / mt));
       tb_step s = no_forces(0.01);
       s.gravity = tb_v3(0, -9.81, 0), s.force = force;
       int n = 100;
       run(&m, &s, n);
-      momentum(&mesh, &d, &m, &p, &c, &mt);
+      momentum(&mesh, &m, &p, &c, &mt);
       tb_vec3 pe = tb_scale(tb_madd(v0, n * s.dt, a), mt);
       tb_vec3 ce = tb_madd(tb_madd(c0, n * s.dt, v0), s.dt * s.dt * n * (n + 1) / 2.0, a);
       TB_CHECK_MSG(tb_dist(p, pe) <= 1e-9 * tb_len(pe), "%s/%d: momentum off by %g",
@@ -341,29 +348,31 @@ static void clusters(void) {
   tb_mesh mesh = beam();
   tb_error err;
   tb_sm_clusters cl;
-  tb_model_def d = beam_def(TB_SM_QUADRATIC, TB_CLUSTER_REGIONS);
-  TB_CHECK(tb_sm_clusters_build(&mesh, &d, &cl, &err) == 0);
+  tb_settings d = beam_def(TB_SM_QUADRATIC, TB_CLUSTER_REGIONS);
+  TB_CHECK(build(&mesh, &d, &cl, &err) == 0);
   TB_CHECK(cl.n == 4);
   check_cover(&cl, mesh.nv);
   int overlap = cl.start[cl.n] > mesh.nv;
   TB_CHECK_MSG(overlap, "radius 1.5 regions should overlap (%d members)", cl.start[cl.n]);
   tb_sm_clusters_free(&cl);
-  d.radius = 0.01; /* regions hold only their centres: the rest join the nearest */
-  TB_CHECK(tb_sm_clusters_build(&mesh, &d, &cl, &err) == 0);
+  tb_settings_setd(&d, "radius", 0.01,
+                   NULL); /* regions hold only their centres: the rest join the nearest */
+  TB_CHECK(build(&mesh, &d, &cl, &err) == 0);
   TB_CHECK(cl.n == 4 && cl.start[cl.n] == mesh.nv);
   check_cover(&cl, mesh.nv);
   tb_sm_clusters_free(&cl);
-  d.clusters = 1, d.radius = 0.01; /* one cluster: all nodes, radius ignored */
-  TB_CHECK(tb_sm_clusters_build(&mesh, &d, &cl, &err) == 0);
+  tb_settings_setd(&d, "clusters", 1, NULL),
+      tb_settings_setd(&d, "radius", 0.01, NULL); /* one cluster: all nodes, radius ignored */
+  TB_CHECK(build(&mesh, &d, &cl, &err) == 0);
   TB_CHECK(cl.n == 1 && cl.start[1] == mesh.nv);
   tb_sm_clusters_free(&cl);
-  d.clusters = 1000; /* more clusters than nodes: one per node */
-  TB_CHECK(tb_sm_clusters_build(&mesh, &d, &cl, &err) == 0);
+  tb_settings_setd(&d, "clusters", 1000, NULL); /* more clusters than nodes: one per node */
+  TB_CHECK(build(&mesh, &d, &cl, &err) == 0);
   TB_CHECK(cl.n == mesh.nv);
   check_cover(&cl, mesh.nv);
   tb_sm_clusters_free(&cl);
-  d.cluster_mode = TB_CLUSTER_TETS; /* node + tet neighbours */
-  TB_CHECK(tb_sm_clusters_build(&mesh, &d, &cl, &err) == 0);
+  tb_settings_setd(&d, "cluster_mode", TB_CLUSTER_TETS, NULL); /* node + tet neighbours */
+  TB_CHECK(build(&mesh, &d, &cl, &err) == 0);
   TB_CHECK(cl.n == mesh.nv);
   check_cover(&cl, mesh.nv);
   int *edges = NULL, ne = tb_mesh_edges(&mesh, &edges), *deg = calloc((size_t)mesh.nv, sizeof(int));
@@ -379,8 +388,8 @@ static void clusters(void) {
   tb_sm_clusters_free(&cl);
   tb_mesh cloud = mesh; /* tets mode on a point cloud is an error */
   cloud.ntet = 0, cloud.ntri = 0;
-  d.node_mass = 1;
-  TB_CHECK(tb_sm_clusters_build(&cloud, &d, &cl, &err) != 0 && strstr(err.msg, "tets"));
+  tb_settings_setd(&d, "node_mass", 1, NULL);
+  TB_CHECK(build(&cloud, &d, &cl, &err) != 0 && strstr(err.msg, "tets"));
   tb_model m;
   TB_CHECK(tb_model_create(&m, "sm", &cloud, &d, &err) != 0 && strstr(err.msg, "tets"));
   int keep = mesh.tet[5]; /* bad input is an error, not a crash */
@@ -396,7 +405,7 @@ static void clusters(void) {
   memset(&surf, 0, sizeof surf), memset(&tets, 0, sizeof tets);
   TB_CHECK_MSG(tb_liver_surface(&ld, &surf, &err) == 0, "%s", err.msg);
   TB_CHECK_MSG(tb_liver_tets(&ld, &surf, &tets, &err) == 0, "%s", err.msg);
-  tb_model_def dl = tb_model_default_def();
+  tb_settings dl = tb_test_settings("node_mass=0");
   if (create(&m, &tets, &dl) == 0) {
     int n = 0;
     double mean = 0;
@@ -407,7 +416,7 @@ static void clusters(void) {
     TB_CHECK(isnan(tb_model_energy(&m)));
     tb_model_destroy(&m);
   }
-  TB_CHECK(tb_sm_clusters_build(&tets, &dl, &cl, &err) == 0);
+  TB_CHECK(build(&tets, &dl, &cl, &err) == 0);
   check_cover(&cl, tets.nv);
   tb_sm_clusters_free(&cl);
   tb_model other; /* not an sm model */
@@ -422,7 +431,7 @@ static void clusters(void) {
  * / dt; the set may change between steps; bad lists are errors. */
 static void prescribed_nodes(void) {
   tb_mesh mesh = beam();
-  tb_model_def d = beam_def(TB_SM_QUADRATIC, TB_CLUSTER_REGIONS);
+  tb_settings d = beam_def(TB_SM_QUADRATIC, TB_CLUSTER_REGIONS);
   tb_model m;
   if (create(&m, &mesh, &d)) return;
   tb_vec3 *x = xs(&m);
@@ -491,7 +500,7 @@ static void shake(tb_model *m, const tb_mesh *mesh, int n) {
 static void determinism_and_point_clouds(void) {
   tb_mesh mesh = beam();
   for (int mode = TB_SM_RIGID; mode <= TB_SM_QUADRATIC; mode++) {
-    tb_model_def d = beam_def(mode, TB_CLUSTER_REGIONS);
+    tb_settings d = beam_def(mode, TB_CLUSTER_REGIONS);
     tb_model a, b;
     if (create(&a, &mesh, &d) || create(&b, &mesh, &d)) return;
     shake(&a, &mesh, 100), shake(&b, &mesh, 100);
@@ -507,11 +516,11 @@ static void determinism_and_point_clouds(void) {
   for (int flat = 0; flat < 2; flat++) { /* flat: coplanar particles, singular A_qq */
     tb_mesh pc = cloud(300, flat, 21 + (uint64_t)flat);
     for (int mode = TB_SM_RIGID; mode <= TB_SM_QUADRATIC; mode++) {
-      tb_model_def d = tb_model_default_def();
-      d.sm_mode = mode, d.clusters = 8, d.radius = 0.5;
+      tb_settings d = tb_test_settings("node_mass=0 clusters=8 radius=0.5");
+      tb_settings_setd(&d, "sm_mode", mode, NULL);
       tb_model m;
       TB_CHECK(tb_model_create(&m, "sm", &pc, &d, &err) != 0 && strstr(err.msg, "node_mass"));
-      d.node_mass = 1;
+      tb_settings_setd(&d, "node_mass", 1, NULL);
       if (create(&m, &pc, &d)) continue;
       int n;
       double mean;

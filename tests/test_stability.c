@@ -8,15 +8,15 @@
 
 #include "tb_sim.h"
 #include "tb_test.h"
+#include "tb_test_models.h"
 
 /* A sim of `scene` with unit node masses; model settings from kv pairs. */
 static int make(tb_sim *s, const char *scene, const char *model, tb_sim_def *sd,
                 const char *const *kv, int nkv) {
-  tb_model_def md = tb_model_default_def();
-  md.node_mass = 1;
+  tb_settings md = tb_test_settings("node_mass=1");
   tb_error err;
   for (int i = 0; i < nkv; i++)
-    if (tb_model_def_set(&md, kv[i], &err)) {
+    if (tb_settings_set(&md, kv[i], &err)) {
       TB_CHECK_MSG(0, "%s", err.msg);
       return -1;
     }
