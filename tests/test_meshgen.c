@@ -188,8 +188,9 @@ static double sideways_ratio(tb_beam_split split) {
   }
   for (int i = 0; i < m.nv; i++)
     if (m.x[i].x == L) force[i] = tb_v3(0, 0, -1.0 / ntip);
-  tb_model_def d = tb_model_default_def();
-  d.quasistatic = 1;
+  tb_settings d;
+  tb_settings_init(&d);
+  tb_settings_set(&d, "quasistatic=1", &err);
   tb_model mod;
   if (tb_model_create(&mod, "fem", &m, &d, &err) == 0) {
     tb_step st;
