@@ -1,28 +1,34 @@
-/* `tissuebench simulate`: one model on one scene; prints the median time
- * per step and the final state's metrics, or the reason the run blew up. */
+/* `tissuebench simulate`: one model on one scene (a built-in name or a
+ * scene file), or on a mesh file with the quick form's fixes and gravity;
+ * prints the median time per step and the final state's metrics, or the
+ * reason the run blew up. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "tb_cli.h"
 #include "tb_results.h"
 #include "tb_sim.h"
 #include "tb_timer.h"
 
+#define PROG "tissuebench simulate"
+
 static void list_all(void) {
   int n;
   const char *const *names = tb_sim_scene_names(&n);
-  printf("scenes:\n");
+  printf("scenes (scenes/NAME.ini; or give a scene file's path):\n");
   for (int i = 0; i < n; i++) printf("  %-14s %s\n", names[i], tb_sim_scene_summary(names[i]));
-  printf("models (--set key=value; key, type, default, range, what it is):\n");
+  printf("scene keys (--set key=value; 0 means 0): ");
+  for (int i = 0; i < TB_P_COUNT; i++)
+    printf("%s%s", tb_scene_param_names[i], i + 1 < TB_P_COUNT ? " " : "\n");
+  printf("models and their settings (--set key=value; default, range):\n");
   for (int i = 0; i < tb_model_count; i++) {
     printf("  %-14s %s\n", tb_model_classes[i]->name, tb_model_classes[i]->summary);
     tb_model_print_settings(stdout, tb_model_classes[i]);
   }
-  printf(
-      "scene keys: dt duration amplitude release nodes gravity vmax inversion drag energy_factor "
-      "energy_every\n");
 }
 
 /* The README's list: one row per model, its keys with their defaults
@@ -49,14 +55,98 @@ static void list_markdown(void) {
   }
 }
 
+static int bad(const char *fmt, const char *a) {
+  fprintf(stderr, PROG ": ");
+  fprintf(stderr, fmt, a);
+  fputc('\n', stderr);
+  return TB_EXIT_INPUT;
+}
+
+/* Three comma-separated numbers. */
+static int parse_vec(const char *s, tb_vec3 *out) {
+  char *end;
+  double v[3];
+  for (int k = 0; k < 3; k++) {
+    errno = 0;
+    v[k] = strtod(s, &end);
+    if (end == s || errno || !isfinite(v[k]) || (k < 2 ? *end != ',' : *end != 0)) return -1;
+    s = end + (k < 2);
+  }
+  *out = tb_v3(v[0], v[1], v[2]);
+  return 0;
+}
+
+/* The quick form: a description built from --mesh, --fix/--fix-box, --gravity. */
+static int quick_desc(tb_scene_desc *d, const char *mesh, const char *fix, const char *fixbox,
+                      const char *gravity, tb_error *err) {
+  tb_scene_desc_init(d);
+  snprintf(d->name, sizeof d->name, "%s", "mesh");
+  snprintf(d->summary, sizeof d->summary, "%s", mesh);
+  const char *why;
+  if (tb_scene_resolve_path("", mesh, d->mesh.path, sizeof d->mesh.path, &why))
+    return tb_error_set(err, mesh, 0, "%s", why);
+  if (fix || fixbox) {
+    tb_selection *s = &d->fix[d->nfix++];
+    s->sel = calloc(1, sizeof *s->sel);
+    if (!s->sel) return tb_error_set(err, "--fix", 0, "out of memory");
+    s->n = 1;
+    if (tb_selector_parse(&s->sel[0], fix ? TB_SEL_IDS : TB_SEL_BOX, fix ? fix : fixbox,
+                          fix ? "--fix" : "--fix-box", 0, NULL, err))
+      return -1;
+  }
+  if (gravity) {
+    tb_vec3 g;
+    if (parse_vec(gravity, &g))
+      return tb_error_set(err, "--gravity", 0, "'%s' is not gx,gy,gz", gravity);
+    d->param[TB_P_GRAVITY] = tb_len(g);
+    if (tb_len(g) > 0) d->gravity_dir = tb_scale(g, 1.0 / tb_len(g));
+  }
+  return 0;
+}
+
+/* --static: the model's static solve where it has one (quasistatic steps
+ * until the positions stop changing), else steps until at rest. Returns the
+ * steps taken, -1 on failure. */
+static long run_static(tb_sim *s, long cap, int solver, double *change, tb_error *err) {
+  tb_vec3 *prev = malloc(sizeof(tb_vec3) * (size_t)s->mesh.nv);
+  if (!prev) return tb_error_set(err, PROG, 0, "out of memory");
+  long k = 0;
+  for (; k < cap; k++) {
+    memcpy(prev, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
+    if (tb_sim_step(s, err)) {
+      free(prev);
+      return -1;
+    }
+    const tb_vec3 *x = tb_model_positions(&s->model);
+    double d = 0, speed, tol;
+    for (int i = 0; i < s->mesh.nv; i++) d = fmax(d, tb_dist(x[i], prev[i]));
+    *change = d;
+    if (solver ? d <= 1e-12 * s->size : tb_sim_at_rest(s, &speed, &tol)) {
+      k++;
+      break;
+    }
+  }
+  free(prev);
+  return k;
+}
+
+static int make_dir(const char *dir, tb_error *err) {
+  if (mkdir(dir, 0777) && errno != EEXIST)
+    return tb_error_set(err, dir, 0, "cannot create the folder: %s", strerror(errno));
+  struct stat st;
+  if (stat(dir, &st) || !S_ISDIR(st.st_mode)) return tb_error_set(err, dir, 0, "not a folder");
+  return 0;
+}
+
 int tb_cmd_simulate(int argc, char **argv) {
-  const char *model = NULL, *scene = NULL, *vtk = NULL;
+  const char *model = NULL, *scene = NULL, *vtk = NULL, *mesh = NULL, *fix = NULL, *fixbox = NULL;
+  const char *gravity = NULL;
   long steps = 0, every = 0;
+  int statik = 0;
   tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
-  sd.seed = 1;
-  tb_settings mset; /* model keys, checked against the model's table below */
-  tb_settings_init(&mset);
+  tb_sim_def_init(&sd);
+  tb_settings set;
+  tb_settings_init(&set);
   tb_error err;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -68,102 +158,143 @@ int tb_cmd_simulate(int argc, char **argv) {
       list_markdown();
       return TB_EXIT_OK;
     }
-    if (!v) {
-      fprintf(stderr, "tissuebench simulate: unknown or incomplete option '%s'\n", a);
-      return TB_EXIT_INPUT;
+    if (!strcmp(a, "--static")) {
+      statik = 1;
+      continue;
     }
+    if (!v) return bad("unknown or incomplete option '%s'", a);
     i++;
-    if (!strcmp(a, "--model"))
-      model = v;
-    else if (!strcmp(a, "--scene"))
-      scene = v;
-    else if (!strcmp(a, "--vtk"))
-      vtk = v;
-    else if (!strcmp(a, "--steps") || !strcmp(a, "--every")) {
+    const char **slot = !strcmp(a, "--model")     ? &model
+                        : !strcmp(a, "--scene")   ? &scene
+                        : !strcmp(a, "--vtk")     ? &vtk
+                        : !strcmp(a, "--mesh")    ? &mesh
+                        : !strcmp(a, "--fix")     ? &fix
+                        : !strcmp(a, "--fix-box") ? &fixbox
+                        : !strcmp(a, "--gravity") ? &gravity
+                                                  : NULL;
+    if (slot) {
+      if (*slot) return bad("%s given twice", a);
+      *slot = v;
+    } else if (!strcmp(a, "--steps") || !strcmp(a, "--every")) {
       char *end;
       long n = strtol(v, &end, 10);
-      if (*end || end == v || n < 1 || n > 100000000) {
-        fprintf(stderr, "tissuebench simulate: %s needs a whole number >= 1\n", a);
-        return TB_EXIT_INPUT;
-      }
+      if (*end || end == v || n < 1 || n > 100000000)
+        return bad("%s needs a whole number in 1..1e8", a);
       *(a[2] == 's' ? &steps : &every) = n;
-    } else if (!strcmp(a, "--dt")) {
-      if (tb_cli_parse_double("--dt", v, &sd.dt)) return TB_EXIT_INPUT;
-      if (!(sd.dt > 0)) {
-        fprintf(stderr, "tissuebench simulate: --dt must be > 0\n");
-        return TB_EXIT_INPUT;
-      }
+    } else if (!strcmp(a, "--dt") || !strcmp(a, "--duration")) {
+      char kv[96];
+      snprintf(kv, sizeof kv, "%s=%s", a + 2, v);
+      if (tb_sim_def_set(&sd, kv, &err)) return bad("%s", err.msg);
+      if (!(a[2] == 'd' && a[3] == 't' ? sd.dt > 0 : sd.duration > 0))
+        return bad("%s must be > 0", a);
     } else if (!strcmp(a, "--set")) {
       int rc = tb_sim_def_set(&sd, v, &err);
-      if (rc == 1) rc = tb_settings_set(&mset, v, &err);
-      if (rc) {
-        fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
-        return TB_EXIT_INPUT;
-      }
-    } else {
-      fprintf(stderr, "tissuebench simulate: unknown option '%s'\n", a);
-      return TB_EXIT_INPUT;
-    }
+      if (rc == 1) rc = tb_settings_set(&set, v, &err);
+      if (rc) return bad("%s", err.msg);
+    } else
+      return bad("unknown option '%s' (simulate --help)", a);
   }
-  if (!model || !scene) {
-    fprintf(stderr, "tissuebench simulate: --model and --scene are required (--list shows them)\n");
-    return TB_EXIT_INPUT;
+  if (!scene == !mesh)
+    return bad("%s",
+               "give --scene NAME|FILE, or --model M --mesh FILE (--list shows scenes and models)");
+  if (mesh && !model) return bad("%s", "--mesh needs --model (--list shows them)");
+  if (scene && (fix || fixbox || gravity))
+    return bad("%s", "--fix, --fix-box and --gravity go with --mesh (a scene file says its own)");
+  if (fix && fixbox) return bad("%s", "give --fix or --fix-box, not both");
+  if (model && !tb_model_find(model)) return bad("unknown model '%s' (--list shows them)", model);
+  if (model && tb_model_check_settings(model, &set, &err)) return bad("%s", err.msg);
+  if (vtk && make_dir(vtk, &err)) return bad("--vtk: %s", err.msg);
+  tb_scene_desc d;
+  char path[1024];
+  if (scene) tb_sim_scene_path(scene, path, sizeof path);
+  if (mesh ? quick_desc(&d, mesh, fix, fixbox, gravity, &err)
+           : tb_scene_desc_load(&d, path, &err)) {
+    tb_scene_desc_free(&d);
+    return bad("%s", err.msg);
   }
-  if (!tb_model_find(model)) {
-    fprintf(stderr, "tissuebench simulate: unknown model '%s' (--list shows them)\n", model);
-    return TB_EXIT_INPUT;
-  }
-  if (!tb_sim_scene_summary(scene)) {
-    fprintf(stderr, "tissuebench simulate: unknown scene '%s' (--list shows them)\n", scene);
-    return TB_EXIT_INPUT;
-  }
-  if (tb_model_check_settings(model, &mset, &err)) {
-    fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
-    return TB_EXIT_INPUT;
+  if (!model && d.model[0]) model = d.model;
+  /* --static: a model with a static solve uses it */
+  int solver = 0;
+  double qs;
+  if (statik && model && tb_model_setting(model, &set, "quasistatic", &qs) == 0) {
+    if (tb_settings_set(&set, "quasistatic=1", &err))
+      return tb_scene_desc_free(&d), bad("%s", err.msg);
+    solver = 1;
   }
   tb_sim s;
-  if (tb_sim_create(&s, scene, &sd, model, &mset, NULL, &err)) {
-    fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
+  if (tb_sim_create_desc(&s, &d, &sd, model, &set, NULL, &err)) return bad("%s", err.msg);
+  const char *mname = s.model.cls->name;
+  long planned = steps ? steps : lround(s.def.duration / s.def.dt);
+  int rc;
+  if (planned < 1) planned = 1;
+  if (!every) every = lround(1.0 / (30.0 * s.def.dt)) > 1 ? lround(1.0 / (30.0 * s.def.dt)) : 1;
+  printf("scene %s: %d nodes, %d tets; model %s; dt %g, %ld steps (%g s)%s\n", s.name, s.mesh.nv,
+         s.mesh.ntet, mname, s.def.dt, planned, planned * s.def.dt,
+         statik ? (solver ? "; static solve" : "; run to rest") : "");
+  double *ms = malloc(sizeof(double) * (size_t)planned);
+  if (!ms) {
+    tb_sim_destroy(&s);
+    fprintf(stderr, PROG ": out of memory\n");
     return TB_EXIT_FAIL;
   }
-  if (!steps) steps = lround(s.def.duration / s.def.dt);
-  if (steps < 1) steps = 1;
-  if (!every) every = lround(1.0 / (30.0 * s.def.dt)) > 1 ? lround(1.0 / (30.0 * s.def.dt)) : 1;
-  printf("scene %s: %d nodes, %d tets; model %s; dt %g, %ld steps (%g s)\n", scene, s.mesh.nv,
-         s.mesh.ntet, model, s.def.dt, steps, steps * s.def.dt);
-  double *ms = malloc(sizeof(double) * (size_t)steps);
-  int rc = ms ? TB_EXIT_OK : TB_EXIT_FAIL, frame = 0;
-  if (vtk && ms && tb_sim_write_vtk(&s, vtk, frame++, &err)) rc = TB_EXIT_FAIL;
+  rc = TB_EXIT_OK;
+  int frame = 0;
+  if (vtk && tb_sim_write_vtk(&s, vtk, frame++, &err)) rc = TB_EXIT_FAIL;
   long done = 0;
-  for (; done < steps && rc == TB_EXIT_OK; done++) {
+  double change = 0;
+  if (statik && rc == TB_EXIT_OK) {
     uint64_t t0 = tb_time_ns();
-    int bad = tb_sim_step(&s, &err);
+    done = run_static(&s, planned, solver, &change, &err);
+    ms[0] = (double)(tb_time_ns() - t0) * 1e-6 / (done > 0 ? done : 1);
+    if (done < 0) {
+      printf("status: unstable (%s)\n", err.msg);
+      rc = TB_EXIT_FAIL;
+    } else if (vtk && tb_sim_write_vtk(&s, vtk, frame++, &err))
+      rc = TB_EXIT_FAIL;
+  }
+  for (; !statik && done < planned && rc == TB_EXIT_OK; done++) {
+    uint64_t t0 = tb_time_ns();
+    int failed = tb_sim_step(&s, &err);
     ms[done] = (double)(tb_time_ns() - t0) * 1e-6;
-    if (bad) {
+    if (failed) {
       printf("status: unstable (%s)\n", err.msg);
       rc = TB_EXIT_FAIL;
       break;
     }
-    if (vtk && (done + 1) % every == 0 && tb_sim_write_vtk(&s, vtk, frame++, &err)) {
-      fprintf(stderr, "tissuebench simulate: %s\n", err.msg);
+    if (vtk && (done + 1) % every == 0 && tb_sim_write_vtk(&s, vtk, frame++, &err))
       rc = TB_EXIT_FAIL;
-    }
   }
+  if (rc == TB_EXIT_FAIL && vtk && err.msg[0] && s.health.ok)
+    fprintf(stderr, PROG ": %s\n", err.msg);
   if (rc == TB_EXIT_OK) {
-    tb_stats st = tb_stats_of(ms, (int)done);
+    tb_stats st = tb_stats_of(ms, statik ? 1 : (int)done);
     tb_sim_metrics m = tb_sim_measure(&s);
+    double speed, tol;
+    int rest = tb_sim_at_rest(&s, &speed, &tol);
     printf("time per step: median %.4f ms (min %.4f, max %.4f) = %.1f steps/s\n", st.median, st.min,
            st.max, 1e3 / st.median);
-    printf("max displacement %.6g, rms displacement %.6g\n", m.max_disp, m.rms_disp);
+    printf("max displacement %.6g at node %d, rms displacement %.6g\n", m.max_disp, m.max_disp_node,
+           m.rms_disp);
     printf("volume change %+.4f%%, inverted tets %d\n", 100.0 * m.volume_change, m.inverted);
     if (isnan(m.energy))
-      printf("energy: not defined for %s\n", model);
+      printf("energy: not defined for %s\n", mname);
     else
       printf("energy %.6g\n", m.energy);
+    if (s.has_ground)
+      printf("ground: largest penetration %.3g over the run (tolerance %.3g = 1e-9 x size)\n",
+             s.pen_ground_max, 1e-9 * s.size);
+    if (s.has_tool)
+      printf("instrument: largest penetration %.3g after the contact response, %.3g before it\n",
+             s.pen_tool_max, s.pen_tool_before_max);
+    if (statik && solver)
+      printf("static equilibrium after %ld solve(s) (last change %.3g)%s\n", done, change,
+             change <= 1e-12 * s.size ? "" : ": NOT converged");
+    else
+      printf("%s at t = %g s: max node speed %.3g (rest below %.3g)\n",
+             rest ? "at rest" : "NOT at rest", s.t, speed, tol);
     if (vtk) printf("%d VTK frames in %s\n", frame, vtk);
     printf("status: stable\n");
-  } else if (!ms)
-    fprintf(stderr, "tissuebench simulate: out of memory\n");
+  }
   free(ms);
   tb_sim_destroy(&s);
   return rc;

@@ -332,7 +332,7 @@ int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
   /* the reaction on the pulled patch, then let go */
   tb_vec3 react;
   int have = ref->has_reaction && energy_reaction(&r.s, x, v, &react) == 0;
-  r.s.hold = 0, r.s.def.release = r.s.t;
+  tb_sim_let_go(&r.s);
   if (timed_step(&r, &why)) {
     unstable(out, " after release", why.msg);
     goto timing;
@@ -377,6 +377,7 @@ int tb_fid_equal_masses(const tb_mesh *m, const char *model, tb_settings *mset, 
 
 int tb_fid_plan_for(const char *scene, int level, uint64_t seed, tb_fid_plan *p, tb_error *err) {
   memset(p, 0, sizeof *p);
+  tb_sim_def_init(&p->def);
   if (!has_static_problem(scene))
     return tb_error_set(err, scene, 0, "no static problem to compare (beam, liver-stretch)");
   level = level < 0 ? 0 : (level > 2 ? 2 : level);

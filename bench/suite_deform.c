@@ -111,7 +111,7 @@ int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *on
                                "residual max displacement (% of L)",
                                "recovered"};
   tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
+  tb_sim_def_init(&sd);
   sd.dt = 0.01, sd.duration = 6.0, sd.release = 1.0, sd.nodes = o->full ? 16 : 8;
   if (o->scale < 1) sd.dt = 0.02, sd.duration = 1.0, sd.release = 0.5, sd.nodes = 4;
   sd.drag = DEFORM_DRAG;

@@ -21,7 +21,7 @@ static double tip_deflection(int cells, int quadratic, int material, double *sec
                              tb_error *err) {
   tb_sim s;
   tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
+  tb_sim_def_init(&sd);
   sd.nodes = cells;
   tb_settings md;
   tb_settings_init(&md);

@@ -134,7 +134,7 @@ static int map_cell(const tb_mesh *mesh, const tb_stab_model *mm, int cells, dou
   tb_settings md = model_def(mm, stiffness, err, &bad);
   if (bad) return -1;
   tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
+  tb_sim_def_init(&sd);
   if (duration < MIN_STEPS * dt) duration = MIN_STEPS * dt;
   sd.dt = dt, sd.duration = duration, sd.release = duration, sd.nodes = cells;
   sd.amplitude = mm->ref > 0 ? TIP_LOAD * stiffness / mm->ref : TIP_LOAD;
@@ -271,7 +271,7 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
     int bad;
     tb_settings md = model_def(mm, k, err, &bad);
     tb_sim_def sd;
-    memset(&sd, 0, sizeof sd);
+    tb_sim_def_init(&sd);
     sd.nodes = cells, sd.seed = 1;
     tb_sim s;
     if (rc || bad || tb_sim_create(&s, "beam", &sd, "msm", &md, mesh, err)) {
@@ -411,7 +411,7 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *
     for (int q = 0; q < g.nmesh && !rc; q++) {
       tb_progress("stability maps", (long)(m * g.nmesh + q), (long)(NMAPS * g.nmesh));
       tb_sim_def sd;
-      memset(&sd, 0, sizeof sd);
+      tb_sim_def_init(&sd);
       sd.nodes = g.cells[q];
       tb_mesh mesh;
       if (tb_sim_mesh("beam", &sd, &mesh, err)) {

@@ -98,7 +98,7 @@ static int run(const tb_mesh *liver, int row, const tb_sim_def *sd, double *ms, 
 
 static int speed(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver) {
   tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
+  tb_sim_def_init(&sd);
   sd.dt = DT, sd.duration = 2.0, sd.release = 1.0, sd.amplitude = 2.0;
   long steps = lround(sd.duration / sd.dt);
   int reps = o->scale < 1 ? 1 : (o->full ? 7 : 3), failed = 0;
@@ -178,7 +178,7 @@ static int recovery(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver, 
   const double *amps = o->full ? amps_full : amps_quick;
   int namps = o->full ? 3 : 1, failed = 0;
   tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
+  tb_sim_def_init(&sd);
   sd.dt = DT, sd.release = 1.0, sd.duration = o->scale < 1 ? 1.5 : (o->full ? 21.0 : 11.0);
   sd.drag = DRAG;
   long steps = lround(sd.duration / sd.dt);
@@ -284,7 +284,7 @@ int tb_suite_table35(const tb_suite_opts *o) {
                                o->seed, &err);
   if (!s) return fprintf(stderr, "table 3.5: %s\n", err.msg), 1;
   tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
+  tb_sim_def_init(&sd);
   sd.seed = o->seed;
   tb_mesh liver;
   if (tb_sim_mesh("liver-stretch", &sd, &liver, &err)) {

@@ -106,6 +106,7 @@ static const struct {
     {"reference", tb_tests_reference},
     {"fidelity", tb_tests_fidelity},
     {"stability", tb_tests_stability},
+    {"scenes", tb_tests_scenes},
 };
 
 static int selected(const char *id, int argc, char **argv) {

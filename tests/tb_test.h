@@ -70,5 +70,6 @@ extern const tb_test_case tb_tests_sm[];
 extern const tb_test_case tb_tests_reference[];
 extern const tb_test_case tb_tests_fidelity[];
 extern const tb_test_case tb_tests_stability[];
+extern const tb_test_case tb_tests_scenes[];
 
 #endif

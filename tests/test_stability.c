@@ -44,7 +44,7 @@ static int finite_state(const tb_sim *s) {
 
 static tb_sim_def beam_def(double dt, double duration) {
   tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
+  tb_sim_def_init(&sd);
   sd.dt = dt, sd.duration = duration, sd.nodes = 10, sd.seed = 1;
   return sd;
 }
@@ -98,7 +98,7 @@ static void msm_energy_growth_before_nan(void) {
  * first 16 steps and then every 16th. */
 static void detector_settings(void) {
   tb_sim_def sd;
-  memset(&sd, 0, sizeof sd);
+  tb_sim_def_init(&sd);
   tb_error err;
   TB_CHECK(tb_sim_def_set(&sd, "energy_every=1", &err) == 0 && sd.energy_every == 1);
   TB_CHECK(tb_sim_def_set(&sd, "energy_factor=10", &err) == 0 && sd.energy_factor == 10);
@@ -163,7 +163,7 @@ static void deform_scenes(void) {
   TB_CHECK(found == 3);
   for (int j = 0; j < 3; j++) {
     tb_sim_def sd;
-    memset(&sd, 0, sizeof sd);
+    tb_sim_def_init(&sd);
     sd.nodes = 4, sd.seed = 1; /* dt 0.01, release 1: the ramp ends at 0.5 s */
     tb_sim s;
     if (make(&s, scenes[j], "fem", &sd, NULL, 0)) return;

@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages tissuebench needs: with apt-get when run as
 # root, otherwise prints the one command to run and fails.
 packages="meson ninja-build pkg-config gcc g++ libsuitesparse-dev libopenblas-dev libfcl-dev
-libccd-dev libbullet-dev libcgal-dev libgmp-dev tetgen libtet1.5-dev gnuplot-nox libexpat1-dev"
+libccd-dev libbullet-dev libcgal-dev libgmp-dev tetgen libtet1.5-dev gnuplot-nox libexpat1-dev
+libinih-dev"
 
 missing=""
 for p in $packages; do

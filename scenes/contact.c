@@ -1,0 +1,399 @@
+/* Contact of a scene's body with a rigid ground plane and a rigid
+ * instrument, for every model through the model interface: after the
+ * model's step, nodes found inside an obstacle are moved onto its surface
+ * and their velocities corrected (tb_model_correct).
+ *
+ * Ground: plane (x - p).n >= 0. A node below it is projected onto it; the
+ * tangential displacement of the step is then limited by Coulomb friction
+ * in position form (Macklin et al. 2014, "Unified particle physics", §6.1):
+ * with d the penetration depth (the normal displacement the contact
+ * removed, m d / dt^2 the normal force) and dx_t the step's tangential
+ * displacement, static friction holds when |sum m dx_t| <= mu_s sum m d
+ * over the contact's nodes, and then every contact node's dx_t is undone
+ * (the body sticks); otherwise each node's dx_t is shortened by mu_k d
+ * (kinetic). Deciding static friction for the contact as a whole makes an
+ * elastic block, whose contact nodes carry unequal loads, stick or slip as
+ * a rigid one does: on a slope of angle a under gravity the sums are
+ * M g sin a dt^2 and M g cos a dt^2 from rest, so it sticks exactly when
+ * tan a <= mu_s and otherwise slides with acceleration g (sin a - mu_k cos a).
+ * The normal velocity is reflected with the restitution coefficient.
+ *
+ * Instrument: its real closed mesh. The composite BVH (collision/) finds
+ * the body's surface triangles crossing the instrument's; their nodes and
+ * last step's contacts are tested for inside (winding number of the
+ * instrument mesh) and moved to the closest point of its surface (plus a
+ * margin), with the normal part of their velocity relative to the
+ * instrument removed. Nodes in contact are also prescribed on the
+ * instrument's surface during the next step (so quasi-static solvers feel
+ * the instrument too). The largest depth of a node inside the instrument
+ * (before and after the response) and below the ground is recorded per
+ * step. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim_priv.h"
+
+/* ---- geometry ---- */
+
+/* Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision
+ * Detection, §5.1.5). */
+static tb_vec3 closest_on_triangle(tb_vec3 p, tb_vec3 a, tb_vec3 b, tb_vec3 c) {
+  tb_vec3 ab = tb_sub(b, a), ac = tb_sub(c, a), ap = tb_sub(p, a);
+  double d1 = tb_dot(ab, ap), d2 = tb_dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  tb_vec3 bp = tb_sub(p, b);
+  double d3 = tb_dot(ab, bp), d4 = tb_dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return tb_madd(a, d1 / (d1 - d3), ab);
+  tb_vec3 cp = tb_sub(p, c);
+  double d5 = tb_dot(ab, cp), d6 = tb_dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return tb_madd(a, d2 / (d2 - d6), ac);
+  double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return tb_madd(b, (d4 - d3) / ((d4 - d3) + (d5 - d6)), tb_sub(c, b));
+  double den = 1.0 / (va + vb + vc);
+  return tb_add(a, tb_add(tb_scale(ab, vb * den), tb_scale(ac, vc * den)));
+}
+
+/* Generalised winding number of a closed mesh at p (1 inside, 0 outside;
+ * Van Oosterom & Strackee's solid angle per triangle). */
+static double winding(const tb_vec3 *x, const int *tri, int ntri, tb_vec3 p) {
+  double sum = 0;
+  for (int k = 0; k < ntri; k++) {
+    tb_vec3 a = tb_sub(x[tri[3 * k]], p), b = tb_sub(x[tri[3 * k + 1]], p),
+            c = tb_sub(x[tri[3 * k + 2]], p);
+    double la = tb_len(a), lb = tb_len(b), lc = tb_len(c);
+    double num = tb_dot(a, tb_cross(b, c));
+    double den = la * lb * lc + tb_dot(a, b) * lc + tb_dot(b, c) * la + tb_dot(c, a) * lb;
+    sum += 2 * atan2(num, den);
+  }
+  return sum / (4 * M_PI);
+}
+
+/* Inside the instrument at its current pose: the depth (distance to its
+ * surface) and the closest surface point; 0 when outside. */
+static int inside_tool(const tb_sim *s, tb_vec3 p, double *depth, tb_vec3 *closest) {
+  const tb_mesh *t = &s->tool;
+  if (winding(s->tool_x, t->tri, t->ntri, p) < 0.5) return 0;
+  double best = INFINITY;
+  for (int k = 0; k < t->ntri; k++) {
+    const int *v = t->tri + 3 * k;
+    tb_vec3 q = closest_on_triangle(p, s->tool_x[v[0]], s->tool_x[v[1]], s->tool_x[v[2]]);
+    double d = tb_dist(p, q);
+    if (d < best) best = d, *closest = q;
+  }
+  *depth = best;
+  return 1;
+}
+
+/* Where a node inside the instrument goes: the closest point of its
+ * surface (plus the margin); where parts of the instrument overlap, that
+ * point can lie inside another part, and the node then goes on along the
+ * same direction until it is out (doubling steps, then bisection). */
+static tb_vec3 way_out(const tb_sim *s, tb_vec3 x, tb_vec3 q, tb_vec3 dir) {
+  const tb_mesh *t = &s->tool;
+  tb_vec3 p = tb_madd(q, s->tool_margin, dir);
+  if (winding(s->tool_x, t->tri, t->ntri, p) < 0.5) return p;
+  double lo = tb_dist(x, p), hi = lo, step = 0.01 * s->size;
+  for (int k = 0; k < 12; k++) {
+    hi += step, step *= 2;
+    if (winding(s->tool_x, t->tri, t->ntri, tb_madd(x, hi, dir)) < 0.5) break;
+  }
+  for (int k = 0; k < 30; k++) {
+    double mid = 0.5 * (lo + hi);
+    if (winding(s->tool_x, t->tri, t->ntri, tb_madd(x, mid, dir)) < 0.5)
+      hi = mid;
+    else
+      lo = mid;
+  }
+  return tb_madd(x, hi + s->tool_margin, dir);
+}
+
+/* ---- the instrument's pose ---- */
+
+void tb_sim_tool_pose(tb_sim *s, double t, tb_mat3 *R, tb_vec3 *tr) {
+  tb_vec3 o = tb_sim_motion_apply(&s->tool_motion, t, tb_v3(0, 0, 0));
+  tb_vec3 ex = tb_sub(tb_sim_motion_apply(&s->tool_motion, t, tb_v3(1, 0, 0)), o);
+  tb_vec3 ey = tb_sub(tb_sim_motion_apply(&s->tool_motion, t, tb_v3(0, 1, 0)), o);
+  tb_vec3 ez = tb_sub(tb_sim_motion_apply(&s->tool_motion, t, tb_v3(0, 0, 1)), o);
+  *R = (tb_mat3){{{ex.x, ey.x, ez.x}, {ex.y, ey.y, ez.y}, {ex.z, ey.z, ez.z}}};
+  *tr = tb_add(o, s->tool_origin);
+  for (int i = 0; i < s->tool.nv; i++) s->tool_x[i] = tb_add(tb_m3_mulv(*R, s->tool.x[i]), *tr);
+}
+
+/* World velocity of the instrument's material point now at world position
+ * p (pose at t against the pose at t - dt). */
+static tb_vec3 tool_velocity(tb_sim *s, tb_vec3 p) {
+  double t = s->t, dt = s->def.dt;
+  tb_mat3 R0, R1;
+  tb_vec3 t0, t1;
+  /* the local point from the current pose, then where it was */
+  tb_sim_tool_pose(s, t - dt, &R0, &t0);
+  tb_sim_tool_pose(s, t, &R1, &t1);
+  tb_vec3 local = tb_m3_mulv(tb_m3_transpose(R1), tb_sub(p, t1));
+  tb_vec3 before = tb_add(tb_m3_mulv(R0, local), t0);
+  return tb_scale(tb_sub(p, before), 1.0 / dt);
+}
+
+/* ---- set-up ---- */
+
+static tb_vec3 evec(const tb_expr *e, const double *P) {
+  return tb_v3(tb_expr_eval(e[0], P), tb_expr_eval(e[1], P), tb_expr_eval(e[2], P));
+}
+
+int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
+  const tb_scene_desc *d = &s->desc;
+  const double *P = s->param;
+  const char *path = d->path[0] ? d->path : d->name;
+  if (d->has_ground) {
+    const tb_scene_ground *g = &d->ground;
+    s->has_ground = 1;
+    s->ground_p = evec(g->point, P);
+    s->ground_n = tb_normalize(evec(g->normal, P));
+    s->mu_s = tb_expr_eval(g->mu_s, P), s->mu_k = tb_expr_eval(g->mu_k, P);
+    s->restitution = tb_expr_eval(g->restitution, P);
+    if (!(s->mu_s >= 0) || !(s->mu_k >= 0) || s->mu_k > s->mu_s)
+      return tb_error_set(err, path, g->line, "[ground] needs 0 <= mu_k <= mu_s (got %g, %g)",
+                          s->mu_k, s->mu_s);
+    if (!(s->restitution >= 0 && s->restitution <= 1))
+      return tb_error_set(err, path, g->line, "[ground] restitution must be in [0, 1]");
+  }
+  if (!d->has_tool) return 0;
+  const tb_scene_tool *t = &d->tool;
+  s->has_tool = 1;
+  if (tb_sim_build_mesh(&t->mesh, path, P, 0, &s->tool, err)) return -1;
+  if (s->tool.ntri < 1)
+    return tb_error_set(err, path, t->line, "the instrument mesh has no triangles");
+  tb_mesh_topo topo = tb_mesh_topology(&s->tool);
+  if (!topo.closed)
+    return tb_error_set(
+        err, path, t->line,
+        "the instrument mesh is not closed (%d boundary edges): inside is undefined",
+        topo.boundary_edges);
+  s->tool_x = malloc(sizeof(tb_vec3) * (size_t)s->tool.nv);
+  s->contact = calloc((size_t)s->mesh.nv, 1);
+  s->slot = malloc(sizeof(int) * (size_t)s->mesh.nv);
+  /* the body's surface as its tets' outward boundary (the side a push goes) */
+  s->tool_surface = s->mesh;
+  s->tool_surface.ntet = 0, s->tool_surface.tet = NULL, s->tool_surface.tri = NULL;
+  s->tool_surface.ntri = tb_mesh_tet_boundary(&s->mesh, &s->tool_surface.tri);
+  if (!s->tool_x || !s->contact || !s->slot || s->tool_surface.ntri < 0) {
+    s->tool_surface.ntri = 0;
+    return tb_error_set(err, path, t->line, "out of memory");
+  }
+  for (int i = 0; i < s->mesh.nv; i++) s->slot[i] = -1;
+  tb_vec3 o = evec(t->origin, P);
+  if (t->origin_extreme) {
+    tb_vec3 dir = o;
+    int best = s->mesh.tri[0];
+    for (int k = 0; k < 3 * s->mesh.ntri; k++)
+      if (tb_dot(s->mesh.x[s->mesh.tri[k]], dir) > tb_dot(s->mesh.x[best], dir))
+        best = s->mesh.tri[k];
+    o = s->mesh.x[best];
+  }
+  s->tool_origin = tb_add(o, evec(t->offset, P));
+  s->tool_margin = tb_expr_eval(t->margin, P);
+  s->tool_friction = tb_expr_eval(t->friction, P);
+  if (!(s->tool_margin >= 0) || !(s->tool_friction >= 0))
+    return tb_error_set(err, path, t->line, "[instrument] margin and friction must be >= 0");
+  if (tb_sim_motion_make(&t->motion, P, &s->tool_motion, err)) return -1;
+  s->collider = tb_collider_new("composite", &s->tool_surface, &s->tool, NULL, NULL, NULL, err);
+  return s->collider ? 0 : -1;
+}
+
+void tb_sim_contact_free(tb_sim *s) {
+  tb_collider_free(s->collider);
+  tb_pairlist_free(&s->pairs);
+  tb_mesh_free(&s->tool);
+  tb_sim_motion_free(&s->tool_motion);
+  free(s->tool_x), free(s->contact), free(s->slot), free(s->tool_surface.tri);
+  s->collider = NULL, s->tool_x = NULL, s->contact = NULL, s->slot = NULL;
+  s->tool_surface.tri = NULL;
+}
+
+/* ---- after a step ---- */
+
+static void ground(tb_sim *s, int *n) {
+  const tb_vec3 *x = tb_model_positions(&s->model), *v = tb_model_velocities(&s->model);
+  tb_vec3 nrm = s->ground_n, T = tb_v3(0, 0, 0);
+  double N = 0;
+  int first = *n;
+  /* the contacts: each node below the plane put on it; the step's tangential
+   * displacement (kept in vc_buf for now) and the contact's impulses */
+  for (int i = 0; i < s->mesh.nv; i++) {
+    double h = tb_dot(tb_sub(x[i], s->ground_p), nrm);
+    if (h >= 0 || s->mark[i]) continue;
+    tb_vec3 p = tb_madd(x[i], -h, nrm), dx = tb_sub(p, s->x_prev[i]);
+    tb_vec3 dxt = tb_madd(dx, -tb_dot(dx, nrm), nrm);
+    s->ids_buf[*n] = i, s->xc_buf[*n] = p, s->vc_buf[*n] = dxt;
+    (*n)++;
+    T = tb_madd(T, s->mass[i], dxt), N += s->mass[i] * -h;
+  }
+  /* static friction for the contact as a whole (the sum of its nodes'
+   * tangential and normal impulses, so an elastic body whose nodes carry
+   * unequal loads sticks or slips as a rigid block would); kinetic
+   * friction per node */
+  int stick = tb_len(T) <= s->mu_s * N;
+  for (int k = first; k < *n; k++) {
+    int i = s->ids_buf[k];
+    tb_vec3 dxt = s->vc_buf[k];
+    double depth = tb_dot(tb_sub(s->xc_buf[k], x[i]), nrm), lt = tb_len(dxt), keep = 0;
+    if (!stick && lt > 0) keep = fmax(0, 1 - s->mu_k * depth / lt);
+    s->xc_buf[k] = tb_madd(s->xc_buf[k], keep - 1, dxt);
+    double vn = tb_dot(v[i], nrm);
+    tb_vec3 vt = tb_scale(tb_madd(v[i], -vn, nrm), keep);
+    if (vn < 0) vn = -s->restitution * vn;
+    s->vc_buf[k] = tb_madd(vt, vn, nrm);
+  }
+}
+
+/* The instrument's corrections for the body at positions x against the
+ * instrument at its current pose, into s->ids_buf/xc_buf/vc_buf from *n
+ * (vc_buf: the push direction): nodes inside it go to its surface (plus
+ * the margin); a surface triangle it pierces between its nodes (an
+ * instrument vertex behind the triangle, over it) is moved behind that
+ * vertex, each node by its barycentric share (the vertex-triangle
+ * projection of position-based dynamics). *before: the largest depth of a
+ * node inside the instrument. */
+static int tool_response(tb_sim *s, const tb_vec3 *x, int *n, double *before, tb_error *err) {
+  const tb_mesh *surf = &s->tool_surface;
+  if (tb_collider_deform(s->collider, x, 0, err) ||
+      tb_collider_pose(s->collider, s->tool_R, s->tool_t, err) ||
+      tb_collider_query(s->collider, &s->pairs, NULL, err))
+    return -1;
+  for (int k = 0; k < s->pairs.n; k++)
+    for (int c = 0; c < 3; c++) s->contact[surf->tri[3 * s->pairs.ij[2 * k] + c]] = 1;
+  int first = *n;
+  *before = 0;
+  for (int i = 0; i < s->mesh.nv; i++) {
+    if (!s->contact[i]) continue;
+    s->contact[i] = 0;
+    double depth;
+    tb_vec3 q;
+    if (s->mark[i] || !inside_tool(s, x[i], &depth, &q)) continue;
+    if (depth > *before) *before = depth;
+    tb_vec3 dir = depth > 1e-12 * s->size ? tb_scale(tb_sub(q, x[i]), 1.0 / depth) : tb_v3(0, 0, 1);
+    s->slot[i] = *n;
+    s->ids_buf[*n] = i, s->xc_buf[*n] = way_out(s, x[i], q, dir), s->vc_buf[*n] = dir;
+    (*n)++;
+  }
+  /* pierced triangles (a node put out of the instrument above keeps that place) */
+  int pushes = *n;
+  double reach = 0.25 * s->size;
+  for (int k = 0; k < s->pairs.n; k++) {
+    const int *v = surf->tri + 3 * s->pairs.ij[2 * k],
+              *w = s->tool.tri + 3 * s->pairs.ij[2 * k + 1];
+    tb_vec3 a = x[v[0]], b = x[v[1]], c = x[v[2]];
+    tb_vec3 nrm = tb_cross(tb_sub(b, a), tb_sub(c, a));
+    double area2 = tb_len(nrm);
+    if (!(area2 > 0)) continue;
+    nrm = tb_scale(nrm, 1.0 / area2);
+    for (int e = 0; e < 3; e++) {
+      tb_vec3 p = s->tool_x[w[e]];
+      double h = tb_dot(tb_sub(p, a), nrm);
+      if (h >= 0 || -h > reach) continue;
+      tb_vec3 pp = tb_madd(p, -h, nrm);
+      double wa = tb_dot(tb_cross(tb_sub(b, pp), tb_sub(c, pp)), nrm) / area2;
+      double wb = tb_dot(tb_cross(tb_sub(c, pp), tb_sub(a, pp)), nrm) / area2, wc = 1 - wa - wb;
+      if (wa < 0 || wb < 0 || wc < 0) continue;
+      double wt[3] = {wa, wb, wc}, sw = wa * wa + wb * wb + wc * wc;
+      double push = h - s->tool_margin; /* < 0: along -nrm */
+      for (int q = 0; q < 3; q++) {
+        int i = v[q];
+        if (s->mark[i]) continue;
+        tb_vec3 target = tb_madd(x[i], wt[q] / sw * push, nrm);
+        if (s->slot[i] < first) {
+          s->slot[i] = *n;
+          s->ids_buf[*n] = i, s->xc_buf[*n] = target, s->vc_buf[*n] = tb_scale(nrm, -1);
+          (*n)++;
+        } else if (s->slot[i] >= pushes && tb_dot(tb_sub(target, s->xc_buf[s->slot[i]]), nrm) < 0)
+          s->xc_buf[s->slot[i]] = target; /* the deeper push */
+      }
+    }
+  }
+  /* a push that ends inside the instrument goes out of it */
+  for (int k = pushes; k < *n; k++) {
+    double depth;
+    tb_vec3 q;
+    if (!inside_tool(s, s->xc_buf[k], &depth, &q)) continue;
+    tb_vec3 dir =
+        depth > 1e-12 * s->size ? tb_scale(tb_sub(q, s->xc_buf[k]), 1.0 / depth) : s->vc_buf[k];
+    s->xc_buf[k] = way_out(s, s->xc_buf[k], q, dir);
+  }
+  for (int k = first; k < *n; k++) s->contact[s->ids_buf[k]] = 1, s->slot[s->ids_buf[k]] = -1;
+  return 0;
+}
+
+/* Before the model's step at t: the instrument at its new pose against
+ * the body as it is; the nodes it would hold or push are prescribed there
+ * for the step (so every model, quasi-static ones too, feels it). */
+int tb_sim_contact_prestep(tb_sim *s, double t, tb_error *err) {
+  if (!s->has_tool) return 0;
+  tb_sim_tool_pose(s, t, &s->tool_R, &s->tool_t);
+  int n = 0;
+  double before;
+  if (tool_response(s, tb_model_positions(&s->model), &n, &before, err)) return -1;
+  for (int k = 0; k < n; k++) {
+    int i = s->ids_buf[k];
+    s->mark[i] = 1, s->target[i] = s->xc_buf[k];
+  }
+  s->ncontact = n;
+  return 0;
+}
+
+/* After the step: what the step itself pushed inside is put back out, the
+ * normal part of its velocity relative to the instrument removed. */
+static int tool(tb_sim *s, int *n, tb_error *err) {
+  tb_sim_tool_pose(s, s->t, &s->tool_R, &s->tool_t);
+  const tb_vec3 *x = tb_model_positions(&s->model), *v = tb_model_velocities(&s->model);
+  int first = *n;
+  double before, after = 0;
+  if (tool_response(s, x, n, &before, err)) return -1;
+  for (int k = first; k < *n; k++) {
+    int i = s->ids_buf[k];
+    tb_vec3 dir = s->vc_buf[k], vt = tool_velocity(s, s->xc_buf[k]), rel = tb_sub(v[i], vt);
+    double vn = tb_dot(rel, dir);
+    if (vn < 0) {
+      rel = tb_madd(rel, -vn, dir);
+      if (s->tool_friction > 0) {
+        double lt = tb_len(rel), cut = s->tool_friction * -vn;
+        rel = lt > cut ? tb_scale(rel, 1 - cut / lt) : tb_v3(0, 0, 0);
+      }
+    }
+    s->vc_buf[k] = tb_add(vt, rel);
+  }
+  tb_sim_tool_pose(s, s->t, &s->tool_R, &s->tool_t);
+  /* what is left inside after the response */
+  for (int k = first; k < *n; k++) {
+    double depth;
+    tb_vec3 q;
+    if (inside_tool(s, s->xc_buf[k], &depth, &q) && depth > after) after = depth;
+  }
+  s->pen_tool = after;
+  if (after > s->pen_tool_max) s->pen_tool_max = after;
+  if (before > s->pen_tool_before_max) s->pen_tool_before_max = before;
+  return 0;
+}
+
+int tb_sim_contact(tb_sim *s, tb_error *err) {
+  int n = 0;
+  if (s->has_ground) ground(s, &n);
+  /* a node caught by both keeps the instrument's answer (applied last) */
+  if (s->has_tool && tool(s, &n, err)) return -1;
+  if (n) tb_model_correct(&s->model, n, s->ids_buf, s->xc_buf, s->vc_buf);
+  if (s->has_ground) {
+    const tb_vec3 *x = tb_model_positions(&s->model);
+    double worst = 0;
+    for (int i = 0; i < s->mesh.nv; i++) {
+      double h = tb_dot(tb_sub(x[i], s->ground_p), s->ground_n);
+      if (-h > worst) worst = -h;
+    }
+    s->pen_ground = worst;
+    if (worst > s->pen_ground_max) s->pen_ground_max = worst;
+  }
+  return 0;
+}

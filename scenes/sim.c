@@ -1,0 +1,515 @@
+/* The simulation driver: a scene description (scenes/scene_file.c) with
+ * parameter overrides becomes a mesh, a model and resolved node sets; one
+ * step is the scene's inputs at t (fixed nodes, forces, prescribed
+ * motions), the model's step, contact (scenes/contact.c) and the health
+ * check; metrics and VTK frames of the state. */
+#include <errno.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "sim_priv.h"
+#include "tb_mesh_io.h"
+
+/* The built-in scenes: scenes/NAME.ini. */
+static const char *const builtin[] = {"liver-stretch", "liver-press", "beam",      "drop",
+                                      "beam-stretch",  "beam-twist",  "beam-crush"};
+#define NBUILTIN ((int)(sizeof builtin / sizeof builtin[0]))
+
+const char *const *tb_sim_scene_names(int *count) {
+  *count = NBUILTIN;
+  return builtin;
+}
+
+const char *tb_sim_scene_summary(const char *name) {
+  static char summary[NBUILTIN][256];
+  for (int i = 0; i < NBUILTIN; i++) {
+    if (strcmp(builtin[i], name)) continue;
+    if (!summary[i][0]) {
+      char path[1024];
+      tb_scene_desc d;
+      tb_error err;
+      tb_sim_scene_path(name, path, sizeof path);
+      if (tb_scene_desc_load(&d, path, &err))
+        snprintf(summary[i], sizeof summary[i], "(%.200s)", err.msg);
+      else {
+        snprintf(summary[i], sizeof summary[i], "%s", d.summary);
+        tb_scene_desc_free(&d);
+      }
+    }
+    return summary[i];
+  }
+  return NULL;
+}
+
+static int is_builtin(const char *name) {
+  for (int i = 0; i < NBUILTIN; i++)
+    if (!strcmp(builtin[i], name)) return 1;
+  return 0;
+}
+
+void tb_sim_scene_path(const char *scene, char *out, size_t cap) {
+  if (is_builtin(scene))
+    snprintf(out, cap, "%s/scenes/%s.ini", TB_SOURCE_ROOT, scene);
+  else
+    snprintf(out, cap, "%s", scene);
+}
+
+/* ---- overrides ---- */
+
+void tb_sim_def_init(tb_sim_def *d) {
+  memset(d, 0, sizeof *d);
+  d->dt = d->duration = d->amplitude = d->release = d->gravity = d->vmax = NAN;
+  d->drag = d->energy_factor = d->rest_speed = NAN;
+  d->nodes = d->inversion = d->energy_every = -1;
+}
+
+/* The overrides' fields in tb_scene_param order (int fields flagged). */
+static const struct {
+  size_t off;
+  int is_int;
+} fields[TB_P_COUNT] = {
+    {offsetof(tb_sim_def, dt), 0},           {offsetof(tb_sim_def, duration), 0},
+    {offsetof(tb_sim_def, amplitude), 0},    {offsetof(tb_sim_def, release), 0},
+    {offsetof(tb_sim_def, nodes), 1},        {offsetof(tb_sim_def, gravity), 0},
+    {offsetof(tb_sim_def, vmax), 0},         {offsetof(tb_sim_def, inversion), 1},
+    {offsetof(tb_sim_def, drag), 0},         {offsetof(tb_sim_def, energy_factor), 0},
+    {offsetof(tb_sim_def, energy_every), 1}, {offsetof(tb_sim_def, rest_speed), 0}};
+
+static double get_field(const tb_sim_def *d, int i) {
+  const char *p = (const char *)d + fields[i].off;
+  if (fields[i].is_int) {
+    int n;
+    memcpy(&n, p, sizeof n);
+    return n < 0 ? NAN : n;
+  }
+  double x;
+  memcpy(&x, p, sizeof x);
+  return x;
+}
+
+static void put_field(tb_sim_def *d, int i, double x) {
+  char *p = (char *)d + fields[i].off;
+  if (fields[i].is_int) {
+    int n = (int)x;
+    memcpy(p, &n, sizeof n);
+  } else
+    memcpy(p, &x, sizeof x);
+}
+
+int tb_sim_def_set(tb_sim_def *def, const char *kv, tb_error *err) {
+  const char *eq = strchr(kv, '=');
+  if (!eq) return 1;
+  char key[32];
+  size_t klen = (size_t)(eq - kv);
+  if (klen >= sizeof key) return 1;
+  memcpy(key, kv, klen), key[klen] = 0;
+  int i = tb_scene_param_index(key);
+  if (i < 0) return 1;
+  char *end;
+  errno = 0;
+  double x = strtod(eq + 1, &end);
+  if (!eq[1] || *end || errno || !isfinite(x) || x < 0 || x > 1e9 ||
+      (fields[i].is_int && x != floor(x)))
+    return tb_error_set(err, "--set", 0, "%s: '%s' is not a%s number in [0, 1e9]", key, eq + 1,
+                        fields[i].is_int ? " whole" : "");
+  put_field(def, i, x);
+  return 0;
+}
+
+/* ---- building ---- */
+
+#define MAX_STEPS 100000000L /* a run longer than this is refused */
+
+/* Effective parameters: the file's, then the overrides; checked. */
+static int resolve_params(tb_sim *s, const tb_sim_def *def, tb_error *err) {
+  const char *path = s->desc.path[0] ? s->desc.path : s->desc.name;
+  for (int i = 0; i < TB_P_COUNT; i++) {
+    s->param[i] = s->desc.param[i];
+    double o = def ? get_field(def, i) : NAN;
+    if (!isnan(o)) s->param[i] = o;
+  }
+  double dt = s->param[TB_P_DT], T = s->param[TB_P_DURATION];
+  if (!(dt > 0)) return tb_error_set(err, path, 0, "dt must be > 0 (got %g)", dt);
+  if (!(T > 0)) return tb_error_set(err, path, 0, "duration must be > 0 (got %g)", T);
+  if (T / dt > MAX_STEPS)
+    return tb_error_set(err, path, 0,
+                        "duration / dt = %.3g steps: more than the %ld a run may take (raise dt "
+                        "or shorten the duration)",
+                        T / dt, MAX_STEPS);
+  int vmax_given = s->desc.param_given[TB_P_VMAX] || (def && !isnan(def->vmax));
+  if (vmax_given && !(s->param[TB_P_VMAX] > 0))
+    return tb_error_set(err, path, 0, "vmax must be > 0 (leave it out for 100 x size / duration)");
+  if (s->param[TB_P_RELEASE] > T) s->param[TB_P_RELEASE] = T;
+  if (!(s->param[TB_P_ENERGY_FACTOR] > 0))
+    return tb_error_set(err, path, 0, "energy_factor must be > 0");
+  if (!(s->param[TB_P_ENERGY_EVERY] >= 1))
+    return tb_error_set(err, path, 0, "energy_every must be >= 1");
+  /* the effective overrides, for callers that read s->def */
+  tb_sim_def_init(&s->def);
+  for (int i = 0; i < TB_P_COUNT; i++) put_field(&s->def, i, s->param[i]);
+  s->def.seed = def && def->seed ? def->seed : s->desc.seed;
+  return 0;
+}
+
+static int merge(int *a, int na, const int *b, int nb, int **out) {
+  int *r = malloc(sizeof(int) * (size_t)(na + nb > 0 ? na + nb : 1)), n = 0, i = 0, j = 0;
+  if (!r) return -1;
+  while (i < na || j < nb) {
+    int v = j >= nb || (i < na && a[i] <= b[j]) ? a[i++] : b[j++];
+    if (!n || r[n - 1] != v) r[n++] = v;
+  }
+  free(*out);
+  *out = r;
+  return n;
+}
+
+/* Resolves [fix], [force] and [move] into node sets. */
+static int resolve_sets(tb_sim *s, tb_error *err) {
+  const tb_scene_desc *d = &s->desc;
+  const double *P = s->param;
+  for (int i = 0; i < d->nfix; i++) {
+    int *ids, n = tb_sim_select(s, &d->fix[i], "[fix]", &ids, err);
+    if (n < 0) return -1;
+    s->nanchor = merge(s->anchor, s->nanchor, ids, n, &s->anchor);
+    free(ids);
+    if (s->nanchor < 0) return tb_error_set(err, "scene", 0, "out of memory");
+  }
+  s->forces = calloc((size_t)(d->nforce + 1), sizeof *s->forces);
+  s->moves = calloc((size_t)(d->nmove + 1), sizeof *s->moves);
+  if (!s->forces || !s->moves) return tb_error_set(err, "scene", 0, "out of memory");
+  for (int i = 0; i < d->nforce; i++) {
+    const tb_scene_force *f = &d->force[i];
+    tb_sim_group *g = &s->forces[s->nforce++];
+    g->n = tb_sim_select(s, &f->where, "[force]", &g->ids, err);
+    if (g->n < 0) return -1;
+    tb_vec3 v = tb_v3(tb_expr_eval(f->value[0], P), tb_expr_eval(f->value[1], P),
+                      tb_expr_eval(f->value[2], P));
+    g->value = f->per_node ? v : tb_v3(v.x / g->n, v.y / g->n, v.z / g->n);
+    g->start = tb_expr_eval(f->start, P);
+    g->stop = tb_expr_eval(f->stop, P);
+    if (g->stop < 0) g->stop = INFINITY;
+  }
+  for (int i = 0; i < d->nmove; i++) {
+    const tb_scene_move *m = &d->move[i];
+    tb_sim_group *g = &s->moves[s->nmove++];
+    g->n = tb_sim_select(s, &m->where, "[move]", &g->ids, err);
+    if (g->n < 0 || tb_sim_motion_make(&m->motion, P, &g->motion, err)) return -1;
+    g->release = m->has_release ? tb_expr_eval(m->release, P) : INFINITY;
+  }
+  for (int pass = 0; pass < 2; pass++)
+    for (int i = 0; i < (pass ? s->nmove : s->nforce); i++) {
+      tb_sim_group *g = pass ? &s->moves[i] : &s->forces[i];
+      s->ndriven = merge(s->driven, s->ndriven, g->ids, g->n, &s->driven);
+      if (s->ndriven < 0) return tb_error_set(err, "scene", 0, "out of memory");
+    }
+  return 0;
+}
+
+int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, const char *model,
+                       const tb_settings *set, const tb_mesh *mesh, tb_error *err) {
+  memset(s, 0, sizeof *s);
+  s->desc = *desc;
+  memset(desc, 0, sizeof *desc);
+  s->name = s->desc.name;
+  const char *path = s->desc.path[0] ? s->desc.path : s->desc.name;
+  if (resolve_params(s, def, err)) goto fail;
+  int rc = mesh ? tb_mesh_copy(&s->mesh, mesh)
+                : tb_sim_build_mesh(&s->desc.mesh, path, s->param, s->def.seed, &s->mesh, err);
+  if (rc) {
+    if (mesh) tb_error_set(err, path, 0, "out of memory");
+    goto fail;
+  }
+  if (s->mesh.ntet < 1) {
+    tb_error_set(err, path, s->desc.mesh.line,
+                 "the mesh has no tets (%d vertices, %d triangles): the models need a tet mesh",
+                 s->mesh.nv, s->mesh.ntri);
+    goto fail;
+  }
+  if (s->mesh.ntri < 1) {
+    s->mesh.ntri = tb_mesh_tet_boundary(&s->mesh, &s->mesh.tri);
+    if (s->mesh.ntri < 0) {
+      s->mesh.ntri = 0;
+      tb_error_set(err, path, 0, "out of memory");
+      goto fail;
+    }
+  }
+  size_t n = (size_t)s->mesh.nv;
+  s->fixed = malloc(sizeof(int) * n);
+  s->fixed_x = malloc(sizeof(tb_vec3) * n);
+  s->force = calloc(n, sizeof(tb_vec3));
+  s->mark = calloc(n, 1);
+  s->target = calloc(n, sizeof(tb_vec3));
+  s->on_surface = calloc(n, 1);
+  s->x_prev = malloc(sizeof(tb_vec3) * n);
+  s->ids_buf = malloc(sizeof(int) * n);
+  s->xc_buf = malloc(sizeof(tb_vec3) * n);
+  s->vc_buf = malloc(sizeof(tb_vec3) * n);
+  if (!s->fixed || !s->fixed_x || !s->force || !s->mark || !s->target || !s->on_surface ||
+      !s->x_prev || !s->ids_buf || !s->xc_buf || !s->vc_buf) {
+    tb_error_set(err, path, 0, "out of memory");
+    goto fail;
+  }
+  for (int k = 0; k < 3 * s->mesh.ntri; k++) s->on_surface[s->mesh.tri[k]] = 1;
+  tb_vec3 lo, hi;
+  tb_mesh_bbox(&s->mesh, &lo, &hi);
+  s->size = tb_dist(lo, hi);
+  if (!(s->def.vmax > 0)) s->def.vmax = 100.0 * s->size / s->def.duration; /* not given */
+  /* the model: the file's [model] settings, then the caller's */
+  const char *mname = model && *model ? model : s->desc.model;
+  if (!mname[0]) {
+    tb_error_set(err, path, 0, "no model: give --model or [model] name = ...");
+    goto fail;
+  }
+  tb_settings all;
+  tb_settings_init(&all);
+  for (int i = 0; i < s->desc.nmodel_set; i++) {
+    tb_settings one;
+    tb_settings_init(&one);
+    tb_error e2;
+    if (tb_settings_set(&one, s->desc.model_set[i], &e2) ||
+        tb_model_check_settings(mname, &one, &e2) ||
+        tb_settings_set(&all, s->desc.model_set[i], &e2)) {
+      tb_error_set(err, path, s->desc.model_set_line[i], "%s", e2.msg);
+      goto fail;
+    }
+  }
+  for (int i = 0; set && i < set->n; i++) {
+    char kv[100];
+    snprintf(kv, sizeof kv, "%s=%s", set->kv[i].key, set->kv[i].value);
+    if (tb_settings_set(&all, kv, err)) goto fail;
+  }
+  if (tb_model_create(&s->model, mname, &s->mesh, &all, err)) goto fail;
+  s->mass = tb_model_masses(&s->model);
+  if (resolve_sets(s, err) || tb_sim_contact_setup(s, err)) goto fail;
+  for (int i = 0; i < s->mesh.nv; i++) s->total_mass += s->mass[i];
+  s->energy0 = s->energy = tb_model_energy(&s->model);
+  s->health.ok = 1;
+  return 0;
+fail:
+  tb_sim_destroy(s);
+  return -1;
+}
+
+int tb_sim_create(tb_sim *s, const char *scene, const tb_sim_def *def, const char *model,
+                  const tb_settings *set, const tb_mesh *mesh, tb_error *err) {
+  char path[1024];
+  tb_sim_scene_path(scene, path, sizeof path);
+  tb_scene_desc d;
+  memset(s, 0, sizeof *s);
+  if (tb_scene_desc_load(&d, path, err)) return -1;
+  return tb_sim_create_desc(s, &d, def, model, set, mesh, err);
+}
+
+int tb_sim_mesh(const char *scene, const tb_sim_def *def, tb_mesh *out, tb_error *err) {
+  char path[1024];
+  tb_sim_scene_path(scene, path, sizeof path);
+  tb_sim s;
+  memset(&s, 0, sizeof s);
+  if (tb_scene_desc_load(&s.desc, path, err)) return -1;
+  int rc = resolve_params(&s, def, err) ||
+           tb_sim_build_mesh(&s.desc.mesh, path, s.param, s.def.seed, out, err);
+  tb_scene_desc_free(&s.desc);
+  return rc ? -1 : 0;
+}
+
+/* ---- one step ---- */
+
+/* The scene's inputs at t; with contact, last step's instrument contacts
+ * are prescribed too. */
+static int loads(tb_sim *s, double t, int contact, tb_error *err) {
+  memset(s->mark, 0, (size_t)s->mesh.nv);
+  memset(s->force, 0, sizeof(tb_vec3) * (size_t)s->mesh.nv);
+  s->gravity = tb_scale(s->desc.gravity_dir, s->def.gravity);
+  for (int k = 0; k < s->nanchor; k++) {
+    int i = s->anchor[k];
+    s->mark[i] = 1, s->target[i] = s->mesh.x[i];
+  }
+  for (int g = 0; g < s->nforce; g++) {
+    const tb_sim_group *f = &s->forces[g];
+    if (t < f->start || t > f->stop) continue;
+    for (int k = 0; k < f->n; k++) s->force[f->ids[k]] = tb_add(s->force[f->ids[k]], f->value);
+  }
+  for (int g = 0; g < s->nmove; g++) {
+    const tb_sim_group *m = &s->moves[g];
+    if (!s->hold && t > m->release + 1e-12 * s->def.dt) continue; /* let go */
+    for (int k = 0; k < m->n; k++) {
+      int i = m->ids[k];
+      s->mark[i] = 1, s->target[i] = tb_sim_motion_apply(&m->motion, t, s->mesh.x[i]);
+    }
+  }
+  if (contact && tb_sim_contact_prestep(s, t, err)) return -1;
+  s->nfixed = 0;
+  for (int i = 0; i < s->mesh.nv; i++)
+    if (s->mark[i]) s->fixed[s->nfixed] = i, s->fixed_x[s->nfixed++] = s->target[i];
+  return 0;
+}
+
+int tb_sim_loads(tb_sim *s, double t, tb_error *err) { return loads(s, t, 0, err); }
+
+void tb_sim_let_go(tb_sim *s) {
+  s->hold = 0;
+  for (int g = 0; g < s->nmove; g++) s->moves[g].release = s->t;
+}
+
+/* ---- the energy-growth detector ----
+ * A stable run of a dissipative model never holds more energy than it
+ * started with plus the work done on it. That work is not observable
+ * through the model interface (the reactions at prescribed nodes are not
+ * reported), so the reference is an a-priori scale of what the scene can
+ * put in, and the bound a large factor (energy_factor, 100) times it:
+ *   E_ref = max(E(0), E_char, E_driven),
+ *   E_char = 1/2 M (size / T)^2 + P size + (P T)^2 / (2 M):
+ *     the kinetic energy of the whole mass M moving the scene's size in the
+ *     run's time T; the work of the loads (P = largest sum |f_i| + M |g|)
+ *     over a displacement of the scene's size (deformation) or over free
+ *     motion for time T (P's impulse P T given to M, e.g. a drop);
+ *   E_driven = the largest energy reached while prescribed nodes were being
+ *     moved (a pulled patch, a ramped end face) or the instrument touched
+ *     the body: their work depends on the model's stiffness and cannot be
+ *     known in advance, so meanwhile the energy only raises the reference
+ *     and is not checked; once they are held or let go the energy can only
+ *     fall, and any growth beyond the bound is a blow-up.
+ * The factor leaves room for the energy swings of symplectic Euler near its
+ * stability limit and for the a-priori terms being rough; an unstable mode
+ * grows exponentially and crosses any such bound within a few dozen steps.
+ * The energy costs up to a third of a step (msm), so it is evaluated on the
+ * first energy_every steps and then every energy_every-th step; NaN/inf and
+ * the velocity bound are checked every step. */
+
+static int prescribed_moving(const tb_sim *s) {
+  const tb_vec3 *x = tb_model_positions(&s->model);
+  double tol = 1e-12 * s->size;
+  for (int k = 0; k < s->nfixed; k++) {
+    tb_vec3 d = tb_sub(s->fixed_x[k], x[s->fixed[k]]);
+    if (fabs(d.x) > tol || fabs(d.y) > tol || fabs(d.z) > tol) return 1;
+  }
+  return s->ncontact > 0;
+}
+
+static void track_loads(tb_sim *s) {
+  double p = s->total_mass * tb_len(s->gravity);
+  for (int i = 0; i < s->mesh.nv; i++) p += tb_len(s->force[i]);
+  if (p > s->load_max) s->load_max = p;
+}
+
+static int energy_check(tb_sim *s) {
+  double e = tb_model_energy(&s->model);
+  s->energy = e, s->energy_bound = 0;
+  if (isnan(e)) return 0; /* the model has no energy (sm) */
+  if (s->moving) {
+    s->moving = 0;
+    if (e > s->energy_driven) s->energy_driven = e;
+    return 0;
+  }
+  double m = s->total_mass > 0 ? s->total_mass : 1, T = s->def.duration, p = s->load_max;
+  double ref = 0.5 * m * (s->size / T) * (s->size / T) + p * s->size + 0.5 * (p * T) * (p * T) / m;
+  if (s->energy0 > ref) ref = s->energy0;
+  if (s->energy_driven > ref) ref = s->energy_driven;
+  s->energy_bound = s->def.energy_factor * ref;
+  if (e <= s->energy_bound) return 0;
+  s->health.ok = 0;
+  snprintf(s->health.reason, sizeof s->health.reason, "energy growth (E = %.3g, bound %.3g)", e,
+           s->energy_bound);
+  return -1;
+}
+
+int tb_sim_step(tb_sim *s, tb_error *err) {
+  double t = s->t + s->def.dt;
+  if (loads(s, t, 1, err)) return -1;
+  int every = s->def.energy_every;
+  int check = s->steps < every || (s->steps + 1) % every == 0;
+  if (check) track_loads(s);
+  if (!s->moving) s->moving = prescribed_moving(s);
+  const tb_vec3 *v = tb_model_velocities(&s->model);
+  if (s->def.drag > 0)
+    for (int i = 0; i < s->mesh.nv; i++)
+      s->force[i] = tb_madd(s->force[i], -s->def.drag * s->mass[i], v[i]);
+  if (s->has_ground || s->has_tool)
+    memcpy(s->x_prev, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
+  tb_step in;
+  in.dt = s->def.dt;
+  in.gravity = s->gravity;
+  in.force = s->force;
+  in.nfixed = s->nfixed;
+  in.fixed = s->fixed;
+  in.fixed_x = s->fixed_x;
+  if (tb_model_step(&s->model, &in, err)) return -1;
+  s->t = t;
+  s->steps++;
+  if ((s->has_ground || s->has_tool) && tb_sim_contact(s, err)) return -1;
+  s->health = tb_model_health(&s->mesh, tb_model_positions(&s->model),
+                              tb_model_velocities(&s->model), s->def.vmax, s->def.inversion);
+  if (s->health.ok && check) energy_check(s);
+  if (!s->health.ok)
+    return tb_error_set(err, s->model.cls->name, 0, "unstable at t = %g: %s", s->t,
+                        s->health.reason);
+  return 0;
+}
+
+void tb_sim_destroy(tb_sim *s) {
+  tb_model_destroy(&s->model);
+  tb_sim_contact_free(s);
+  tb_mesh_free(&s->mesh);
+  free(s->fixed), free(s->fixed_x), free(s->force), free(s->mark), free(s->target);
+  free(s->on_surface), free(s->x_prev), free(s->ids_buf), free(s->xc_buf), free(s->vc_buf);
+  free(s->anchor), free(s->driven);
+  for (int i = 0; s->forces && i < s->nforce; i++) free(s->forces[i].ids);
+  for (int i = 0; s->moves && i < s->nmove; i++) {
+    free(s->moves[i].ids);
+    tb_sim_motion_free(&s->moves[i].motion);
+  }
+  free(s->forces), free(s->moves);
+  tb_scene_desc_free(&s->desc);
+  memset(s, 0, sizeof *s);
+}
+
+/* ---- metrics and output ---- */
+
+tb_sim_metrics tb_sim_measure(const tb_sim *s) {
+  tb_sim_metrics r;
+  memset(&r, 0, sizeof r);
+  const tb_vec3 *x = tb_model_positions(&s->model), *v = tb_model_velocities(&s->model);
+  double sum2 = 0, v0 = 0, v1 = 0, z = 0;
+  for (int i = 0; i < s->mesh.nv; i++) {
+    r.max_speed = fmax(r.max_speed, tb_len(v[i]));
+    double d = tb_dist(x[i], s->mesh.x[i]);
+    if (d > r.max_disp) r.max_disp = d, r.max_disp_node = i;
+    sum2 += d * d;
+    z += x[i].z;
+  }
+  for (int t = 0; t < s->mesh.ntet; t++) {
+    const int *e = s->mesh.tet + 4 * t;
+    v0 += tb_tet_volume(s->mesh.x[e[0]], s->mesh.x[e[1]], s->mesh.x[e[2]], s->mesh.x[e[3]]);
+    double vol = tb_tet_volume(x[e[0]], x[e[1]], x[e[2]], x[e[3]]);
+    v1 += vol;
+    if (!(vol > 0)) r.inverted++;
+  }
+  r.rms_disp = sqrt(sum2 / s->mesh.nv);
+  r.volume_change = (v1 - v0) / v0;
+  r.energy = tb_model_energy(&s->model);
+  r.com_z = z / s->mesh.nv;
+  return r;
+}
+
+int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol) {
+  const tb_vec3 *v = tb_model_velocities(&s->model);
+  double m = 0;
+  for (int i = 0; i < s->mesh.nv; i++) m = fmax(m, tb_len(v[i]));
+  *speed = m, *tol = s->def.rest_speed * s->size;
+  return m < *tol;
+}
+
+int tb_sim_write_vtk(const tb_sim *s, const char *dir, int frame, tb_error *err) {
+  if (mkdir(dir, 0777) && errno != EEXIST)
+    return tb_error_set(err, dir, 0, "cannot create the folder: %s", strerror(errno));
+  char path[1024];
+  if (snprintf(path, sizeof path, "%s/frame_%05d.vtk", dir, frame) >= (int)sizeof path)
+    return tb_error_set(err, dir, 0, "path too long");
+  tb_mesh m = s->mesh;
+  m.x = (tb_vec3 *)tb_model_positions(&s->model);
+  return tb_mesh_write(path, &m, err);
+}

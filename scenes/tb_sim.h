@@ -1,0 +1,182 @@
+/* Simulation scenes: a mesh, a deformation model (models/tb_model.h) and
+ * what the scene does to it over time (fixed nodes, loads, prescribed
+ * motions, a ground with friction, an instrument). A scene is a file
+ * (scenes/README.md; the built-in ones are scenes/NAME.ini) or a
+ * description built in code (the CLI's quick form). `simulate` and every
+ * suite run scenes through this driver, which checks the model's health
+ * every step so no blown-up run is reported as a result. */
+#ifndef TB_SIM_H
+#define TB_SIM_H
+
+#include <stdint.h>
+
+#include "tb_collider.h"
+#include "tb_model.h"
+#include "tb_scene_file.h"
+
+/* Overrides of a scene file's [scene] parameters. tb_sim_def_init leaves
+ * every field unset (the file's value is used); a set field is used as it
+ * is: 0 means 0 (no gravity, no load), or is rejected where it makes no
+ * sense (dt, duration). */
+typedef struct tb_sim_def {
+  double dt;            /* time step */
+  double duration;      /* simulated time */
+  double amplitude;     /* the scene's load or motion magnitude (its file says which) */
+  double release;       /* the time prescribed motions let go */
+  int nodes;            /* mesh resolution (liver: target tet-mesh vertices; beam: cells along x) */
+  double gravity;       /* magnitude, along the file's gravity_direction (default -z) */
+  double vmax;          /* health: velocity bound (0: 100 * scene size / duration) */
+  int inversion;        /* 1: an inverted tet stops the run (0: only counted) */
+  double drag;          /* ambient viscous drag: force -drag * m_i * v_i on every node */
+  double energy_factor; /* health: the energy bound is this times the reference */
+  int energy_every;     /* the energy is checked on the first this-many steps, then on every
+                           this-many-th (1: every step) */
+  double rest_speed;    /* at rest: largest node speed below this times the scene size per s */
+  uint64_t seed;        /* 0: the file's seed */
+} tb_sim_def;
+
+/* Every field unset. */
+void tb_sim_def_init(tb_sim_def *def);
+/* Sets one of the fields above from "key=value". Returns 1 when the key is
+ * not a scene key (the caller then tries the model's keys), 0 when set, -1
+ * on a bad value. */
+int tb_sim_def_set(tb_sim_def *def, const char *key_eq_value, tb_error *err);
+
+/* The built-in scenes (scenes/NAME.ini), by name. */
+const char *const *tb_sim_scene_names(int *count);
+/* The built-in scene's summary, or NULL when `name` is not one. */
+const char *tb_sim_scene_summary(const char *name);
+/* The file of a scene: a built-in name, or the path itself. */
+void tb_sim_scene_path(const char *scene, char *out, size_t cap);
+
+/* A prescribed rigid motion resolved to numbers (keyframes evaluated). */
+typedef struct tb_sim_motion {
+  int nkey;
+  double *t;     /* keyframe times */
+  tb_vec3 *move; /* translation (or (distance, 0, 0) with a direction) */
+  tb_vec3 *axis; /* unit rotation axis */
+  double *angle; /* radians */
+  int has_direction;
+  tb_vec3 direction, centre;
+} tb_sim_motion;
+
+/* A selected node set with what acts on it. */
+typedef struct tb_sim_group {
+  int n, *ids;
+  tb_vec3 value;        /* force per node */
+  double start, stop;   /* force: active window */
+  double release;       /* move: let go after (INFINITY: never) */
+  tb_sim_motion motion; /* move */
+} tb_sim_group;
+
+/* State of one simulation. The hot arrays belong to the model; the rest is
+ * the scene's bookkeeping. */
+typedef struct tb_sim {
+  tb_scene_desc desc; /* the scene as read */
+  const char *name;   /* desc.name */
+  tb_sim_def def;     /* effective parameters */
+  double param[TB_P_COUNT];
+  tb_mesh mesh; /* rest mesh (boundary triangles included) */
+  tb_model model;
+  double t;
+  long steps;
+  double size; /* diagonal of the rest bounding box */
+  /* what the next step receives */
+  tb_vec3 gravity;
+  int nfixed;
+  int *fixed;
+  tb_vec3 *fixed_x;
+  tb_vec3 *force;
+  char *mark;         /* per node: prescribed this step */
+  tb_vec3 *target;    /* per node: its prescribed position */
+  const double *mass; /* the model's lumped node masses */
+  char *on_surface;   /* per node: used by a surface triangle */
+  /* the scene's node sets */
+  int nanchor, *anchor; /* fixed nodes, ascending */
+  int ndriven, *driven; /* nodes of [move] and [force] sections, ascending */
+  int nforce, nmove;
+  tb_sim_group *forces, *moves;
+  int hold; /* 1: moves are not let go at their release (held until cleared) */
+  /* ground: plane through ground_p with unit normal ground_n, Coulomb friction */
+  int has_ground;
+  tb_vec3 ground_p, ground_n;
+  double mu_s, mu_k, restitution;
+  /* the instrument: its mesh in its own frame, pose per step, contact */
+  int has_tool;
+  tb_mesh tool;        /* local coordinates */
+  tb_vec3 *tool_x;     /* world positions at the current pose */
+  tb_vec3 tool_origin; /* origin + offset */
+  tb_sim_motion tool_motion;
+  double tool_margin, tool_friction;
+  tb_mat3 tool_R; /* the current pose: x = R x_local + t */
+  tb_vec3 tool_t;
+  tb_mesh tool_surface; /* the body's outward boundary over the rest positions (shared x) */
+  int *slot;            /* per node: its entry in the correction buffers, or -1 */
+  tb_collider *collider;
+  tb_pairlist pairs;
+  char *contact; /* per node: in contact with the tool last step */
+  int ncontact;
+  tb_vec3 *x_prev; /* positions before the step (friction) */
+  int *ids_buf;    /* scratch for contact corrections */
+  tb_vec3 *xc_buf, *vc_buf;
+  /* penetration: of the last step (after the contact response) and the largest over the run */
+  double pen_ground, pen_tool, pen_ground_max, pen_tool_max;
+  double pen_tool_before_max; /* largest depth inside the tool before the response */
+  /* health of the last step */
+  tb_health health;
+  /* the energy-growth detector (tb_sim_step) */
+  double total_mass;
+  double load_max;
+  double energy0;
+  double energy_driven;
+  int moving;
+  double energy;
+  double energy_bound;
+} tb_sim;
+
+/* Builds scene `scene` (a built-in name or a scene file) with overrides
+ * def (NULL: none), model `model` (NULL: the file's [model] name) with
+ * settings `set` added to the file's (NULL: none). With `mesh` non-NULL the
+ * scene uses a copy of it instead of building its own. */
+int tb_sim_create(tb_sim *s, const char *scene, const tb_sim_def *def, const char *model,
+                  const tb_settings *set, const tb_mesh *mesh, tb_error *err);
+/* The same from a description (taken over: freed with the simulation). */
+int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, const char *model,
+                       const tb_settings *set, const tb_mesh *mesh, tb_error *err);
+/* The scene's rest mesh alone (to share one mesh among several models). */
+int tb_sim_mesh(const char *scene, const tb_sim_def *def, tb_mesh *out, tb_error *err);
+/* One step: the scene's inputs at t, the model's step, contact, the health
+ * check. A failed step or an unhealthy state returns -1 with the reason in
+ * err ("unstable: NaN or inf (node 12)" or the model's own error). Health:
+ * tb_model_health (NaN/inf, velocity bound, inversion when def.inversion)
+ * and, for models with an energy, energy growth beyond def.energy_factor
+ * times a reference (scenes/sim.c explains it). */
+int tb_sim_step(tb_sim *s, tb_error *err);
+void tb_sim_destroy(tb_sim *s);
+/* The scene's loads at time t without stepping: fills gravity, force
+ * (scene forces only, no drag), nfixed/fixed/fixed_x. */
+int tb_sim_loads(tb_sim *s, double t, tb_error *err);
+
+/* Lets every prescribed motion go now (clears hold): the next step's
+ * nodes are free. */
+void tb_sim_let_go(tb_sim *s);
+
+/* Metrics of the current state against the rest mesh. */
+typedef struct tb_sim_metrics {
+  double max_disp; /* largest |x - X| */
+  int max_disp_node;
+  double rms_disp;      /* root mean square of |x - X| over nodes */
+  double volume_change; /* (V - V0) / V0 over the tets */
+  double energy;        /* the model's (NAN where undefined) */
+  double max_speed;     /* largest |v| */
+  double com_z;         /* centre of mass height (unit node weights) */
+  int inverted;         /* tets with signed volume <= 0 */
+} tb_sim_metrics;
+tb_sim_metrics tb_sim_measure(const tb_sim *s);
+/* At rest: the largest node speed is below def.rest_speed * size (per s). */
+int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol);
+
+/* Writes the current frame as legacy VTK to dir/frame_NNNNN.vtk; dir is created. */
+int tb_sim_write_vtk(const tb_sim *s, const char *dir, int frame, tb_error *err);
+
+#endif

@@ -1,0 +1,445 @@
+/* Scene files and the driver (scenes/): file errors with FILE:LINE, the
+ * built-in files reproducing the old hand-coded scenes, a static solution
+ * checked against an independent assembly, ground contact with friction
+ * (rest, stick, slide), the instrument's real-mesh contact, and every model
+ * stable on every built-in scene at its defaults. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "tb_mesh_io.h"
+#include "tb_sim.h"
+#include "tb_test.h"
+
+static const char *scene_file(const char *name, const char *text) {
+  return tb_test_file(name, text, -1);
+}
+
+/* ---- errors ---- */
+
+static void expect_cli_error(const char *file, const char *text, int line, const char *what) {
+  const char *p = scene_file(file, text);
+  char args[1400], want[1200];
+  snprintf(args, sizeof args, "simulate --model fem --scene %s", p);
+  int rc = tb_test_cli_run(args);
+  snprintf(want, sizeof want, "%s:%d: ", p, line);
+  TB_CHECK_MSG(rc == 2 && strstr(tb_test_out, want) && strstr(tb_test_out, what),
+               "%s: exit %d, wanted '%s' and '%s' in: %s", file, rc, want, what, tb_test_out);
+}
+
+#define BEAM "[mesh]\ngenerate = beam\nnx = 4\nny = 1\nnz = 1\n"
+
+static void file_errors(void) {
+  expect_cli_error("unknown-key.ini", "[scene]\ndt = 0.01\nbogus = 3\n" BEAM, 3,
+                   "unknown key 'bogus'");
+  expect_cli_error("bad-value.ini", "[scene]\n\ndt = abc\n" BEAM, 3, "dt: 'abc'");
+  expect_cli_error("missing-mesh.ini", "# a scene\n[mesh]\nfile = no-such-mesh.obj\n", 3,
+                   "cannot read");
+  expect_cli_error("out-of-range.ini", BEAM "[fix]\nids = 0, 1, 5000\n", 7,
+                   "node id 5000 is out of range");
+  expect_cli_error("empty-fix.ini", BEAM "[fix]\nbox = 100,100,100, 101,101,101\n", 7,
+                   "selects no node");
+  expect_cli_error("section.ini", BEAM "[fixed]\nids = 1\n", 7, "unknown section [fixed]");
+  expect_cli_error("twice.ini", "[scene]\ndt = 0.01\ndt = 0.02\n" BEAM, 3, "'dt' given twice");
+  expect_cli_error("keyframes.ini",
+                   BEAM "[move]\nids = 1\nkeyframe = 1, 0,0,0\nkeyframe = 0.5, 1,0,0\n", 9,
+                   "times must increase");
+  expect_cli_error("syntax.ini", BEAM "[fix\nids = 1\n", 6, "not INI syntax");
+  expect_cli_error("model-key.ini", BEAM "[model]\nE = 3000\nwobble = 2\n", 8, "wobble");
+  expect_cli_error("range.ini", BEAM "[model]\nnu = 0.7\n", 7, "nu");
+  /* the id file's own line */
+  const char *ids = tb_test_file("ids.txt", "# fixed nodes\n0 1\n2 x3\n", -1);
+  char text[1200];
+  snprintf(text, sizeof text, BEAM "[fix]\nid_file = %s\n", ids);
+  const char *p = scene_file("idfile.ini", text);
+  char args[1400], want[1200];
+  snprintf(args, sizeof args, "simulate --model fem --scene %s", p);
+  snprintf(want, sizeof want, "%s:3: ", ids);
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, want), "%s", tb_test_out);
+}
+
+/* ---- the quick form and the CLI's bounds ---- */
+
+static void quick_form(void) {
+  char args[1400];
+  const char *beam = tb_test_file("qbeam.node", "", -1);
+  (void)beam;
+  snprintf(args, sizeof args, "mesh beam --set nx=8 --set ny=2 --set nz=2 --out %s/qbeam.node",
+           tb_test_tmpdir());
+  TB_CHECK(tb_test_cli_run(args) == 0);
+  snprintf(args, sizeof args,
+           "simulate --model fem --mesh %s/qbeam.node --fix-box -1,-1,-1,0.001,2,2 --gravity "
+           "0,0,-9.81 --static",
+           tb_test_tmpdir());
+  int rc = tb_test_cli_run(args);
+  TB_CHECK_MSG(rc == 0 && strstr(tb_test_out, "max displacement ") &&
+                   strstr(tb_test_out, " at node ") &&
+                   strstr(tb_test_out, "static equilibrium after "),
+               "%s", tb_test_out);
+  /* gravity 0 means 0 */
+  snprintf(args, sizeof args,
+           "simulate --model fem --mesh %s/qbeam.node --fix 0,1,2 --gravity 0,0,-9.81 --set "
+           "gravity=0 --steps 5",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0 && strstr(tb_test_out, "max displacement 0 at node 0"),
+               "%s", tb_test_out);
+  /* bounds: a step count too large, a folder that cannot be made */
+  snprintf(args, sizeof args, "simulate --model fem --scene beam --dt 1e-300");
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "steps"), "%s", tb_test_out);
+  snprintf(args, sizeof args, "simulate --model fem --scene beam --set duration=1e9");
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "steps"), "%s", tb_test_out);
+  snprintf(args, sizeof args, "simulate --model fem --scene beam --vtk /proc/no/such/dir");
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "cannot create"), "%s",
+               tb_test_out);
+  snprintf(args, sizeof args, "simulate --model fem --mesh %s/qbeam.node --fix 0,1,99999",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "out of range"), "%s",
+               tb_test_out);
+  /* the beam's 2 s are not its rest */
+  TB_CHECK_MSG(tb_test_cli_run("simulate --model fem --scene beam") == 0 &&
+                   strstr(tb_test_out, "NOT at rest"),
+               "%s", tb_test_out);
+}
+
+/* ---- an independent static check: K u = f assembled here ---- */
+
+/* Linear-elastic tet stiffness (constant strain): K_e = V B^T D B. */
+static void assemble(const tb_mesh *m, double E, double nu, double *K, int n3) {
+  double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  for (int t = 0; t < m->ntet; t++) {
+    const int *e = m->tet + 4 * t;
+    tb_vec3 x[4];
+    for (int a = 0; a < 4; a++) x[a] = m->x[e[a]];
+    double V = tb_tet_volume(x[0], x[1], x[2], x[3]);
+    /* gradients of the barycentric coordinates: area vectors of the opposite faces / (3V) */
+    tb_vec3 g[4];
+    for (int a = 0; a < 4; a++) {
+      tb_vec3 p = x[(a + 1) % 4], q = x[(a + 2) % 4], r = x[(a + 3) % 4];
+      tb_vec3 nrm = tb_scale(tb_cross(tb_sub(q, p), tb_sub(r, p)), 0.5);
+      if (tb_dot(nrm, tb_sub(x[a], p)) < 0) nrm = tb_scale(nrm, -1);
+      g[a] = tb_scale(nrm, 1.0 / (3 * V));
+    }
+    for (int a = 0; a < 4; a++)
+      for (int b = 0; b < 4; b++)
+        for (int i = 0; i < 3; i++)
+          for (int j = 0; j < 3; j++) {
+            double ga = tb_comp(g[a], i), gb = tb_comp(g[b], j);
+            double kij = lam * tb_comp(g[a], i) * tb_comp(g[b], j) +
+                         mu * tb_comp(g[a], j) * tb_comp(g[b], i) +
+                         (i == j ? mu * tb_dot(g[a], g[b]) : 0);
+            (void)ga, (void)gb;
+            K[(size_t)(3 * e[a] + i) * n3 + 3 * e[b] + j] += V * kij;
+          }
+  }
+}
+
+/* Runs a static solve (fem, quasistatic) of a scene file and checks it
+ * against K and f assembled here. */
+static void check_static(const char *path, double E, double nu, double rho, tb_vec3 g) {
+  tb_sim s;
+  tb_error err;
+  tb_settings set;
+  tb_settings_init(&set);
+  TB_CHECK(tb_settings_set(&set, "quasistatic=1", &err) == 0);
+  if (tb_sim_create(&s, path, NULL, "fem", &set, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  TB_CHECK_MSG(tb_sim_step(&s, &err) == 0, "%s", err.msg);
+  const tb_mesh *m = &s.mesh;
+  int n3 = 3 * m->nv;
+  double *K = calloc((size_t)n3 * n3, sizeof(double)), *f = calloc((size_t)n3, sizeof(double));
+  assemble(m, E, nu, K, n3);
+  for (int t = 0; t < m->ntet; t++) {
+    const int *e = m->tet + 4 * t;
+    double V = tb_tet_volume(m->x[e[0]], m->x[e[1]], m->x[e[2]], m->x[e[3]]);
+    for (int a = 0; a < 4; a++) {
+      f[3 * e[a]] += rho * V / 4 * g.x, f[3 * e[a] + 1] += rho * V / 4 * g.y;
+      f[3 * e[a] + 2] += rho * V / 4 * g.z;
+    }
+  }
+  char *fixed = calloc((size_t)m->nv, 1);
+  for (int k = 0; k < s.nanchor; k++) fixed[s.anchor[k]] = 1;
+  const tb_vec3 *x = tb_model_positions(&s.model);
+  double res2 = 0, f2 = 0, react[3] = {0, 0, 0}, load[3] = {0, 0, 0};
+  for (int r = 0; r < n3; r++) {
+    double ku = 0;
+    for (int c = 0; c < n3; c++)
+      ku += K[(size_t)r * n3 + c] * (tb_comp(x[c / 3], c % 3) - tb_comp(m->x[c / 3], c % 3));
+    load[r % 3] += f[r];
+    if (fixed[r / 3])
+      react[r % 3] += ku - f[r];
+    else
+      res2 += (ku - f[r]) * (ku - f[r]), f2 += f[r] * f[r];
+  }
+  TB_CHECK_MSG(sqrt(res2 / f2) <= 1e-10, "%s: relative residual %g", path, sqrt(res2 / f2));
+  double lsz = sqrt(load[0] * load[0] + load[1] * load[1] + load[2] * load[2]);
+  for (int c = 0; c < 3; c++)
+    TB_CHECK_MSG(fabs(react[c] + load[c]) <= 1e-10 * lsz, "%s: reaction %g against load %g", path,
+                 react[c], load[c]);
+  TB_CHECK(s.nanchor >= 3 && lsz > 0);
+  free(K), free(f), free(fixed);
+  tb_sim_destroy(&s);
+}
+
+static void static_solution(void) {
+  /* a generated beam (runs everywhere) */
+  const char *p = scene_file("static-beam.ini", "[scene]\ngravity = 9.81\n" BEAM
+                                                "[model]\nE = 3000\nnu = 0.3\ndensity = 1\n"
+                                                "[fix]\nbox_fraction = 0,0,0, 0,1,1\n");
+  check_static(p, 3000, 0.3, 1, tb_v3(0, 0, -9.81));
+  /* SOFA's liver demo */
+  char liver[1024];
+  snprintf(liver, sizeof liver, "%s/../shared/data/sofa/liver.msh", tb_test_source_root());
+  if (access(liver, R_OK)) {
+    tb_test_skip("%s absent (../shared/data not present): the SOFA liver demo not checked", liver);
+    return;
+  }
+  char sc[1024];
+  snprintf(sc, sizeof sc, "%s/scenes/examples/sofa-liver.ini", tb_test_source_root());
+  check_static(sc, 3000, 0.3, 1, tb_v3(0, -9.81, 0));
+  int rc = tb_test_cli_run(
+      "simulate --model fem --mesh data:sofa/liver.msh --fix 3,39,64 "
+      "--gravity 0,-9.81,0 --static");
+  TB_CHECK_MSG(rc == 0 && strstr(tb_test_out, "static equilibrium after 2 solve(s)") &&
+                   strstr(tb_test_out, " at node "),
+               "%s", tb_test_out);
+}
+
+/* ---- ground ---- */
+
+/* A block (1 x 1 x 0.5) dropped onto the ground comes to rest on it, for
+ * every model; no node is ever below the plane after a step. */
+static void ground_rest(void) {
+  for (int i = 0; i < tb_model_count; i++) {
+    const char *name = tb_model_classes[i]->name;
+    char text[1024];
+    snprintf(text, sizeof text,
+             "[scene]\ndt = 0.002\nduration = 4\ngravity = 9.81\ndrag = 4\n"
+             "[mesh]\ngenerate = beam\nlx = 1\nly = 1\nlz = 0.5\nnx = 2\nny = 2\nnz = 1\n"
+             "translate = 0,0,0.3\n[ground]\npoint = 0,0,0\nnormal = 0,0,1\nmu_s = 0.5\n"
+             "mu_k = 0.4\n%s",
+             strcmp(name, "msm") ? "" : "[model]\nks = 2000\nkd = 5\n");
+    const char *p = scene_file("drop-block.ini", text);
+    tb_sim s;
+    tb_error err;
+    if (tb_sim_create(&s, p, NULL, name, NULL, NULL, &err)) {
+      TB_CHECK_MSG(0, "%s: %s", name, err.msg);
+      continue;
+    }
+    double worst = 0;
+    int failed = 0;
+    for (long k = 0; k < 2000 && !failed; k++) {
+      failed = tb_sim_step(&s, &err) != 0;
+      worst = fmax(worst, s.pen_ground);
+    }
+    TB_CHECK_MSG(!failed, "%s: %s", name, err.msg);
+    double speed, tol, zmin = INFINITY;
+    const tb_vec3 *x = tb_model_positions(&s.model);
+    for (int k = 0; k < s.mesh.nv; k++) zmin = fmin(zmin, x[k].z);
+    TB_CHECK_MSG(worst <= 1e-9 * s.size, "%s: a node %g below the ground after a step", name,
+                 worst);
+    TB_CHECK_MSG(tb_sim_at_rest(&s, &speed, &tol), "%s: not at rest (speed %g)", name, speed);
+    TB_CHECK_MSG(zmin > -1e-9 && zmin < 0.02, "%s: lowest node at z = %g", name, zmin);
+    tb_sim_destroy(&s);
+  }
+}
+
+/* A block on a slope of angle a (mu_s 0.5: atan = 26.57 deg, mu_k 0.4): it
+ * stays below, slides above with acceleration g (sin a - mu_k cos a). */
+static double slide(const char *model, double deg, double T) {
+  double a = deg * M_PI / 180;
+  char text[1200];
+  snprintf(text, sizeof text,
+           "[scene]\ndt = 0.001\nduration = %g\ngravity = 9.81\n"
+           "[mesh]\ngenerate = beam\nlx = 1\nly = 1\nlz = 0.5\nnx = 2\nny = 2\nnz = 1\n"
+           "rotate = 0,1,0, %.17g\n[model]\nE = 1e5\n"
+           "[ground]\npoint = 0,0,0\nnormal = %.17g,0,%.17g\nmu_s = 0.5\nmu_k = 0.4\n",
+           T, deg, sin(a), cos(a));
+  const char *p = scene_file("slope.ini", text);
+  tb_sim s;
+  tb_error err;
+  if (tb_sim_create(&s, p, NULL, model, NULL, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return NAN;
+  }
+  long n = lround(T / 0.001);
+  for (long k = 0; k < n; k++)
+    if (tb_sim_step(&s, &err)) {
+      TB_CHECK_MSG(0, "%s at %g deg: %s", model, deg, err.msg);
+      break;
+    }
+  /* mean displacement down the slope: along (cos a, 0, -sin a) */
+  const tb_vec3 *x = tb_model_positions(&s.model);
+  tb_vec3 down = tb_v3(cos(a), 0, -sin(a));
+  double d = 0;
+  for (int k = 0; k < s.mesh.nv; k++) d += tb_dot(tb_sub(x[k], s.mesh.x[k]), down);
+  d /= s.mesh.nv;
+  TB_CHECK_MSG(s.pen_ground_max <= 1e-9 * s.size, "%s: penetration %g", model, s.pen_ground_max);
+  tb_sim_destroy(&s);
+  return d;
+}
+
+static void ground_slope(void) {
+  const char *models[] = {"fem-corot", "fem"};
+  for (int m = 0; m < 2; m++) {
+    double T = 0.5;
+    double stick = slide(models[m], 20, T), slow = slide(models[m], 25, T);
+    double fast = slide(models[m], 35, T);
+    double a = 35 * M_PI / 180, want = 0.5 * 9.81 * (sin(a) - 0.4 * cos(a)) * T * T;
+    TB_CHECK_MSG(fabs(stick) < 2e-3 && fabs(slow) < 2e-3, "%s: moved %g at 20 deg, %g at 25 deg",
+                 models[m], stick, slow);
+    TB_CHECK_MSG(fabs(fast - want) < 0.1 * want, "%s: slid %g at 35 deg, Coulomb %g", models[m],
+                 fast, want);
+  }
+}
+
+/* ---- the instrument ---- */
+
+static void press_real_mesh(void) {
+  tb_sim_def sd;
+  tb_sim_def_init(&sd);
+  sd.nodes = 300, sd.amplitude = 0.8, sd.duration = 0.8;
+  tb_sim s;
+  tb_error err;
+  if (tb_sim_create(&s, "liver-press", &sd, "fem", NULL, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  int most = 0;
+  for (int k = 0; k < 80; k++) {
+    if (tb_sim_step(&s, &err)) {
+      TB_CHECK_MSG(0, "%s", err.msg);
+      break;
+    }
+    most = s.ncontact > most ? s.ncontact : most;
+  }
+  TB_CHECK_MSG(most >= 3, "at most %d nodes held on the instrument", most);
+  TB_CHECK_MSG(s.pen_tool_before_max > 0, "no node ever went inside the instrument");
+  TB_CHECK_MSG(s.pen_tool_max <= 1e-9 * s.size,
+               "a node %g inside the instrument after the response", s.pen_tool_max);
+  tb_sim_metrics m = tb_sim_measure(&s);
+  TB_CHECK_MSG(m.max_disp > 0.5, "max displacement %g", m.max_disp);
+  tb_sim_destroy(&s);
+}
+
+/* ---- the built-in files against the old hand-coded scenes ---- */
+
+static void builtin_match_old(void) {
+  tb_sim_def sd;
+  tb_sim_def_init(&sd);
+  sd.nodes = 300;
+  tb_sim s;
+  tb_error err;
+  /* liver-stretch: anchors x < lo + 0.15 extent; the patch: surface nodes within 0.1 diagonal of
+   * the surface node farthest along x; pulled along (1, 0, 0.3) by t / (release / 2) amplitude */
+  if (tb_sim_create(&s, "liver-stretch", &sd, "fem", NULL, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  const tb_mesh *m = &s.mesh;
+  tb_vec3 lo, hi;
+  tb_mesh_bbox(m, &lo, &hi);
+  int na = 0, nd = 0, best = m->tri[0];
+  for (int k = 0; k < 3 * m->ntri; k++)
+    if (m->x[m->tri[k]].x > m->x[best].x) best = m->tri[k];
+  for (int i = 0; i < m->nv; i++) {
+    if (m->x[i].x < lo.x + 0.15 * (hi.x - lo.x)) TB_CHECK(na < s.nanchor && s.anchor[na++] == i);
+    if (s.on_surface[i] && tb_dist(m->x[i], m->x[best]) < 0.1 * tb_dist(lo, hi))
+      TB_CHECK(nd < s.ndriven && s.driven[nd++] == i);
+  }
+  TB_CHECK(na == s.nanchor && nd == s.ndriven && nd > 3);
+  tb_vec3 dir = tb_normalize(tb_v3(1, 0, 0.3));
+  double ts[] = {0.13, 0.5, 0.77, 1.0};
+  for (int q = 0; q < 4; q++) {
+    tb_sim_loads(&s, ts[q], &err);
+    double f = ts[q] < 0.5 ? ts[q] / 0.5 : 1.0;
+    for (int k = 0; k < s.ndriven; k++) {
+      int i = s.driven[k];
+      tb_vec3 want = tb_madd(m->x[i], f * 2.0, dir);
+      TB_CHECK(s.mark[i] && s.target[i].x == want.x && s.target[i].y == want.y &&
+               s.target[i].z == want.z);
+    }
+  }
+  tb_sim_loads(&s, 1.01, &err);
+  TB_CHECK(!s.mark[s.driven[0]]); /* let go */
+  tb_sim_destroy(&s);
+  /* beam: root face held, tip face loaded by -amplitude / n each */
+  tb_sim_def_init(&sd);
+  if (tb_sim_create(&s, "beam", &sd, "fem", NULL, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  TB_CHECK(s.mesh.nv == 21 * 3 * 3 && s.nanchor == 9 && s.ndriven == 9);
+  tb_sim_loads(&s, 0.5, &err);
+  for (int k = 0; k < 9; k++) {
+    TB_CHECK(s.mesh.x[s.anchor[k]].x == 0 && s.mesh.x[s.driven[k]].x == 10);
+    TB_CHECK(s.force[s.driven[k]].z == -(0.075 / 9) && s.force[s.driven[k]].x == 0);
+  }
+  tb_sim_destroy(&s);
+  /* beam-twist: the end face turned by f * 180 degrees about (y, z) = (0.5, 0.5) */
+  if (tb_sim_create(&s, "beam-twist", &sd, "fem", NULL, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  TB_CHECK(s.nanchor == 9 && s.ndriven == 9);
+  tb_sim_loads(&s, 0.25, &err);
+  for (int k = 0; k < s.ndriven; k++) {
+    tb_vec3 x = s.mesh.x[s.driven[k]], t = s.target[s.driven[k]];
+    double a = 0.5 * M_PI, y = x.y - 0.5, z = x.z - 0.5;
+    TB_CHECK(x.x == 4);
+    TB_CHECK_NEAR(t.y, 0.5 + cos(a) * y - sin(a) * z, 1e-14);
+    TB_CHECK_NEAR(t.z, 0.5 + sin(a) * y + cos(a) * z, 1e-14);
+    TB_CHECK(t.x == 4);
+  }
+  tb_sim_destroy(&s);
+}
+
+/* ---- defaults run ---- */
+
+static void every_model_every_scene(void) {
+  int ns;
+  const char *const *names = tb_sim_scene_names(&ns);
+  for (int q = 0; q < ns; q++) {
+    tb_mesh mesh;
+    tb_error err;
+    if (tb_sim_mesh(names[q], NULL, &mesh, &err)) {
+      TB_CHECK_MSG(0, "%s: %s", names[q], err.msg);
+      continue;
+    }
+    for (int i = 0; i < tb_model_count; i++) {
+      tb_sim s;
+      const char *model = tb_model_classes[i]->name;
+      if (tb_sim_create(&s, names[q], NULL, model, NULL, &mesh, &err)) {
+        TB_CHECK_MSG(0, "%s on %s: %s", model, names[q], err.msg);
+        continue;
+      }
+      long n = lround(s.def.duration / s.def.dt);
+      double most = 0;
+      for (long k = 0; k < n; k++) {
+        if (tb_sim_step(&s, &err)) {
+          TB_CHECK_MSG(0, "%s on %s at defaults: %s", model, names[q], err.msg);
+          break;
+        }
+        if (k % 10 == 0) most = fmax(most, tb_sim_measure(&s).max_disp);
+      }
+      TB_CHECK_MSG(most > 1e-4 * s.size, "%s on %s: nothing moved (%g)", model, names[q], most);
+      tb_sim_destroy(&s);
+    }
+    tb_mesh_free(&mesh);
+  }
+}
+
+const tb_test_case tb_tests_scenes[] = {
+    {"file_errors", file_errors},
+    {"quick_form", quick_form},
+    {"static_solution", static_solution},
+    {"ground_rest", ground_rest},
+    {"ground_slope", ground_slope},
+    {"press_real_mesh", press_real_mesh},
+    {"builtin_match_old", builtin_match_old},
+    {"every_model_every_scene", every_model_every_scene},
+    {NULL, NULL},
+};
