@@ -227,19 +227,25 @@ int tb_cmd_simulate(int argc, char **argv) {
   long planned = steps ? steps : lround(s.def.duration / s.def.dt);
   int rc;
   if (planned < 1) planned = 1;
-  if (!every) every = lround(1.0 / (30.0 * s.def.dt)) > 1 ? lround(1.0 / (30.0 * s.def.dt)) : 1;
+  if (!every) {
+    double interval = s.desc.frame_interval > 0 ? s.desc.frame_interval : 1.0 / 30.0;
+    every = lround(interval / s.def.dt) > 1 ? lround(interval / s.def.dt) : 1;
+  }
   printf("scene %s: %d nodes, %d tets; model %s; dt %g, %ld steps (%g s)%s\n", s.name, s.mesh.nv,
          s.mesh.ntet, mname, s.def.dt, planned, planned * s.def.dt,
          statik ? (solver ? "; static solve" : "; run to rest") : "");
   double *ms = malloc(sizeof(double) * (size_t)planned);
-  if (!ms) {
+  double *times = malloc(sizeof(double) * (size_t)(planned / every + 2));
+  if (!ms || !times) {
+    free(ms), free(times);
     tb_sim_destroy(&s);
     fprintf(stderr, PROG ": out of memory\n");
     return TB_EXIT_FAIL;
   }
   rc = TB_EXIT_OK;
   int frame = 0;
-  if (vtk && tb_sim_write_vtk(&s, vtk, frame++, &err)) rc = TB_EXIT_FAIL;
+  if (vtk && tb_sim_write_frame(&s, vtk, frame, &err)) rc = TB_EXIT_FAIL;
+  if (vtk) times[frame++] = s.t;
   long done = 0;
   double change = 0;
   if (statik && rc == TB_EXIT_OK) {
@@ -249,8 +255,10 @@ int tb_cmd_simulate(int argc, char **argv) {
     if (done < 0) {
       printf("status: unstable (%s)\n", err.msg);
       rc = TB_EXIT_FAIL;
-    } else if (vtk && tb_sim_write_vtk(&s, vtk, frame++, &err))
+    } else if (vtk && tb_sim_write_frame(&s, vtk, frame, &err))
       rc = TB_EXIT_FAIL;
+    else if (vtk)
+      times[frame++] = s.t;
   }
   for (; !statik && done < planned && rc == TB_EXIT_OK; done++) {
     uint64_t t0 = tb_time_ns();
@@ -261,11 +269,19 @@ int tb_cmd_simulate(int argc, char **argv) {
       rc = TB_EXIT_FAIL;
       break;
     }
-    if (vtk && (done + 1) % every == 0 && tb_sim_write_vtk(&s, vtk, frame++, &err))
-      rc = TB_EXIT_FAIL;
+    if (vtk && (done + 1) % every == 0) {
+      if (tb_sim_write_frame(&s, vtk, frame, &err))
+        rc = TB_EXIT_FAIL;
+      else
+        times[frame++] = s.t;
+    }
   }
-  if (rc == TB_EXIT_FAIL && vtk && err.msg[0] && s.health.ok)
-    fprintf(stderr, PROG ": %s\n", err.msg);
+  if (rc == TB_EXIT_FAIL && vtk && s.health.ok) fprintf(stderr, PROG ": %s\n", err.msg);
+  tb_error perr;
+  if (vtk && frame && tb_sim_write_pvd(vtk, frame, times, &perr)) {
+    fprintf(stderr, PROG ": %s\n", perr.msg);
+    rc = TB_EXIT_FAIL;
+  }
   if (rc == TB_EXIT_OK) {
     tb_stats st = tb_stats_of(ms, statik ? 1 : (int)done);
     tb_sim_metrics m = tb_sim_measure(&s);
@@ -292,10 +308,10 @@ int tb_cmd_simulate(int argc, char **argv) {
     else
       printf("%s at t = %g s: max node speed %.3g (rest below %.3g)\n",
              rest ? "at rest" : "NOT at rest", s.t, speed, tol);
-    if (vtk) printf("%d VTK frames in %s\n", frame, vtk);
+    if (vtk) printf("%d frames in %s (frame_NNNNN.vtu; frames.pvd for ParaView)\n", frame, vtk);
     printf("status: stable\n");
   }
-  free(ms);
+  free(ms), free(times);
   tb_sim_destroy(&s);
   return rc;
 }

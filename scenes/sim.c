@@ -12,7 +12,6 @@
 #include <sys/stat.h>
 
 #include "sim_priv.h"
-#include "tb_mesh_io.h"
 
 /* The built-in scenes: scenes/NAME.ini. */
 static const char *const builtin[] = {"liver-stretch", "liver-press", "beam",      "drop",
@@ -283,6 +282,7 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
     if (tb_settings_set(&all, kv, err)) goto fail;
   }
   if (tb_model_create(&s->model, mname, &s->mesh, &all, err)) goto fail;
+  s->settings = all;
   s->mass = tb_model_masses(&s->model);
   if (resolve_sets(s, err) || tb_sim_contact_setup(s, err)) goto fail;
   for (int i = 0; i < s->mesh.nv; i++) s->total_mass += s->mass[i];
@@ -501,15 +501,4 @@ int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol) {
   for (int i = 0; i < s->mesh.nv; i++) m = fmax(m, tb_len(v[i]));
   *speed = m, *tol = s->def.rest_speed * s->size;
   return m < *tol;
-}
-
-int tb_sim_write_vtk(const tb_sim *s, const char *dir, int frame, tb_error *err) {
-  if (mkdir(dir, 0777) && errno != EEXIST)
-    return tb_error_set(err, dir, 0, "cannot create the folder: %s", strerror(errno));
-  char path[1024];
-  if (snprintf(path, sizeof path, "%s/frame_%05d.vtk", dir, frame) >= (int)sizeof path)
-    return tb_error_set(err, dir, 0, "path too long");
-  tb_mesh m = s->mesh;
-  m.x = (tb_vec3 *)tb_model_positions(&s->model);
-  return tb_mesh_write(path, &m, err);
 }

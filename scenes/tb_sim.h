@@ -78,6 +78,7 @@ typedef struct tb_sim {
   double param[TB_P_COUNT];
   tb_mesh mesh; /* rest mesh (boundary triangles included) */
   tb_model model;
+  tb_settings settings; /* the model's settings: the file's, then the caller's */
   double t;
   long steps;
   double size; /* diagonal of the rest bounding box */
@@ -176,7 +177,12 @@ tb_sim_metrics tb_sim_measure(const tb_sim *s);
 /* At rest: the largest node speed is below def.rest_speed * size (per s). */
 int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol);
 
-/* Writes the current frame as legacy VTK to dir/frame_NNNNN.vtk; dir is created. */
-int tb_sim_write_vtk(const tb_sim *s, const char *dir, int frame, tb_error *err);
+/* ParaView output (scenes/output.c): the current state as
+ * dir/frame_NNNNN.vtu (the body's tets with point data displacement and
+ * velocity, cell data strain, von_mises (models with E and nu) and
+ * inverted; the instrument and the ground as their own pieces), dir
+ * created; and dir/frames.pvd naming frames 0..n-1 with their times. */
+int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err);
+int tb_sim_write_pvd(const char *dir, int nframes, const double *times, tb_error *err);
 
 #endif

@@ -12,6 +12,7 @@
 #include "tb_mesh_io.h"
 #include "tb_sim.h"
 #include "tb_test.h"
+#include "tb_vtu.h"
 
 static const char *scene_file(const char *name, const char *text) {
   return tb_test_file(name, text, -1);
@@ -325,6 +326,62 @@ static void press_real_mesh(void) {
   tb_sim_destroy(&s);
 }
 
+/* ---- ParaView output ---- */
+
+static void frames_parse_back(void) {
+  const char *p = scene_file("frames.ini",
+                             "[scene]\ndt = 0.002\ngravity = 9.81\n"
+                             "[mesh]\ngenerate = beam\nlx = 1\nly = 1\nlz = 0.5\n"
+                             "nx = 2\nny = 2\nnz = 1\ntranslate = 0,0,0.01\n"
+                             "[ground]\nnormal = 0,0,1\nmu_s = 0.3\nmu_k = 0.2\n");
+  tb_sim s;
+  tb_error err;
+  if (tb_sim_create(&s, p, NULL, "fem", NULL, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  for (int k = 0; k < 40; k++) TB_CHECK(tb_sim_step(&s, &err) == 0);
+  char dir[600], f[700];
+  snprintf(dir, sizeof dir, "%s/frames", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_sim_write_frame(&s, dir, 3, &err) == 0, "%s", err.msg);
+  snprintf(f, sizeof f, "%s/frame_00003.vtu", dir);
+  tb_mesh m;
+  tb_vtu_field disp = {"displacement", 0, 0, 0, NULL}, vm = {"von_mises", 1, 0, 0, NULL};
+  TB_CHECK_MSG(tb_vtu_read(f, &m, &disp, &err) == 0, "%s", err.msg);
+  const tb_vec3 *x = tb_model_positions(&s.model);
+  TB_CHECK(m.nv == s.mesh.nv + 4 && m.ntet == s.mesh.ntet && m.ntri == 2); /* the ground's square */
+  TB_CHECK(disp.ncomp == 3 && disp.ntuples == s.mesh.nv + 4);
+  int same = 1;
+  for (int i = 0; disp.data && i < s.mesh.nv; i++) {
+    tb_vec3 d = tb_sub(x[i], s.mesh.x[i]);
+    same &= disp.data[3 * i] == d.x && disp.data[3 * i + 1] == d.y && disp.data[3 * i + 2] == d.z;
+    same &= m.x[i].x == x[i].x && m.x[i].y == x[i].y && m.x[i].z == x[i].z;
+  }
+  TB_CHECK_MSG(same, "the displacement read back differs");
+  free(disp.data);
+  tb_mesh_free(&m);
+  TB_CHECK_MSG(tb_vtu_read(f, &m, &vm, &err) == 0 && vm.ntuples == s.mesh.ntet + 2, "%s", err.msg);
+  double most = 0;
+  for (int t = 0; vm.data && t < s.mesh.ntet; t++) most = fmax(most, vm.data[t]);
+  TB_CHECK_MSG(most > 0, "no stress in a block resting under gravity");
+  free(vm.data);
+  tb_mesh_free(&m);
+  tb_sim_destroy(&s);
+  /* the CLI: frames and their collection */
+  char args[800];
+  snprintf(args, sizeof args, "simulate --model msm --scene beam --set duration=0.2 --vtk %s/cli",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0 && strstr(tb_test_out, "frames.pvd"), "%s", tb_test_out);
+  snprintf(f, sizeof f, "%s/cli/frames.pvd", tb_test_tmpdir());
+  FILE *pf = fopen(f, "r");
+  char buf[4096] = "";
+  if (pf) buf[fread(buf, 1, sizeof buf - 1, pf)] = 0, fclose(pf);
+  TB_CHECK_MSG(strstr(buf, "file=\"frame_00000.vtu\"") && strstr(buf, "file=\"frame_00006.vtu\""),
+               "%s", buf);
+  snprintf(args, sizeof args, "mesh info %s/cli/frame_00006.vtu", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+}
+
 /* ---- the built-in files against the old hand-coded scenes ---- */
 
 static void builtin_match_old(void) {
@@ -439,6 +496,7 @@ const tb_test_case tb_tests_scenes[] = {
     {"ground_rest", ground_rest},
     {"ground_slope", ground_slope},
     {"press_real_mesh", press_real_mesh},
+    {"frames_parse_back", frames_parse_back},
     {"builtin_match_old", builtin_match_old},
     {"every_model_every_scene", every_model_every_scene},
     {NULL, NULL},

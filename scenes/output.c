@@ -1,0 +1,137 @@
+/* A simulation's frames for ParaView: one .vtu file per frame (the body's
+ * tets with point data `displacement` and `velocity` and cell data
+ * `strain`, `von_mises` and `inverted`; the instrument and the ground as
+ * their own pieces) and a .pvd collection naming every frame with its time.
+ *
+ * strain: the equivalent (von Mises) strain of the Green-Lagrange strain
+ * E = (F^T F - I) / 2, F = D_s D_m^-1 per tet, sqrt(2/3 dev(E):dev(E));
+ * rotation-free, so meaningful for every model. von_mises: of the second
+ * Piola-Kirchhoff stress S = lambda tr(E) I + 2 mu E (St. Venant-Kirchhoff
+ * with the model's E and nu), written only for models that have both
+ * settings (fem, fem-corot); NaN otherwise would mislead, so the array is
+ * left out. inverted: 1 where a tet's signed volume is <= 0. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "sim_priv.h"
+#include "tb_vtu.h"
+
+/* Green strain of one tet (rest positions X, current x). */
+static tb_mat3 green_strain(const tb_vec3 *X, const tb_vec3 *x, const int *e, int *ok) {
+  tb_mat3 Dm, Ds, inv;
+  tb_vec3 dm[3] = {tb_sub(X[e[1]], X[e[0]]), tb_sub(X[e[2]], X[e[0]]), tb_sub(X[e[3]], X[e[0]])};
+  tb_vec3 ds[3] = {tb_sub(x[e[1]], x[e[0]]), tb_sub(x[e[2]], x[e[0]]), tb_sub(x[e[3]], x[e[0]])};
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) Dm.m[r][c] = tb_comp(dm[c], r), Ds.m[r][c] = tb_comp(ds[c], r);
+  *ok = tb_m3_inverse(Dm, &inv);
+  tb_mat3 F = tb_m3_mul(Ds, inv), C = tb_m3_mul(tb_m3_transpose(F), F);
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) C.m[r][c] = 0.5 * (C.m[r][c] - (r == c));
+  return C;
+}
+
+/* sqrt(3/2 dev(A):dev(A)) (scale = 1) or sqrt(2/3 ...) for strains. */
+static double von_mises(tb_mat3 a, double scale) {
+  double tr = (a.m[0][0] + a.m[1][1] + a.m[2][2]) / 3, s = 0;
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) {
+      double d = a.m[r][c] - (r == c ? tr : 0);
+      s += d * d;
+    }
+  return sqrt(scale * s);
+}
+
+int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
+  if (mkdir(dir, 0777) && errno != EEXIST)
+    return tb_error_set(err, dir, 0, "cannot create the folder: %s", strerror(errno));
+  char path[1100];
+  if (snprintf(path, sizeof path, "%s/frame_%05d.vtu", dir, frame) >= (int)sizeof path)
+    return tb_error_set(err, dir, 0, "path too long");
+  const tb_mesh *m = &s->mesh;
+  const tb_vec3 *x = tb_model_positions(&s->model), *v = tb_model_velocities(&s->model);
+  size_t nv = (size_t)m->nv, nt = (size_t)m->ntet;
+  tb_vec3 *disp = malloc(sizeof(tb_vec3) * nv);
+  double *strain = malloc(sizeof(double) * (nt ? nt : 1)),
+         *vm = malloc(sizeof(double) * (nt ? nt : 1));
+  unsigned char *inv = malloc(nt ? nt : 1);
+  if (!disp || !strain || !vm || !inv) {
+    free(disp), free(strain), free(vm), free(inv);
+    return tb_error_set(err, path, 0, "out of memory");
+  }
+  for (size_t i = 0; i < nv; i++) disp[i] = tb_sub(x[i], m->x[i]);
+  double E = 0, nu = 0;
+  const char *name = s->model.cls->name;
+  int stress =
+      tb_model_setting(name, NULL, "E", &E) == 0 && tb_model_setting(name, NULL, "nu", &nu) == 0;
+  if (stress) {
+    /* the run's own values, when the scene or the caller set them */
+    tb_model_setting(name, &s->settings, "E", &E);
+    tb_model_setting(name, &s->settings, "nu", &nu);
+  }
+  double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  for (size_t t = 0; t < nt; t++) {
+    const int *e = m->tet + 4 * t;
+    int ok;
+    tb_mat3 G = green_strain(m->x, x, e, &ok);
+    strain[t] = ok ? von_mises(G, 2.0 / 3.0) : NAN;
+    double tr = G.m[0][0] + G.m[1][1] + G.m[2][2];
+    tb_mat3 S = G;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) S.m[r][c] = 2 * mu * G.m[r][c] + (r == c ? lam * tr : 0);
+    vm[t] = ok ? von_mises(S, 1.5) : NAN;
+    inv[t] = !(tb_tet_volume(x[e[0]], x[e[1]], x[e[2]], x[e[3]]) > 0);
+  }
+  tb_vtu_array arrays[5] = {{"displacement", 3, &disp[0].x, NULL, 0},
+                            {"velocity", 3, &v[0].x, NULL, 0},
+                            {"strain", 1, strain, NULL, 1},
+                            {"inverted", 1, NULL, inv, 1},
+                            {"von_mises", 1, vm, NULL, 1}};
+  tb_vtu_piece pieces[3];
+  int np = 0;
+  pieces[np++] = (tb_vtu_piece){m->nv, x, 0, NULL, m->ntet, m->tet, stress ? 5 : 4, arrays};
+  if (s->has_tool)
+    pieces[np++] =
+        (tb_vtu_piece){s->tool.nv, s->tool_x, s->tool.ntri, s->tool.tri, 0, NULL, 0, NULL};
+  tb_vec3 quad[4];
+  static const int quad_tri[6] = {0, 1, 2, 0, 2, 3};
+  if (s->has_ground) {
+    /* a square of twice the body's size around the body's foot on the plane */
+    tb_vec3 n = s->ground_n, a = fabs(n.x) < 0.9 ? tb_v3(1, 0, 0) : tb_v3(0, 1, 0);
+    tb_vec3 u = tb_normalize(tb_cross(n, a)), w = tb_cross(n, u), c = tb_v3(0, 0, 0);
+    for (size_t i = 0; i < nv; i++) c = tb_add(c, x[i]);
+    c = tb_scale(c, 1.0 / (double)(nv ? nv : 1));
+    c = tb_madd(c, -tb_dot(tb_sub(c, s->ground_p), n), n);
+    double r = s->size;
+    quad[0] = tb_add(c, tb_add(tb_scale(u, -r), tb_scale(w, -r)));
+    quad[1] = tb_add(c, tb_add(tb_scale(u, r), tb_scale(w, -r)));
+    quad[2] = tb_add(c, tb_add(tb_scale(u, r), tb_scale(w, r)));
+    quad[3] = tb_add(c, tb_add(tb_scale(u, -r), tb_scale(w, r)));
+    pieces[np++] = (tb_vtu_piece){4, quad, 2, quad_tri, 0, NULL, 0, NULL};
+  }
+  int rc = tb_vtu_write(path, pieces, np, err);
+  free(disp), free(strain), free(vm), free(inv);
+  return rc;
+}
+
+int tb_sim_write_pvd(const char *dir, int nframes, const double *times, tb_error *err) {
+  char path[1100];
+  if (snprintf(path, sizeof path, "%s/frames.pvd", dir) >= (int)sizeof path)
+    return tb_error_set(err, dir, 0, "path too long");
+  char(*names)[24] = malloc(sizeof *names * (size_t)(nframes > 0 ? nframes : 1));
+  const char **files = malloc(sizeof *files * (size_t)(nframes > 0 ? nframes : 1));
+  if (!names || !files) {
+    free(names), free(files);
+    return tb_error_set(err, path, 0, "out of memory");
+  }
+  for (int k = 0; k < nframes; k++) {
+    snprintf(names[k], sizeof names[k], "frame_%05d.vtu", k);
+    files[k] = names[k];
+  }
+  int rc = tb_pvd_write(path, nframes, times, files, err);
+  free(names), free(files);
+  return rc;
+}
