@@ -231,9 +231,13 @@ int tb_cmd_simulate(int argc, char **argv) {
     double interval = s.desc.frame_interval > 0 ? s.desc.frame_interval : 1.0 / 30.0;
     every = lround(interval / s.def.dt) > 1 ? lround(interval / s.def.dt) : 1;
   }
-  printf("scene %s: %d nodes, %d tets; model %s; dt %g, %ld steps (%g s)%s\n", s.name, s.mesh.nv,
-         s.mesh.ntet, mname, s.def.dt, planned, planned * s.def.dt,
-         statik ? (solver ? "; static solve" : "; run to rest") : "");
+  if (statik)
+    printf("scene %s: %d nodes, %d tets; model %s; %s (at most %ld steps of dt %g)\n", s.name,
+           s.mesh.nv, s.mesh.ntet, mname, solver ? "static solve" : "run to rest", planned,
+           s.def.dt);
+  else
+    printf("scene %s: %d nodes, %d tets; model %s; dt %g, %ld steps (%g s)\n", s.name, s.mesh.nv,
+           s.mesh.ntet, mname, s.def.dt, planned, planned * s.def.dt);
   double *ms = malloc(sizeof(double) * (size_t)planned);
   double *times = malloc(sizeof(double) * (size_t)(planned / every + 2));
   if (!ms || !times) {
@@ -287,8 +291,11 @@ int tb_cmd_simulate(int argc, char **argv) {
     tb_sim_metrics m = tb_sim_measure(&s);
     double speed, tol;
     int rest = tb_sim_at_rest(&s, &speed, &tol);
-    printf("time per step: median %.4f ms (min %.4f, max %.4f) = %.1f steps/s\n", st.median, st.min,
-           st.max, 1e3 / st.median);
+    if (statik)
+      printf("time per %s: %.4f ms (mean over %ld)\n", solver ? "solve" : "step", st.median, done);
+    else
+      printf("time per step: median %.4f ms (min %.4f, max %.4f) = %.1f steps/s\n", st.median,
+             st.min, st.max, 1e3 / st.median);
     printf("max displacement %.6g at node %d, rms displacement %.6g\n", m.max_disp, m.max_disp_node,
            m.rms_disp);
     printf("volume change %+.4f%%, inverted tets %d\n", 100.0 * m.volume_change, m.inverted);

@@ -62,18 +62,26 @@ static const tb_command commands[] = {
      "  --pairs      print every intersecting pair \"i j\" (0-based, sorted) on stdout\n"
      "  a summary (pairs, volume tests, triangle tests, build and query time) goes to stderr",
      tb_cmd_collide},
-    {"simulate", "run one deformation model on one scene",
-     "tissuebench simulate --model NAME --scene NAME [--steps N] [--dt X] [--set key=value ...]\n"
-     "                    [--vtk DIR] [--every K] | --list | --list-markdown\n"
-     "  models: msm, fem, fem-corot, sm; scenes: liver-stretch, liver-press, beam, drop,\n"
-     "          beam-stretch, beam-twist, beam-crush\n"
-     "  --set  a scene key (dt duration amplitude release nodes gravity vmax inversion drag\n"
-     "         energy_factor energy_every) or a model key (--list shows each model's keys\n"
-     "         with defaults and ranges; --list-markdown the README's table of them),\n"
-     "         e.g. --set ks=180 --set sm_mode=linear\n"
-     "  --vtk  write the surface every K steps (default: 30 frames per simulated second)\n"
-     "  prints the median time per step and the final state's metrics; a run that blows up\n"
-     "  prints \"status: unstable (reason)\" and exits 1",
+    {"simulate", "run one deformation model on a scene or on a mesh file",
+     "tissuebench simulate --scene NAME|FILE [--model NAME] [options]\n"
+     "tissuebench simulate --model NAME --mesh FILE [--fix IDS | --fix-box x0,y0,z0,x1,y1,z1]\n"
+     "                    [--gravity gx,gy,gz] [options]\n"
+     "tissuebench simulate --list\n"
+     "  --scene    a built-in scene (liver-stretch, liver-press, beam, drop, beam-stretch,\n"
+     "             beam-twist, beam-crush: scenes/NAME.ini) or a scene file (scenes/README.md)\n"
+     "  --mesh     any mesh file mesh info reads (data:PATH: ../shared/data/PATH)\n"
+     "  --fix      node ids, 0-based in the file's own node order (e.g. 3,39,64)\n"
+     "  --static   the static equilibrium where the model has a static solve (fem, fem-corot),\n"
+     "             else steps until at rest (every node slower than rest_speed x size per s)\n"
+     "  --steps N, --dt X, --duration T   (default: the scene's duration / dt)\n"
+     "  --set      a scene key (dt duration amplitude release nodes gravity vmax inversion drag\n"
+     "             energy_factor energy_every rest_speed; 0 means 0) or a model key\n"
+     "             (--list shows each model's keys, defaults and ranges)\n"
+     "  --vtk DIR  ParaView frames: DIR/frame_NNNNN.vtu every K steps (--every K; default the\n"
+     "             scene's [output] every, or 30 per simulated second) and DIR/frames.pvd\n"
+     "  prints the median time per step and the final state (max displacement and its node,\n"
+     "  volume change, energy, penetration into the ground and the instrument, at rest or not);\n"
+     "  a run that blows up prints \"status: unstable (reason)\" and exits 1; bad input exits 2",
      tb_cmd_simulate},
     {"advise", "the cheapest model for a scene and an error tolerance",
      "tissuebench advise --scene NAME (--tol X | --budget-ms Y | both) [--points FILE]\n"

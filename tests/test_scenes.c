@@ -98,6 +98,10 @@ static void quick_form(void) {
            tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "out of range"), "%s",
                tb_test_out);
+  /* a setting the user gave is the one an error names */
+  TB_CHECK_MSG(tb_test_cli_run("simulate --model sm --scene liver-stretch --set nodes=100") == 2 &&
+                   strstr(tb_test_out, "nodes = 100") && !strstr(tb_test_out, "surface_verts"),
+               "%s", tb_test_out);
   /* the beam's 2 s are not its rest */
   TB_CHECK_MSG(tb_test_cli_run("simulate --model fem --scene beam") == 0 &&
                    strstr(tb_test_out, "NOT at rest"),
