@@ -103,6 +103,8 @@ static int build(const tb_mesh_source *src, const char *scene_path, const double
     p[3] = cells;
     p[4] = fmax(1, floor(cells * p[1] / p[0]));
     p[5] = fmax(1, floor(cells * p[2] / p[0]));
+    if (p[6] == TB_SPLIT_SYMMETRIC) /* mirror symmetry needs even counts across */
+      p[4] = 2 * ceil(p[4] / 2), p[5] = 2 * ceil(p[5] / 2);
   }
   tb_gen_result r;
   tb_error e2;

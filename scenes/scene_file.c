@@ -385,7 +385,15 @@ static int mesh_key(parser *p, tb_mesh_source *m, const char *key, const char *v
   if (!known) return -1;
   if (m->nset == 12 || strlen(key) >= sizeof m->setkey[0])
     return fail(p, "too many mesh settings%s%s", "", "");
-  if (parse_expr(value, &m->setval[m->nset]))
+  const char *const *names = NULL;
+  for (int k = 0; k < TB_GEN_MAX_PARAMS && g->params[k].key; k++)
+    if (!strcmp(g->params[k].key, key)) names = g->params[k].names;
+  int pick = -1;
+  for (int k = 0; names && names[k]; k++)
+    if (!strcmp(names[k], value)) pick = k;
+  if (pick >= 0)
+    m->setval[m->nset] = (tb_expr){pick, -1};
+  else if (parse_expr(value, &m->setval[m->nset]))
     return fail(p, "%s: '%s' is not a number or scene parameter", key, value);
   strcpy(m->setkey[m->nset++], key);
   return 1;
