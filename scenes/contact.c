@@ -141,6 +141,24 @@ static tb_vec3 tool_velocity(tb_sim *s, tb_vec3 p) {
 
 /* ---- set-up ---- */
 
+/* The composite BVH over the model's current surface (outward triangles,
+ * the side a push goes) against the instrument; rebuilt when the model
+ * reports a new surface (its version changes: refinement, cutting). */
+static int collider_for_surface(tb_sim *s, tb_error *err) {
+  tb_surface su = tb_model_surface(&s->model);
+  if (su.nv != s->mesh.nv)
+    return tb_error_set(err, s->name, 0,
+                        "the model's surface has %d points, the scene %d: contact with a model "
+                        "whose points change is not supported yet",
+                        su.nv, s->mesh.nv);
+  tb_collider_free(s->collider);
+  s->collider = NULL;
+  s->tool_surface = (tb_mesh){su.nv, (tb_vec3 *)su.x, su.ntri, (int *)su.tri, 0, NULL, 0};
+  s->surface_version = su.version;
+  s->collider = tb_collider_new("composite", &s->tool_surface, &s->tool, NULL, NULL, NULL, err);
+  return s->collider ? 0 : -1;
+}
+
 static tb_vec3 evec(const tb_expr *e, const double *P) {
   return tb_v3(tb_expr_eval(e[0], P), tb_expr_eval(e[1], P), tb_expr_eval(e[2], P));
 }
@@ -177,14 +195,8 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   s->tool_x = malloc(sizeof(tb_vec3) * (size_t)s->tool.nv);
   s->contact = calloc((size_t)s->mesh.nv, 1);
   s->slot = malloc(sizeof(int) * (size_t)s->mesh.nv);
-  /* the body's surface as its tets' outward boundary (the side a push goes) */
-  s->tool_surface = s->mesh;
-  s->tool_surface.ntet = 0, s->tool_surface.tet = NULL, s->tool_surface.tri = NULL;
-  s->tool_surface.ntri = tb_mesh_tet_boundary(&s->mesh, &s->tool_surface.tri);
-  if (!s->tool_x || !s->contact || !s->slot || s->tool_surface.ntri < 0) {
-    s->tool_surface.ntri = 0;
+  if (!s->tool_x || !s->contact || !s->slot)
     return tb_error_set(err, path, t->line, "out of memory");
-  }
   for (int i = 0; i < s->mesh.nv; i++) s->slot[i] = -1;
   tb_vec3 o = evec(t->origin, P);
   if (t->origin_extreme) {
@@ -201,8 +213,7 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   if (!(s->tool_margin >= 0) || !(s->tool_friction >= 0))
     return tb_error_set(err, path, t->line, "[instrument] margin and friction must be >= 0");
   if (tb_sim_motion_make(&t->motion, P, &s->tool_motion, err)) return -1;
-  s->collider = tb_collider_new("composite", &s->tool_surface, &s->tool, NULL, NULL, NULL, err);
-  return s->collider ? 0 : -1;
+  return collider_for_surface(s, err);
 }
 
 void tb_sim_contact_free(tb_sim *s) {
@@ -210,9 +221,8 @@ void tb_sim_contact_free(tb_sim *s) {
   tb_pairlist_free(&s->pairs);
   tb_mesh_free(&s->tool);
   tb_sim_motion_free(&s->tool_motion);
-  free(s->tool_x), free(s->contact), free(s->slot), free(s->tool_surface.tri);
+  free(s->tool_x), free(s->contact), free(s->slot);
   s->collider = NULL, s->tool_x = NULL, s->contact = NULL, s->slot = NULL;
-  s->tool_surface.tri = NULL;
 }
 
 /* ---- after a step ---- */
@@ -260,6 +270,8 @@ static void ground(tb_sim *s, int *n) {
  * projection of position-based dynamics). *before: the largest depth of a
  * node inside the instrument. */
 static int tool_response(tb_sim *s, const tb_vec3 *x, int *n, double *before, tb_error *err) {
+  if (tb_model_surface(&s->model).version != s->surface_version && collider_for_surface(s, err))
+    return -1;
   const tb_mesh *surf = &s->tool_surface;
   if (tb_collider_deform(s->collider, x, 0, err) ||
       tb_collider_pose(s->collider, s->tool_R, s->tool_t, err) ||

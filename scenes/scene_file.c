@@ -245,16 +245,22 @@ int tb_selector_parse(tb_selector *sel, int kind, const char *value, const char 
   sel->kind = kind, sel->line = line;
   if (kind == TB_SEL_IDS) {
     if (!base_dir) {
-      if (parse_ids(value, &sel->ids, &sel->nids))
+      if (parse_ids(value, &sel->ids, &sel->nids)) {
+        free(sel->ids), sel->ids = NULL;
         return tb_error_set(err, path, line,
                             "ids: '%s' is not a list of node ids (whole numbers >= 0)", value);
+      }
       return 0;
     }
     char full[1024];
     const char *why;
     if (tb_scene_resolve_path(base_dir, value, full, sizeof full, &why))
       return tb_error_set(err, path, line, "id_file '%s': %s", value, why);
-    return read_id_file(full, &sel->ids, &sel->nids, err);
+    if (read_id_file(full, &sel->ids, &sel->nids, err)) {
+      free(sel->ids), sel->ids = NULL;
+      return -1;
+    }
+    return 0;
   }
   if (parse_list(value, sel->v, count[kind], count[kind]) < 0)
     return tb_error_set(err, path, line, "'%s' is not %s (numbers or scene parameters)", value,

@@ -438,6 +438,11 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
   in.fixed = s->fixed;
   in.fixed_x = s->fixed_x;
   if (tb_model_step(&s->model, &in, err)) return -1;
+  if (tb_model_npoints(&s->model) != s->mesh.nv)
+    return tb_error_set(err, s->model.cls->name, 0,
+                        "the model now has %d points, the scene %d: scenes with a changing number "
+                        "of points are not supported yet",
+                        tb_model_npoints(&s->model), s->mesh.nv);
   s->t = t;
   s->steps++;
   if ((s->has_ground || s->has_tool) && tb_sim_contact(s, err)) return -1;

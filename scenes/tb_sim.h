@@ -111,8 +111,9 @@ typedef struct tb_sim {
   double tool_margin, tool_friction;
   tb_mat3 tool_R; /* the current pose: x = R x_local + t */
   tb_vec3 tool_t;
-  tb_mesh tool_surface; /* the body's outward boundary over the rest positions (shared x) */
-  int *slot;            /* per node: its entry in the correction buffers, or -1 */
+  tb_mesh tool_surface; /* the model's surface the collider was built on (not owned) */
+  unsigned long surface_version;
+  int *slot; /* per node: its entry in the correction buffers, or -1 */
   tb_collider *collider;
   tb_pairlist pairs;
   char *contact; /* per node: in contact with the tool last step */
