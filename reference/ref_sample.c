@@ -80,35 +80,13 @@ static void barycentric(const tb_ref_solution *s, int t, tb_vec3 p, double L[4])
   L[0] = 1 - L[1] - L[2] - L[3];
 }
 
-/* Closest point to p on triangle abc (Ericson §5.1.5). */
-static tb_vec3 closest_on_triangle(tb_vec3 p, tb_vec3 a, tb_vec3 b, tb_vec3 c) {
-  tb_vec3 ab = tb_sub(b, a), ac = tb_sub(c, a), ap = tb_sub(p, a);
-  double d1 = tb_dot(ab, ap), d2 = tb_dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  tb_vec3 bp = tb_sub(p, b);
-  double d3 = tb_dot(ab, bp), d4 = tb_dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return tb_madd(a, d1 / (d1 - d3), ab);
-  tb_vec3 cp = tb_sub(p, c);
-  double d5 = tb_dot(ab, cp), d6 = tb_dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return tb_madd(a, d2 / (d2 - d6), ac);
-  double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return tb_madd(b, (d4 - d3) / ((d4 - d3) + (d5 - d6)), tb_sub(c, b));
-  double den = 1.0 / (va + vb + vc);
-  return tb_add(a, tb_add(tb_scale(ab, vb * den), tb_scale(ac, vc * den)));
-}
-
 static double tet_distance2(const tb_ref_solution *s, int t, tb_vec3 p) {
   static const int face[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
   const int *e = s->elem + (size_t)t * s->npe;
   double best = INFINITY;
   for (int f = 0; f < 4; f++) {
     tb_vec3 q =
-        closest_on_triangle(p, s->X[e[face[f][0]]], s->X[e[face[f][1]]], s->X[e[face[f][2]]]);
+        tb_closest_on_triangle(p, s->X[e[face[f][0]]], s->X[e[face[f][1]]], s->X[e[face[f][2]]]);
     tb_vec3 d = tb_sub(p, q);
     best = fmin(best, tb_dot(d, d));
   }

@@ -36,29 +36,6 @@
 
 /* ---- geometry ---- */
 
-/* Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision
- * Detection, §5.1.5). */
-static tb_vec3 closest_on_triangle(tb_vec3 p, tb_vec3 a, tb_vec3 b, tb_vec3 c) {
-  tb_vec3 ab = tb_sub(b, a), ac = tb_sub(c, a), ap = tb_sub(p, a);
-  double d1 = tb_dot(ab, ap), d2 = tb_dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  tb_vec3 bp = tb_sub(p, b);
-  double d3 = tb_dot(ab, bp), d4 = tb_dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return tb_madd(a, d1 / (d1 - d3), ab);
-  tb_vec3 cp = tb_sub(p, c);
-  double d5 = tb_dot(ab, cp), d6 = tb_dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return tb_madd(a, d2 / (d2 - d6), ac);
-  double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return tb_madd(b, (d4 - d3) / ((d4 - d3) + (d5 - d6)), tb_sub(c, b));
-  double den = 1.0 / (va + vb + vc);
-  return tb_add(a, tb_add(tb_scale(ab, vb * den), tb_scale(ac, vc * den)));
-}
-
 /* Generalised winding number of a closed mesh at p (1 inside, 0 outside;
  * Van Oosterom & Strackee's solid angle per triangle). */
 static double winding(const tb_vec3 *x, const int *tri, int ntri, tb_vec3 p) {
@@ -82,7 +59,7 @@ static int inside_tool(const tb_sim *s, tb_vec3 p, double *depth, tb_vec3 *close
   double best = INFINITY;
   for (int k = 0; k < t->ntri; k++) {
     const int *v = t->tri + 3 * k;
-    tb_vec3 q = closest_on_triangle(p, s->tool_x[v[0]], s->tool_x[v[1]], s->tool_x[v[2]]);
+    tb_vec3 q = tb_closest_on_triangle(p, s->tool_x[v[0]], s->tool_x[v[1]], s->tool_x[v[2]]);
     double d = tb_dist(p, q);
     if (d < best) best = d, *closest = q;
   }
