@@ -303,6 +303,19 @@ int tb_cmd_simulate(int argc, char **argv) {
       printf("energy: not defined for %s\n", mname);
     else
       printf("energy %.6g\n", m.energy);
+    if (s.nprobe) {
+      const tb_vec3 *x = tb_model_positions(&s.model);
+      tb_vec3 mean = tb_v3(0, 0, 0);
+      double most = -1;
+      int at = s.probe[0];
+      for (int k = 0; k < s.nprobe; k++) {
+        tb_vec3 u = tb_sub(x[s.probe[k]], s.mesh.x[s.probe[k]]);
+        mean = tb_madd(mean, 1.0 / s.nprobe, u);
+        if (tb_len(u) > most) most = tb_len(u), at = s.probe[k];
+      }
+      printf("probe (%d nodes): mean displacement (%.6g, %.6g, %.6g), largest %.6g at node %d\n",
+             s.nprobe, mean.x, mean.y, mean.z, most, at);
+    }
     if (s.has_ground)
       printf("ground: largest penetration %.3g over the run (tolerance %.3g = 1e-9 x size)\n",
              s.pen_ground_max, 1e-9 * s.size);

@@ -52,6 +52,7 @@ static void selection_free(tb_selection *s) {
 
 void tb_scene_desc_free(tb_scene_desc *d) {
   for (int i = 0; i < d->nfix; i++) selection_free(&d->fix[i]);
+  selection_free(&d->probe);
   for (int i = 0; i < d->nforce; i++) selection_free(&d->force[i].where);
   for (int i = 0; i < d->nmove; i++) {
     selection_free(&d->move[i].where);
@@ -577,7 +578,7 @@ static int handler(void *user, const char *section, const char *key, const char 
         return fail(p, "every: '%s' is not a time > 0 (seconds between frames)%s", value, "");
       d->frame_interval = v, r = 1;
     } else
-      r = -1;
+      r = add_selector(p, &d->probe, key, value);
   } else if (!strcmp(kind, "fix") || !strcmp(kind, "force") || !strcmp(kind, "move")) {
     void *item = section_item(p, kind, section);
     if (!item) return 0;

@@ -177,6 +177,8 @@ static int resolve_sets(tb_sim *s, tb_error *err) {
     free(ids);
     if (s->nanchor < 0) return tb_error_set(err, "scene", 0, "out of memory");
   }
+  if (d->probe.n && (s->nprobe = tb_sim_select(s, &d->probe, "[output]", &s->probe, err)) < 0)
+    return -1;
   s->forces = calloc((size_t)(d->nforce + 1), sizeof *s->forces);
   s->moves = calloc((size_t)(d->nmove + 1), sizeof *s->moves);
   if (!s->forces || !s->moves) return tb_error_set(err, "scene", 0, "out of memory");
@@ -461,7 +463,7 @@ void tb_sim_destroy(tb_sim *s) {
   tb_mesh_free(&s->mesh);
   free(s->fixed), free(s->fixed_x), free(s->force), free(s->mark), free(s->target);
   free(s->on_surface), free(s->x_prev), free(s->ids_buf), free(s->xc_buf), free(s->vc_buf);
-  free(s->anchor), free(s->driven);
+  free(s->anchor), free(s->driven), free(s->probe);
   for (int i = 0; s->forces && i < s->nforce; i++) free(s->forces[i].ids);
   for (int i = 0; s->moves && i < s->nmove; i++) {
     free(s->moves[i].ids);

@@ -155,6 +155,7 @@ typedef struct tb_scene_desc {
   int has_tool;
   tb_scene_tool tool;
   double frame_interval; /* [output] every: seconds between frames (0: 1/30 s) */
+  tb_selection probe;    /* [output] selectors: nodes whose displacement the summary reports */
 } tb_scene_desc;
 
 /* Reads a scene file. Errors: "FILE:LINE: reason" (unknown section or key,

@@ -95,6 +95,7 @@ typedef struct tb_sim {
   /* the scene's node sets */
   int nanchor, *anchor; /* fixed nodes, ascending */
   int ndriven, *driven; /* nodes of [move] and [force] sections, ascending */
+  int nprobe, *probe;   /* [output]'s nodes (the summary reports their displacement) */
   int nforce, nmove;
   tb_sim_group *forces, *moves;
   int hold; /* 1: moves are not let go at their release (held until cleared) */

@@ -458,6 +458,18 @@ static void builtin_match_old(void) {
   tb_sim_destroy(&s);
 }
 
+/* The beam scene's tip (its [output] probe) under a vertical load goes
+ * straight down: the symmetric cut leaves no sideways bending. */
+static void beam_bends_straight(void) {
+  int rc = tb_test_cli_run("simulate --model fem --scene beam --static");
+  double ux = 1, uy = 1, uz = 0;
+  const char *p = strstr(tb_test_out, "probe (9 nodes): mean displacement (");
+  TB_CHECK_MSG(rc == 0 && p && sscanf(p + 36, "%lf, %lf, %lf", &ux, &uy, &uz) == 3, "%s",
+               tb_test_out);
+  TB_CHECK_MSG(uz < -0.01 && fabs(uy) < 1e-9 * fabs(uz) && fabs(ux) < 1e-3 * fabs(uz),
+               "tip moved (%g, %g, %g)", ux, uy, uz);
+}
+
 /* ---- defaults run ---- */
 
 static void every_model_every_scene(void) {
@@ -502,6 +514,7 @@ const tb_test_case tb_tests_scenes[] = {
     {"press_real_mesh", press_real_mesh},
     {"frames_parse_back", frames_parse_back},
     {"builtin_match_old", builtin_match_old},
+    {"beam_bends_straight", beam_bends_straight},
     {"every_model_every_scene", every_model_every_scene},
     {NULL, NULL},
 };
