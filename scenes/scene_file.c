@@ -455,7 +455,7 @@ static int force_key(parser *p, tb_scene_force *f, const char *key, const char *
   if (!strcmp(key, "total") || !strcmp(key, "each")) {
     if (parse_list(value, f->value, 3, 3) < 0)
       return fail(p, "%s: '%s' is not fx,fy,fz", key, value);
-    f->per_node = key[0] == 'e';
+    f->per_node = key[0] == 'e', f->has_value = 1;
     return 1;
   }
   if (!strcmp(key, "start") || !strcmp(key, "stop")) {
@@ -621,9 +621,8 @@ static int check(parser *p) {
   for (int i = 0; i < d->nforce; i++) {
     tb_scene_force *f = &d->force[i];
     if (!f->where.n) return tb_error_set(err, d->path, 0, "a [force] section selects no nodes");
-    int has = 0;
-    for (int c = 0; c < 3; c++) has |= f->value[c].k != 0;
-    (void)has;
+    if (!f->has_value)
+      return tb_error_set(err, d->path, f->where.line, "[force] needs total = or each = fx,fy,fz");
   }
   for (int i = 0; i < d->nmove; i++) {
     tb_scene_move *m = &d->move[i];
@@ -658,7 +657,6 @@ int tb_scene_desc_load(tb_scene_desc *d, const char *path, tb_error *err) {
     snprintf(p.dir, sizeof p.dir, "%.*s", (int)(slash - path), path);
   else
     snprintf(p.dir, sizeof p.dir, ".");
-  if (!slash && 0) p.dir[0] = 0;
   p.f = fopen(path, "r");
   if (!p.f) return tb_error_set(err, path, 0, "cannot open the scene file");
   /* one behaviour for every file: no continuation lines, '#' and ';'

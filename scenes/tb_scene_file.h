@@ -72,6 +72,7 @@ typedef struct tb_scene_force {
   tb_selection where;
   tb_expr value[3];
   int per_node;        /* each = ...: every node gets value; total = ...: shared equally */
+  int has_value;       /* one of them was given */
   tb_expr start, stop; /* acts while start <= t <= stop (stop < 0: forever) */
 } tb_scene_force;
 

@@ -48,6 +48,7 @@ static void file_errors(void) {
                    BEAM "[move]\nids = 1\nkeyframe = 1, 0,0,0\nkeyframe = 0.5, 1,0,0\n", 9,
                    "times must increase");
   expect_cli_error("syntax.ini", BEAM "[fix\nids = 1\n", 6, "not INI syntax");
+  expect_cli_error("force.ini", BEAM "[force tip]\nids = 3\n", 7, "needs total = or each =");
   expect_cli_error("model-key.ini", BEAM "[model]\nE = 3000\nwobble = 2\n", 8, "wobble");
   expect_cli_error("range.ini", BEAM "[model]\nnu = 0.7\n", 7, "nu");
   /* the id file's own line */
