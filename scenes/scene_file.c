@@ -10,8 +10,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "scene_priv.h"
 #include "tb_generators.h"
-#include "tb_scene_file.h"
 
 const char *const tb_scene_param_names[TB_P_COUNT] = {
     "dt",   "duration",  "amplitude", "release",       "nodes",        "gravity",
@@ -62,52 +62,6 @@ void tb_scene_desc_free(tb_scene_desc *d) {
   memset(d, 0, sizeof *d);
 }
 
-/* ---- values ---- */
-
-/* "1.5", "amplitude", "0.5*release", "-amplitude". */
-static int parse_expr(const char *s, tb_expr *e) {
-  while (*s == ' ' || *s == '\t') s++;
-  char *end;
-  errno = 0;
-  double k = strtod(s, &end);
-  const char *name = s;
-  if (end != s) {
-    if (errno || !isfinite(k)) return -1;
-    while (*end == ' ' || *end == '\t') end++;
-    if (!*end) return e->k = k, e->param = -1, 0;
-    if (*end != '*') return -1;
-    name = end + 1;
-  } else {
-    k = 1;
-    if (*s == '-') k = -1, name = s + 1;
-  }
-  while (*name == ' ' || *name == '\t') name++;
-  size_t n = strcspn(name, " \t");
-  char buf[32];
-  if (!n || n >= sizeof buf) return -1;
-  memcpy(buf, name, n), buf[n] = 0;
-  for (const char *p = name + n; *p; p++)
-    if (*p != ' ' && *p != '\t') return -1;
-  int i = tb_scene_param_index(buf);
-  if (i < 0) return -1;
-  return e->k = k, e->param = i, 0;
-}
-
-/* Comma-separated expressions: exactly n (or between nmin and n); returns the count or -1. */
-static int parse_list(const char *s, tb_expr *out, int nmin, int n) {
-  char buf[512];
-  if (strlen(s) >= sizeof buf) return -1;
-  strcpy(buf, s);
-  int k = 0;
-  for (char *tok = buf, *next; tok; tok = next) {
-    next = strchr(tok, ',');
-    if (next) *next++ = 0;
-    if (k == n || parse_expr(tok, &out[k])) return -1;
-    k++;
-  }
-  return k >= nmin ? k : -1;
-}
-
 /* ---- the handler's state ---- */
 typedef struct parser {
   tb_scene_desc *d;
@@ -141,134 +95,7 @@ static int fail(parser *p, const char *fmt, const char *a, const char *b) {
   return 0;
 }
 
-int tb_scene_resolve_path(const char *dir, const char *value, char *out, size_t cap,
-                          const char **why) {
-  const char *prefix = "data:";
-  int n;
-  *why = NULL;
-  if (!strncmp(value, prefix, strlen(prefix))) {
-    const char *env = getenv("TB_DATA_DIR");
-    char base[900];
-    if (env && *env)
-      snprintf(base, sizeof base, "%s", env);
-    else
-      snprintf(base, sizeof base, "%s/../shared/data", TB_SOURCE_ROOT);
-    if (access(base, F_OK))
-      return *why = "data: names ../shared/data (or $TB_DATA_DIR), which is not present", -1;
-    n = snprintf(out, cap, "%s/%s", base, value + strlen(prefix));
-  } else if (value[0] == '/' || !dir[0])
-    n = snprintf(out, cap, "%s", value);
-  else
-    n = snprintf(out, cap, "%s/%s", dir, value);
-  if (n < 0 || (size_t)n >= cap) return *why = "path too long", -1;
-  if (access(out, R_OK)) return *why = "cannot read the file", -1;
-  return 0;
-}
-
 /* ---- selectors ---- */
-
-static int parse_ids(const char *s, int **ids, int *n) {
-  int cap = 16;
-  *n = 0;
-  *ids = malloc(sizeof(int) * (size_t)cap);
-  if (!*ids) return -1;
-  while (*s) {
-    while (*s == ' ' || *s == '\t' || *s == ',' || *s == '\n' || *s == '\r') s++;
-    if (!*s) break;
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (end == s || errno || v < 0 || v > 2000000000 || (*end && !strchr(" \t,\r\n", *end)))
-      return -1;
-    if (*n == cap) {
-      int *g = realloc(*ids, sizeof(int) * (size_t)(cap *= 2));
-      if (!g) return -1;
-      *ids = g;
-    }
-    (*ids)[(*n)++] = (int)v;
-    s = end;
-  }
-  return *n ? 0 : -1;
-}
-
-/* An id file: numbers separated by white space or commas, '#' comments. */
-static int read_id_file(const char *path, int **ids, int *n, tb_error *err) {
-  FILE *f = fopen(path, "r");
-  if (!f) return tb_error_set(err, path, 0, "cannot open");
-  int cap = 64;
-  *n = 0;
-  *ids = malloc(sizeof(int) * (size_t)cap);
-  char line[4096];
-  long ln = 0;
-  int rc = *ids ? 0 : tb_error_set(err, path, 0, "out of memory");
-  while (!rc && fgets(line, sizeof line, f)) {
-    ln++;
-    char *c = strchr(line, '#');
-    if (c) *c = 0;
-    for (char *s = line; *s;) {
-      while (*s && strchr(" \t,\r\n", *s)) s++;
-      if (!*s) break;
-      char *end;
-      errno = 0;
-      long v = strtol(s, &end, 10);
-      if (end == s || errno || v < 0 || v > 2000000000 || (*end && !strchr(" \t,\r\n", *end))) {
-        rc = tb_error_set(err, path, ln, "not a node id (a whole number >= 0): '%.*s'",
-                          (int)strcspn(s, " \t,\r\n"), s);
-        break;
-      }
-      if (*n == cap) {
-        int *g = realloc(*ids, sizeof(int) * (size_t)(cap *= 2));
-        if (!g) {
-          rc = tb_error_set(err, path, ln, "out of memory");
-          break;
-        }
-        *ids = g;
-      }
-      (*ids)[(*n)++] = (int)v;
-      s = end;
-    }
-  }
-  fclose(f);
-  if (!rc && !*n) rc = tb_error_set(err, path, 0, "no node ids in the file");
-  return rc;
-}
-
-int tb_selector_parse(tb_selector *sel, int kind, const char *value, const char *path, int line,
-                      const char *base_dir, tb_error *err) {
-  static const int count[] = {0, 6, 6, 6, 4, 4};
-  static const char *const what[] = {"",
-                                     "x0,y0,z0, x1,y1,z1",
-                                     "fx0,fy0,fz0, fx1,fy1,fz1",
-                                     "px,py,pz, nx,ny,nz",
-                                     "cx,cy,cz, r",
-                                     "dx,dy,dz, fraction"};
-  memset(sel, 0, sizeof *sel);
-  sel->kind = kind, sel->line = line;
-  if (kind == TB_SEL_IDS) {
-    if (!base_dir) {
-      if (parse_ids(value, &sel->ids, &sel->nids)) {
-        free(sel->ids), sel->ids = NULL;
-        return tb_error_set(err, path, line,
-                            "ids: '%s' is not a list of node ids (whole numbers >= 0)", value);
-      }
-      return 0;
-    }
-    char full[1024];
-    const char *why;
-    if (tb_scene_resolve_path(base_dir, value, full, sizeof full, &why))
-      return tb_error_set(err, path, line, "id_file '%s': %s", value, why);
-    if (read_id_file(full, &sel->ids, &sel->nids, err)) {
-      free(sel->ids), sel->ids = NULL;
-      return -1;
-    }
-    return 0;
-  }
-  if (parse_list(value, sel->v, count[kind], count[kind]) < 0)
-    return tb_error_set(err, path, line, "'%s' is not %s (numbers or scene parameters)", value,
-                        what[kind]);
-  return 0;
-}
-
 static int add_selector(parser *p, tb_selection *s, const char *key, const char *value) {
   static const char *const keys[] = {"ids",   "id_file", "box",  "box_fraction",
                                      "plane", "sphere",  "patch"};
@@ -298,7 +125,7 @@ static int add_selector(parser *p, tb_selection *s, const char *key, const char 
 /* ---- keyframes ---- */
 static int add_keyframe(parser *p, tb_motion *m, const char *value) {
   tb_expr e[8];
-  int n = parse_list(value, e, 2, 8);
+  int n = tb_scene_parse_list(value, e, 2, 8);
   int want_dist = m->has_direction;
   if (!(n == 2 && want_dist) && !(n == 4 && !want_dist) && !(n == 5 && want_dist) && n != 8 &&
       !(n == 6 && want_dist))
@@ -334,13 +161,14 @@ static int motion_key(parser *p, tb_motion *m, const char *key, const char *valu
   if (!strcmp(key, "keyframe")) return add_keyframe(p, m, value);
   if (!strcmp(key, "direction")) {
     if (m->nkey) return fail(p, "direction must come before the keyframes%s%s", "", "");
-    if (parse_list(value, m->direction, 3, 3) < 0)
+    if (tb_scene_parse_list(value, m->direction, 3, 3) < 0)
       return fail(p, "direction: '%s' is not dx,dy,dz%s", value, "");
     m->has_direction = 1;
     return 1;
   }
   if (!strcmp(key, "centre") || !strcmp(key, "center")) {
-    if (parse_list(value, m->centre, 3, 3) < 0) return fail(p, "%s: '%s' is not x,y,z", key, value);
+    if (tb_scene_parse_list(value, m->centre, 3, 3) < 0)
+      return fail(p, "%s: '%s' is not x,y,z", key, value);
     return 1;
   }
   return -1;
@@ -351,17 +179,18 @@ static int motion_key(parser *p, tb_motion *m, const char *key, const char *valu
 static int mesh_key(parser *p, tb_mesh_source *m, const char *key, const char *value) {
   if (!m->line) m->line = (int)p->line;
   if (!strcmp(key, "scale")) {
-    if (parse_expr(value, &m->scale)) return fail(p, "scale: '%s' is not a number%s", value, "");
+    if (tb_scene_parse_expr(value, &m->scale))
+      return fail(p, "scale: '%s' is not a number%s", value, "");
     return 1;
   }
   if (!strcmp(key, "translate")) {
-    if (parse_list(value, m->translate, 3, 3) < 0)
+    if (tb_scene_parse_list(value, m->translate, 3, 3) < 0)
       return fail(p, "translate: '%s' is not x,y,z%s", value, "");
     return 1;
   }
   if (!strcmp(key, "rotate")) {
     tb_expr e[4];
-    if (parse_list(value, e, 4, 4) < 0)
+    if (tb_scene_parse_list(value, e, 4, 4) < 0)
       return fail(p, "rotate: '%s' is not ax,ay,az, degrees%s", value, "");
     for (int i = 0; i < 3; i++) m->axis[i] = e[i];
     m->angle = e[3];
@@ -400,7 +229,7 @@ static int mesh_key(parser *p, tb_mesh_source *m, const char *key, const char *v
     if (!strcmp(names[k], value)) pick = k;
   if (pick >= 0)
     m->setval[m->nset] = (tb_expr){pick, -1};
-  else if (parse_expr(value, &m->setval[m->nset]))
+  else if (tb_scene_parse_expr(value, &m->setval[m->nset]))
     return fail(p, "%s: '%s' is not a number or scene parameter", key, value);
   strcpy(m->setkey[m->nset++], key);
   return 1;
@@ -413,7 +242,8 @@ static int scene_key(parser *p, const char *key, const char *value) {
   if (!strcmp(key, "summary")) return snprintf(d->summary, sizeof d->summary, "%s", value), 1;
   if (!strcmp(key, "gravity_direction")) {
     tb_expr e[3];
-    if (parse_list(value, e, 3, 3) < 0 || e[0].param >= 0 || e[1].param >= 0 || e[2].param >= 0)
+    if (tb_scene_parse_list(value, e, 3, 3) < 0 || e[0].param >= 0 || e[1].param >= 0 ||
+        e[2].param >= 0)
       return fail(p, "gravity_direction: '%s' is not three numbers%s", value, "");
     tb_vec3 g = tb_v3(e[0].k, e[1].k, e[2].k);
     if (!(tb_len(g) > 0)) return fail(p, "gravity_direction must not be zero%s%s", "", "");
@@ -453,13 +283,13 @@ static int model_key(parser *p, const char *key, const char *value) {
 
 static int force_key(parser *p, tb_scene_force *f, const char *key, const char *value) {
   if (!strcmp(key, "total") || !strcmp(key, "each")) {
-    if (parse_list(value, f->value, 3, 3) < 0)
+    if (tb_scene_parse_list(value, f->value, 3, 3) < 0)
       return fail(p, "%s: '%s' is not fx,fy,fz", key, value);
     f->per_node = key[0] == 'e', f->has_value = 1;
     return 1;
   }
   if (!strcmp(key, "start") || !strcmp(key, "stop")) {
-    if (parse_expr(value, key[2] == 'a' ? &f->start : &f->stop))
+    if (tb_scene_parse_expr(value, key[2] == 'a' ? &f->start : &f->stop))
       return fail(p, "%s: '%s' is not a time", key, value);
     return 1;
   }
@@ -468,7 +298,7 @@ static int force_key(parser *p, tb_scene_force *f, const char *key, const char *
 
 static int ground_key(parser *p, tb_scene_ground *g, const char *key, const char *value) {
   if (!strcmp(key, "point") || !strcmp(key, "normal")) {
-    if (parse_list(value, key[0] == 'p' ? g->point : g->normal, 3, 3) < 0)
+    if (tb_scene_parse_list(value, key[0] == 'p' ? g->point : g->normal, 3, 3) < 0)
       return fail(p, "%s: '%s' is not x,y,z", key, value);
     return 1;
   }
@@ -477,7 +307,7 @@ static int ground_key(parser *p, tb_scene_ground *g, const char *key, const char
                : !strcmp(key, "restitution") ? &g->restitution
                                              : NULL;
   if (!e) return -1;
-  if (parse_expr(value, e)) return fail(p, "%s: '%s' is not a number", key, value);
+  if (tb_scene_parse_expr(value, e)) return fail(p, "%s: '%s' is not a number", key, value);
   return 1;
 }
 
@@ -487,17 +317,17 @@ static int tool_key(parser *p, tb_scene_tool *t, const char *key, const char *va
   if (!strcmp(key, "origin")) {
     const char *v = value;
     if (!strncmp(v, "extreme ", 8)) t->origin_extreme = 1, v += 8;
-    if (parse_list(v, t->origin, 3, 3) < 0)
+    if (tb_scene_parse_list(v, t->origin, 3, 3) < 0)
       return fail(p, "origin: '%s' is not x,y,z or 'extreme dx,dy,dz'%s", value, "");
     return 1;
   }
   if (!strcmp(key, "offset")) {
-    if (parse_list(value, t->offset, 3, 3) < 0)
+    if (tb_scene_parse_list(value, t->offset, 3, 3) < 0)
       return fail(p, "offset: '%s' is not x,y,z%s", value, "");
     return 1;
   }
   if (!strcmp(key, "margin") || !strcmp(key, "friction")) {
-    if (parse_expr(value, key[0] == 'm' ? &t->margin : &t->friction))
+    if (tb_scene_parse_expr(value, key[0] == 'm' ? &t->margin : &t->friction))
       return fail(p, "%s: '%s' is not a number", key, value);
     return 1;
   }
@@ -594,7 +424,7 @@ static int handler(void *user, const char *section, const char *key, const char 
       r = add_selector(p, &m->where, key, value);
       if (r == -1) r = motion_key(p, &m->motion, key, value);
       if (r == -1 && !strcmp(key, "release")) {
-        if (parse_expr(value, &m->release))
+        if (tb_scene_parse_expr(value, &m->release))
           return fail(p, "release: '%s' is not a time%s", value, "");
         m->has_release = 1, r = 1;
       }
