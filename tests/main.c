@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "tb_mesh_io.h"
 #include "tb_test.h"
 
 #define SKIP_CODE 77
@@ -39,6 +40,25 @@ void tb_test_skip(const char *fmt, ...) {
   putchar('\n');
   va_end(ap);
   skipped = 1;
+}
+
+/* Reads path expecting failure with message "path:LINE: ...REASON..." (line
+ * 0: "path: ...") and an empty mesh. */
+void tb_test_expect_read_error(const char *path, long line, const char *reason) {
+  tb_mesh m;
+  tb_error err = {{0}};
+  char prefix[700];
+  if (line > 0)
+    snprintf(prefix, sizeof prefix, "%s:%ld: ", path, line);
+  else
+    snprintf(prefix, sizeof prefix, "%s: ", path);
+  int rc = tb_mesh_read(path, &m, &err);
+  TB_CHECK_MSG(rc != 0, "%s: read should fail (%s)", path, reason);
+  TB_CHECK_MSG(strncmp(err.msg, prefix, strlen(prefix)) == 0, "message '%s' lacks prefix '%s'",
+               err.msg, prefix);
+  TB_CHECK_MSG(strstr(err.msg, reason) != NULL, "message '%s' lacks '%s'", err.msg, reason);
+  TB_CHECK(m.nv == 0 && m.ntri == 0 && m.ntet == 0 && !m.x && !m.tri && !m.tet);
+  if (rc == 0) tb_mesh_free(&m);
 }
 
 const char *tb_test_tmpdir(void) { return tmpdir; }

@@ -43,6 +43,10 @@ const char *tb_test_source_root(void);
  * cap-1 bytes of its combined stdout+stderr into out (may be NULL). */
 int tb_test_run(const char *cmd, char *out, int cap);
 
+/* Reads path (tb_mesh_read) expecting failure with the message
+ * "path:LINE: ...REASON..." (line 0: "path: ...") and an empty mesh. */
+void tb_test_expect_read_error(const char *path, long line, const char *reason);
+
 /* Runs `tissuebench ARGS` (a shell fragment after the binary); returns its
  * exit code, its combined output in tb_test_out (64 KiB). */
 extern char tb_test_out[1 << 16];

@@ -51,25 +51,6 @@ static void check_same(const tb_mesh *a, const tb_mesh *b) {
   check_ints(a->tet, b->tet, 4 * a->ntet, "tet");
 }
 
-/* Reads path expecting failure with message "path:LINE: ...REASON..." (line
- * 0: "path: ...") and an empty mesh. */
-static void expect_error(const char *path, long line, const char *reason) {
-  tb_mesh m;
-  tb_error err = {{0}};
-  char prefix[700];
-  if (line > 0)
-    snprintf(prefix, sizeof prefix, "%s:%ld: ", path, line);
-  else
-    snprintf(prefix, sizeof prefix, "%s: ", path);
-  int rc = tb_mesh_read(path, &m, &err);
-  TB_CHECK_MSG(rc != 0, "%s: read should fail (%s)", path, reason);
-  TB_CHECK_MSG(strncmp(err.msg, prefix, strlen(prefix)) == 0, "message '%s' lacks prefix '%s'",
-               err.msg, prefix);
-  TB_CHECK_MSG(strstr(err.msg, reason) != NULL, "message '%s' lacks '%s'", err.msg, reason);
-  TB_CHECK(m.nv == 0 && m.ntri == 0 && m.ntet == 0 && !m.x && !m.tri && !m.tet);
-  if (rc == 0) tb_mesh_free(&m);
-}
-
 typedef struct bad_case {
   const char *name, *text;
   long line;
@@ -77,7 +58,8 @@ typedef struct bad_case {
 } bad_case;
 
 static void run_bad(const bad_case *c) {
-  for (; c->name; c++) expect_error(tb_test_file(c->name, c->text, -1), c->line, c->reason);
+  for (; c->name; c++)
+    tb_test_expect_read_error(tb_test_file(c->name, c->text, -1), c->line, c->reason);
 }
 
 /* A unit-ish cube in five tets with awkward coordinates, and a surface. */
@@ -447,7 +429,7 @@ static void test_errors_obj(void) {
       {"e_hdr.obj", "4 1\n" TRI3 "f 1 2 3\n", 1, "header counts 4 vertices, 1 faces"},
       {NULL, NULL, 0, NULL}};
   run_bad(c);
-  expect_error(tb_test_file("e_nul.obj", "v 0 0 0\nv 1\0 0 0\n", 16), 2, "NUL byte");
+  tb_test_expect_read_error(tb_test_file("e_nul.obj", "v 0 0 0\nv 1\0 0 0\n", 16), 2, "NUL byte");
 }
 
 #define OFF3 "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n"
@@ -510,20 +492,21 @@ static void test_errors_stl_binary(void) {
   unsigned char buf[84 + 100];
   v[10] = NAN; /* triangle 2, vertex 1, y */
   long n = stl_binary(buf, v, 2, "binary");
-  expect_error(tb_test_file("e_nan_bin.stl", (const char *)buf, n), 0,
-               "triangle 2 (byte offset 146): non-finite coordinate");
+  tb_test_expect_read_error(tb_test_file("e_nan_bin.stl", (const char *)buf, n), 0,
+                            "triangle 2 (byte offset 146): non-finite coordinate");
   v[10] = INFINITY;
   stl_binary(buf, v, 2, "binary");
-  expect_error(tb_test_file("e_inf_bin.stl", (const char *)buf, n), 0,
-               "triangle 2 (byte offset 146)");
+  tb_test_expect_read_error(tb_test_file("e_inf_bin.stl", (const char *)buf, n), 0,
+                            "triangle 2 (byte offset 146)");
   v[10] = 0;
   stl_binary(buf, v, 2, "binary");
-  expect_error(tb_test_file("e_trunc_bin.stl", (const char *)buf, n - 50), 1,
-               "134 bytes is not the 184 of a binary STL of 2 triangles");
-  expect_error(tb_test_file("e_zero_bin.stl", (const char *)buf, 84), 1, "not an STL file");
+  tb_test_expect_read_error(tb_test_file("e_trunc_bin.stl", (const char *)buf, n - 50), 1,
+                            "134 bytes is not the 184 of a binary STL of 2 triangles");
+  tb_test_expect_read_error(tb_test_file("e_zero_bin.stl", (const char *)buf, 84), 1,
+                            "not an STL file");
   put_le32(buf + 80, 0);
-  expect_error(tb_test_file("e_none_bin.stl", (const char *)buf, 84), 0,
-               "binary STL with 0 triangles");
+  tb_test_expect_read_error(tb_test_file("e_none_bin.stl", (const char *)buf, 84), 0,
+                            "binary STL with 0 triangles");
 }
 
 /* One TetGen case: the files base.node/.ele/.face (NULL: absent), the one read. */
@@ -634,17 +617,17 @@ static void test_errors_msh(void) {
 }
 
 static void test_errors_generic(void) {
-  expect_error(tb_test_file("mesh.ply", "ply\n", -1), 0, "unknown mesh format '.ply'");
-  expect_error(tb_test_file("noext", "v 0 0 0\n", -1), 0, "unknown mesh format ''");
-  expect_error(tmp("missing.obj"), 0, "cannot open: No such file");
-  expect_error(tmp("missing.node"), 0, "cannot open: No such file");
+  tb_test_expect_read_error(tb_test_file("mesh.ply", "ply\n", -1), 0, "unknown mesh format '.ply'");
+  tb_test_expect_read_error(tb_test_file("noext", "v 0 0 0\n", -1), 0, "unknown mesh format ''");
+  tb_test_expect_read_error(tmp("missing.obj"), 0, "cannot open: No such file");
+  tb_test_expect_read_error(tmp("missing.node"), 0, "cannot open: No such file");
   long n = (1L << 20) + 100;
   char *big = malloc((size_t)n + 1);
   if (!big) return;
   memcpy(big, "v 0 0 0\nv ", 10);
   memset(big + 10, '1', (size_t)n - 10);
   big[n] = 0;
-  expect_error(tb_test_file("long.obj", big, n), 2, "line longer than");
+  tb_test_expect_read_error(tb_test_file("long.obj", big, n), 2, "line longer than");
   free(big);
 }
 

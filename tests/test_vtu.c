@@ -49,22 +49,6 @@ static const char *replaced(const char *s, const char *from, const char *to) {
   return out;
 }
 
-static void expect_error(const char *path, long line, const char *reason) {
-  tb_mesh m;
-  tb_error err = {{0}};
-  char prefix[700];
-  if (line > 0)
-    snprintf(prefix, sizeof prefix, "%s:%ld: ", path, line);
-  else
-    snprintf(prefix, sizeof prefix, "%s: ", path);
-  int rc = tb_mesh_read(path, &m, &err);
-  TB_CHECK_MSG(rc != 0, "%s: read should fail (%s)", path, reason);
-  TB_CHECK_MSG(strncmp(err.msg, prefix, strlen(prefix)) == 0 && strstr(err.msg, reason),
-               "message '%s', expected '%s...%s'", err.msg, prefix, reason);
-  TB_CHECK(m.nv == 0 && !m.x && !m.tri && !m.tet);
-  if (rc == 0) tb_mesh_free(&m);
-}
-
 /* ---- a two-piece scene: a beam (tets + boundary triangles) with arrays,
  * and a loose surface without any ---- */
 typedef struct scene {
@@ -256,40 +240,46 @@ static void test_vtu_errors(void) {
   const char *t;
   /* unknown cell type 99 */
   t = replaced(good, "AQAAAAAAAAAK", "AQAAAAAAAABj");
-  expect_error(tb_test_file("e_type.vtu", t, -1), types, "unknown cell type 99");
+  tb_test_expect_read_error(tb_test_file("e_type.vtu", t, -1), types, "unknown cell type 99");
   /* truncated base64: one character, then a whole group, of the types */
   t = replaced(good, "AQAAAAAAAAAK", "AQAAAAAAAAA");
-  expect_error(tb_test_file("e_b64.vtu", t, -1), types, "truncated base64 data");
+  tb_test_expect_read_error(tb_test_file("e_b64.vtu", t, -1), types, "truncated base64 data");
   t = cut_points(good);
-  expect_error(tb_test_file("e_b64b.vtu", t, -1), points,
-               "Points: header says 96 bytes, the data holds 94 (truncated)");
+  tb_test_expect_read_error(tb_test_file("e_b64b.vtu", t, -1), points,
+                            "Points: header says 96 bytes, the data holds 94 (truncated)");
   t = replaced(good, "AQAAAAAAAAAK", "AgAAAAAAAAAK");
-  expect_error(tb_test_file("e_b64d.vtu", t, -1), types,
-               "types: header says 2 bytes, the data holds 1 (truncated)");
+  tb_test_expect_read_error(tb_test_file("e_b64d.vtu", t, -1), types,
+                            "types: header says 2 bytes, the data holds 1 (truncated)");
   t = replaced(good, "AQAAAAAAAAAK", "AQAA*AAAAAAK");
-  expect_error(tb_test_file("e_b64c.vtu", t, -1), types + 1, "invalid base64 data ('*')");
+  tb_test_expect_read_error(tb_test_file("e_b64c.vtu", t, -1), types + 1,
+                            "invalid base64 data ('*')");
   /* wrong counts */
   t = replaced(good, "NumberOfPoints=\"4\"", "NumberOfPoints=\"5\"");
-  expect_error(tb_test_file("e_np.vtu", t, -1), points, "4 tuples, the piece declares 5");
+  tb_test_expect_read_error(tb_test_file("e_np.vtu", t, -1), points,
+                            "4 tuples, the piece declares 5");
   t = replaced(good, "NumberOfCells=\"1\"", "NumberOfCells=\"2\"");
-  expect_error(tb_test_file("e_nc.vtu", t, -1), offs, "offsets: 1 tuples, the piece declares 2");
+  tb_test_expect_read_error(tb_test_file("e_nc.vtu", t, -1), offs,
+                            "offsets: 1 tuples, the piece declares 2");
   t = replaced(good, "NumberOfPoints=\"4\"", "NumberOfPoints=\"-4\"");
-  expect_error(tb_test_file("e_neg.vtu", t, -1), line_of(good, "<Piece"),
-               "NumberOfPoints=\"-4\" is not a count");
+  tb_test_expect_read_error(tb_test_file("e_neg.vtu", t, -1), line_of(good, "<Piece"),
+                            "NumberOfPoints=\"-4\" is not a count");
   /* unsupported variants, and not XML */
   t = replaced(good, "format=\"binary\"", "format=\"ascii\"");
-  expect_error(tb_test_file("e_ascii.vtu", t, -1), points, "format 'ascii' not supported");
+  tb_test_expect_read_error(tb_test_file("e_ascii.vtu", t, -1), points,
+                            "format 'ascii' not supported");
   t = replaced(good, "type=\"UnstructuredGrid\"", "type=\"PolyData\"");
-  expect_error(tb_test_file("e_poly.vtu", t, -1), 2, "VTKFile type 'PolyData' not supported");
+  tb_test_expect_read_error(tb_test_file("e_poly.vtu", t, -1), 2,
+                            "VTKFile type 'PolyData' not supported");
   t = replaced(good, "header_type=\"UInt64\"", "header_type=\"UInt64\" compressor=\"vtkZLib\"");
-  expect_error(tb_test_file("e_zlib.vtu", t, -1), 2, "compressed data");
+  tb_test_expect_read_error(tb_test_file("e_zlib.vtu", t, -1), 2, "compressed data");
   t = replaced(good, "Name=\"connectivity\"", "Name=\"connectivity\" type=\"Int64\"");
-  expect_error(tb_test_file("e_dupattr.vtu", t, -1), conn, "XML error: duplicate attribute");
+  tb_test_expect_read_error(tb_test_file("e_dupattr.vtu", t, -1), conn,
+                            "XML error: duplicate attribute");
   t = replaced(good, "</Cells>", "");
-  expect_error(tb_test_file("e_xml.vtu", t, -1), line_of(good, "</Cells>") + 1,
-               "XML error: mismatched tag");
-  expect_error(tb_test_file("e_empty.vtu", "", -1), 1, "XML error: no element found");
-  expect_error(tb_test_file("e_root.vtu", "<mesh/>\n", -1), 1, "not a VTK XML file");
+  tb_test_expect_read_error(tb_test_file("e_xml.vtu", t, -1), line_of(good, "</Cells>") + 1,
+                            "XML error: mismatched tag");
+  tb_test_expect_read_error(tb_test_file("e_empty.vtu", "", -1), 1, "XML error: no element found");
+  tb_test_expect_read_error(tb_test_file("e_root.vtu", "<mesh/>\n", -1), 1, "not a VTK XML file");
   free(good);
 }
 
@@ -426,7 +416,7 @@ static void test_vtk_errors(void) {
       {"v_none.vtk", VHDR, 5, "no vertices"},
       {NULL, NULL, 0, NULL}};
   for (int i = 0; c[i].name; i++)
-    expect_error(tb_test_file(c[i].name, c[i].text, -1), c[i].line, c[i].reason);
+    tb_test_expect_read_error(tb_test_file(c[i].name, c[i].text, -1), c[i].line, c[i].reason);
 }
 
 /* mesh info reads both, and reports a bad .vtu with FILE:LINE, exit 2. */
