@@ -92,28 +92,30 @@ static tb_vec3 way_out(const tb_sim *s, tb_vec3 x, tb_vec3 q, tb_vec3 dir) {
 
 /* ---- the instrument's pose ---- */
 
-void tb_sim_tool_pose(tb_sim *s, double t, tb_mat3 *R, tb_vec3 *tr) {
+/* The instrument's pose at t: x = R x_local + tr. */
+static void pose_at(const tb_sim *s, double t, tb_mat3 *R, tb_vec3 *tr) {
   tb_vec3 o = tb_sim_motion_apply(&s->tool_motion, t, tb_v3(0, 0, 0));
   tb_vec3 ex = tb_sub(tb_sim_motion_apply(&s->tool_motion, t, tb_v3(1, 0, 0)), o);
   tb_vec3 ey = tb_sub(tb_sim_motion_apply(&s->tool_motion, t, tb_v3(0, 1, 0)), o);
   tb_vec3 ez = tb_sub(tb_sim_motion_apply(&s->tool_motion, t, tb_v3(0, 0, 1)), o);
   *R = (tb_mat3){{{ex.x, ey.x, ez.x}, {ex.y, ey.y, ez.y}, {ex.z, ey.z, ez.z}}};
   *tr = tb_add(o, s->tool_origin);
+}
+
+void tb_sim_tool_pose(tb_sim *s, double t, tb_mat3 *R, tb_vec3 *tr) {
+  pose_at(s, t, R, tr);
   for (int i = 0; i < s->tool.nv; i++) s->tool_x[i] = tb_add(tb_m3_mulv(*R, s->tool.x[i]), *tr);
 }
 
-/* World velocity of the instrument's material point now at world position
- * p (pose at t against the pose at t - dt). */
-static tb_vec3 tool_velocity(tb_sim *s, tb_vec3 p) {
-  double t = s->t, dt = s->def.dt;
-  tb_mat3 R0, R1;
-  tb_vec3 t0, t1;
-  /* the local point from the current pose, then where it was */
-  tb_sim_tool_pose(s, t - dt, &R0, &t0);
-  tb_sim_tool_pose(s, t, &R1, &t1);
-  tb_vec3 local = tb_m3_mulv(tb_m3_transpose(R1), tb_sub(p, t1));
+/* World velocity of the instrument's material point now (pose s->tool_R,
+ * s->tool_t) at world position p: where it was at t - dt, over dt. */
+static tb_vec3 tool_velocity(const tb_sim *s, tb_vec3 p) {
+  tb_mat3 R0;
+  tb_vec3 t0;
+  pose_at(s, s->t - s->def.dt, &R0, &t0);
+  tb_vec3 local = tb_m3_mulv(tb_m3_transpose(s->tool_R), tb_sub(p, s->tool_t));
   tb_vec3 before = tb_add(tb_m3_mulv(R0, local), t0);
-  return tb_scale(tb_sub(p, before), 1.0 / dt);
+  return tb_scale(tb_sub(p, before), 1.0 / s->def.dt);
 }
 
 /* ---- set-up ---- */
@@ -355,7 +357,6 @@ static int tool(tb_sim *s, int *n, tb_error *err) {
     }
     s->vc_buf[k] = tb_add(vt, rel);
   }
-  tb_sim_tool_pose(s, s->t, &s->tool_R, &s->tool_t);
   /* what is left inside after the response */
   for (int k = first; k < *n; k++) {
     double depth;
