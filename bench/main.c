@@ -83,6 +83,19 @@ static const tb_command commands[] = {
      "  volume change, energy, penetration into the ground and the instrument, at rest or not);\n"
      "  a run that blows up prints \"status: unstable (reason)\" and exits 1; bad input exits 2",
      tb_cmd_simulate},
+    {"render", "pictures of a mesh or of a scene at chosen times (PNG, headless)",
+     "tissuebench render --mesh FILE --out PICTURE.png [options]\n"
+     "tissuebench render --scene NAME|FILE [--model M] [--set k=v ...] [--times t1,t2,... | --every K]\n"
+     "                   --out DIR [options]\n"
+     "  --view V      front, left-front (default), left-back, top: the thesis's views, fitted\n"
+     "  --camera SPEC \"eye=x,y,z target=x,y,z [up=x,y,z] (fov=DEG | ortho=HALF_HEIGHT)\"\n"
+     "  --size WxH    image size (800x600); --ss N samples per pixel side (1..4, default 2)\n"
+     "  --color C     none (default) or displacement (a colour map with its colour bar)\n"
+     "  --wireframe   the surface's triangle edges; --structure: the model's tet edges\n"
+     "  a scene is drawn at each time (DIR/tT.png; default: its end) or every K steps\n"
+     "  (DIR/frame_NNNNN.png), with its instrument and ground. OSMesa on Mesa's softpipe\n"
+     "  rasterizer: the same input gives the same bytes. Bad camera, size or times exit 2",
+     tb_cmd_render},
     {"advise", "the cheapest model for a scene and an error tolerance",
      "tissuebench advise --scene NAME (--tol X | --budget-ms Y | both) [--points FILE]\n"
      "                   [--results DIR]\n"

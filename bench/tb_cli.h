@@ -27,6 +27,7 @@ int tb_cmd_figure(int argc, char **argv);
 int tb_cmd_tritri(int argc, char **argv);
 int tb_cmd_collide(int argc, char **argv);
 int tb_cmd_simulate(int argc, char **argv);
+int tb_cmd_render(int argc, char **argv);
 int tb_cmd_advise(int argc, char **argv);
 
 /* Options every suite receives. */

@@ -387,3 +387,13 @@ int tb_sim_contact(tb_sim *s, tb_error *err) {
   }
   return 0;
 }
+
+int tb_sim_instrument(tb_sim *s, tb_mesh *out) {
+  memset(out, 0, sizeof *out);
+  if (!s->has_tool) return 0;
+  tb_mat3 R;
+  tb_vec3 t;
+  tb_sim_tool_pose(s, s->t, &R, &t);
+  out->nv = s->tool.nv, out->x = s->tool_x, out->ntri = s->tool.ntri, out->tri = s->tool.tri;
+  return 1;
+}

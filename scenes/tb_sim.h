@@ -160,6 +160,10 @@ void tb_sim_destroy(tb_sim *s);
  * (scene forces only, no drag), nfixed/fixed/fixed_x. */
 int tb_sim_loads(tb_sim *s, double t, tb_error *err);
 
+/* The instrument at the current time in world coordinates (posed now);
+ * 0 when the scene has none. */
+int tb_sim_instrument(tb_sim *s, tb_mesh *out);
+
 /* Lets every prescribed motion go now (clears hold): the next step's
  * nodes are free. */
 void tb_sim_let_go(tb_sim *s);

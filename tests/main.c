@@ -127,6 +127,7 @@ static const struct {
     {"fidelity", tb_tests_fidelity},
     {"stability", tb_tests_stability},
     {"scenes", tb_tests_scenes},
+    {"render", tb_tests_render},
 };
 
 static int selected(const char *id, int argc, char **argv) {

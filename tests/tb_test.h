@@ -75,5 +75,6 @@ extern const tb_test_case tb_tests_reference[];
 extern const tb_test_case tb_tests_fidelity[];
 extern const tb_test_case tb_tests_stability[];
 extern const tb_test_case tb_tests_scenes[];
+extern const tb_test_case tb_tests_render[];
 
 #endif

@@ -1,0 +1,237 @@
+/* `tissuebench render`: pictures of a mesh file, or of a scene at chosen
+ * times (or every k steps), headless (render/tb_render.h): the body's
+ * surface shaded or coloured by displacement or von Mises stress with a
+ * colour bar, the instrument, the ground, a wireframe and the model's
+ * structure (its tet edges: the springs of msm, the elements of fem). */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "tb_cli.h"
+#include "tb_mesh_io.h"
+#include "tb_render.h"
+#include "tb_sim.h"
+
+#define PROG "tissuebench render"
+
+typedef struct opts {
+  const char *view, *camera, *color, *out;
+  int w, h, ss, wireframe, structure;
+} opts;
+
+static int bad(const char *fmt, const char *a) {
+  fprintf(stderr, PROG ": ");
+  fprintf(stderr, fmt, a);
+  fputc('\n', stderr);
+  return TB_EXIT_INPUT;
+}
+
+static const float BG[3] = {1, 1, 1}, BODY[3] = {0.86f, 0.45f, 0.40f},
+                   TOOL[3] = {0.62f, 0.64f, 0.68f};
+
+static int camera_for(const opts *o, tb_vec3 lo, tb_vec3 hi, tb_camera *cam, tb_error *err) {
+  if (o->camera) return tb_camera_parse(o->camera, cam, err);
+  if (tb_camera_preset(o->view ? o->view : "left-front", lo, hi, cam))
+    return tb_error_set(err, "--view", 0, "unknown view '%s' (front, left-front, left-back, top)",
+                        o->view);
+  return 0;
+}
+
+/* Draws the structure: every tet edge as a thin dark line. */
+static void structure(tb_renderer *r, const tb_mesh *m, const tb_vec3 *x) {
+  int *e = NULL, n = tb_mesh_edges(m, &e);
+  tb_vec3 *ends = n > 0 ? malloc(sizeof(tb_vec3) * 2 * (size_t)n) : NULL;
+  for (int k = 0; ends && k < n; k++) ends[2 * k] = x[e[2 * k]], ends[2 * k + 1] = x[e[2 * k + 1]];
+  static const float ink[3] = {0.15f, 0.2f, 0.35f};
+  if (ends) tb_renderer_lines(r, n, ends, ink, 1);
+  free(ends), free(e);
+}
+
+/* One picture of a scene's current state. */
+static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam, const char *path,
+                 tb_error *err) {
+  tb_renderer_begin(r, cam, BG);
+  tb_surface su = tb_model_surface(&s->model);
+  double *value = NULL, lo = 0, hi = 0;
+  if (o->color && strcmp(o->color, "none")) {
+    value = malloc(sizeof(double) * (size_t)(su.nv > 0 ? su.nv : 1));
+    if (!value) return tb_error_set(err, path, 0, "out of memory");
+    for (int i = 0; i < su.nv; i++) value[i] = tb_dist(su.x[i], s->mesh.x[i]);
+    for (int i = 0; i < su.nv; i++) hi = fmax(hi, value[i]);
+  }
+  if (s->has_ground) {
+    tb_vec3 c = tb_v3(0, 0, 0);
+    for (int i = 0; i < su.nv; i++) c = tb_madd(c, 1.0 / su.nv, su.x[i]);
+    tb_renderer_ground(r, s->ground_p, s->ground_n, c, s->size);
+  }
+  tb_render_mesh body = {
+      su.nv, su.ntri,         su.x,        su.tri, {BODY[0], BODY[1], BODY[2]}, value,
+      lo,    hi > 0 ? hi : 1, o->wireframe};
+  tb_renderer_mesh(r, &body);
+  if (o->structure) structure(r, &s->mesh, su.x);
+  tb_mesh tool;
+  if (tb_sim_instrument(s, &tool)) {
+    tb_render_mesh t = {tool.nv, tool.ntri, tool.x, tool.tri, {TOOL[0], TOOL[1], TOOL[2]},
+                        NULL,    0,         1,      0};
+    tb_renderer_mesh(r, &t);
+  }
+  if (value) tb_renderer_colorbar(r, lo, hi > 0 ? hi : 1, "displacement");
+  free(value);
+  return tb_renderer_write_png(r, path, err);
+}
+
+/* "0,0.5,1.5": ascending times >= 0. */
+static int parse_times(const char *s, double *t, int cap, int *n) {
+  *n = 0;
+  while (*s) {
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || errno || !isfinite(v) || v < 0 || *n == cap || (*n && !(v > t[*n - 1])))
+      return -1;
+    t[(*n)++] = v;
+    if (*end == ',')
+      end++;
+    else if (*end)
+      return -1;
+    s = end;
+  }
+  return *n ? 0 : -1;
+}
+
+static int render_mesh(const char *file, const opts *o) {
+  tb_mesh m;
+  tb_error err;
+  if (tb_mesh_read(file, &m, &err)) return bad("%s", err.msg);
+  if (m.ntri < 1 && m.ntet > 0) m.ntri = tb_mesh_tet_boundary(&m, &m.tri);
+  tb_vec3 lo, hi;
+  tb_mesh_bbox(&m, &lo, &hi);
+  tb_camera cam;
+  tb_renderer *r = NULL;
+  int rc = TB_EXIT_INPUT;
+  if (camera_for(o, lo, hi, &cam, &err) || !(r = tb_renderer_new(o->w, o->h, o->ss, &err))) {
+    fprintf(stderr, PROG ": %s\n", err.msg);
+  } else {
+    tb_renderer_begin(r, &cam, BG);
+    tb_render_mesh rm = {m.nv, m.ntri, m.x, m.tri,       {BODY[0], BODY[1], BODY[2]},
+                         NULL, 0,      1,   o->wireframe};
+    tb_renderer_mesh(r, &rm);
+    if (o->structure && m.ntet) structure(r, &m, m.x);
+    rc = tb_renderer_write_png(r, o->out, &err) ? TB_EXIT_FAIL : TB_EXIT_OK;
+    if (rc)
+      fprintf(stderr, PROG ": %s\n", err.msg);
+    else
+      printf("%s\n", o->out);
+  }
+  tb_renderer_free(r);
+  tb_mesh_free(&m);
+  return rc;
+}
+
+int tb_cmd_render(int argc, char **argv) {
+  opts o = {NULL, NULL, "none", NULL, 800, 600, 2, 0, 0};
+  const char *scene = NULL, *mesh = NULL, *model = NULL, *times = NULL, *size = NULL;
+  long every = 0;
+  int ss_given = 0;
+  tb_sim_def sd;
+  tb_sim_def_init(&sd);
+  tb_settings set;
+  tb_settings_init(&set);
+  tb_error err;
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+    if (!strcmp(a, "--wireframe") || !strcmp(a, "--structure")) {
+      *(a[2] == 'w' ? &o.wireframe : &o.structure) = 1;
+      continue;
+    }
+    if (!v) return bad("unknown or incomplete option '%s' (render --help)", a);
+    i++;
+    const char **slot = !strcmp(a, "--scene")    ? &scene
+                        : !strcmp(a, "--mesh")   ? &mesh
+                        : !strcmp(a, "--model")  ? &model
+                        : !strcmp(a, "--times")  ? &times
+                        : !strcmp(a, "--view")   ? &o.view
+                        : !strcmp(a, "--camera") ? &o.camera
+                        : !strcmp(a, "--color")  ? &o.color
+                        : !strcmp(a, "--out")    ? &o.out
+                        : !strcmp(a, "--size")   ? &size
+                                                 : NULL;
+    if (slot) {
+      if (*slot && slot != &o.color) return bad("%s given twice", a);
+      *slot = v;
+    } else if (!strcmp(a, "--every") || !strcmp(a, "--ss")) {
+      char *end;
+      long n = strtol(v, &end, 10);
+      if (*end || end == v || n < 1 || n > (a[2] == 'e' ? 100000000 : 4))
+        return bad("%s needs a whole number (--every >= 1, --ss 1..4)", a);
+      if (a[2] == 'e')
+        every = n;
+      else
+        o.ss = (int)n, ss_given = 1;
+    } else if (!strcmp(a, "--set")) {
+      int rc = tb_sim_def_set(&sd, v, &err);
+      if (rc == 1) rc = tb_settings_set(&set, v, &err);
+      if (rc) return bad("%s", err.msg);
+    } else
+      return bad("unknown option '%s' (render --help)", a);
+  }
+  (void)ss_given;
+  if (!o.out) return bad("%s", "--out is required (a .png for --mesh, a folder for --scene)");
+  if (!scene == !mesh) return bad("%s", "give --scene NAME|FILE or --mesh FILE");
+  if (size &&
+      (sscanf(size, "%dx%d", &o.w, &o.h) != 2 || o.w < 8 || o.h < 8 || o.w > 8192 || o.h > 8192))
+    return bad("--size '%s': expected WxH, each 8..8192", size);
+  if (o.view && o.camera) return bad("%s", "give --view or --camera, not both");
+  if (strcmp(o.color, "none") && strcmp(o.color, "displacement"))
+    return bad("--color '%s': none or displacement", o.color);
+  if (mesh) return render_mesh(mesh, &o);
+  double t[256];
+  int nt = 0;
+  if (times && parse_times(times, t, 256, &nt))
+    return bad("--times '%s': ascending times >= 0, comma-separated (at most 256)", times);
+  if (times && every) return bad("%s", "give --times or --every, not both");
+  if (mkdir(o.out, 0777) && errno != EEXIST) {
+    char msg[600];
+    snprintf(msg, sizeof msg, "%s: cannot create the folder: %s", o.out, strerror(errno));
+    return bad("%s", msg);
+  }
+  tb_sim s;
+  if (tb_sim_create(&s, scene, &sd, model, &set, NULL, &err)) return bad("%s", err.msg);
+  if (!times && !every) t[0] = s.def.duration, nt = 1;
+  long steps = every ? lround(s.def.duration / s.def.dt) : lround(t[nt - 1] / s.def.dt);
+  tb_vec3 lo, hi;
+  tb_mesh_bbox(&s.mesh, &lo, &hi);
+  tb_camera cam;
+  tb_renderer *r = NULL;
+  if (camera_for(&o, lo, hi, &cam, &err) || !(r = tb_renderer_new(o.w, o.h, o.ss, &err))) {
+    tb_sim_destroy(&s);
+    return bad("%s", err.msg);
+  }
+  int rc = TB_EXIT_OK, next = 0, count = 0;
+  char path[1200];
+  for (long k = 0; k <= steps && rc == TB_EXIT_OK; k++) {
+    int shoot =
+        every ? k % every == 0 : (next < nt && fabs(k * s.def.dt - t[next]) < 0.5 * s.def.dt);
+    if (shoot) {
+      if (every)
+        snprintf(path, sizeof path, "%s/frame_%05d.png", o.out, count);
+      else
+        snprintf(path, sizeof path, "%s/t%.3f.png", o.out, t[next++]);
+      if (frame(r, &s, &o, &cam, path, &err)) {
+        fprintf(stderr, PROG ": %s\n", err.msg);
+        rc = TB_EXIT_FAIL;
+      } else
+        printf("%s\n", path), count++;
+    }
+    if (k < steps && tb_sim_step(&s, &err)) {
+      printf("status: unstable (%s)\n", err.msg);
+      rc = TB_EXIT_FAIL;
+    }
+  }
+  tb_renderer_free(r);
+  tb_sim_destroy(&s);
+  return rc;
+}

@@ -1,0 +1,68 @@
+/* A headless renderer for pictures of meshes and simulations: OSMesa
+ * (Mesa's off-screen OpenGL, fixed to its softpipe rasterizer so the same
+ * input gives the same pixels on every machine) draws into memory, libpng
+ * writes the file. Shaded surfaces with per-vertex normals, one light,
+ * back faces in their own colour; per-vertex colour maps with a colour
+ * bar; wireframes and line sets (springs, tet edges); a ground square.
+ * No display, no font files: the colour bar's numbers are drawn with a
+ * small stroke font of our own. */
+#ifndef TB_RENDER_H
+#define TB_RENDER_H
+
+#include "tb_error.h"
+#include "tb_math.h"
+
+/* A camera: perspective (fov_deg > 0) or orthographic (half_height > 0,
+ * half the view's height in scene units). */
+typedef struct tb_camera {
+  tb_vec3 eye, target, up;
+  double fov_deg;
+  double half_height;
+} tb_camera;
+
+/* The thesis's views of a body with bounding box [lo, hi] (z up): front
+ * (from -y), left-front, left-back, top (from +z), fitted to the box.
+ * Returns -1 for an unknown name. */
+int tb_camera_preset(const char *name, tb_vec3 lo, tb_vec3 hi, tb_camera *out);
+/* "eye=x,y,z target=x,y,z [up=x,y,z] (fov=DEG | ortho=HALF_HEIGHT)",
+ * fields separated by spaces or ';'. Errors name the field. */
+int tb_camera_parse(const char *spec, tb_camera *out, tb_error *err);
+
+/* A triangle mesh to draw: a flat colour, or a colour map of per-vertex
+ * values over [lo, hi]; back faces grey-blue. */
+typedef struct tb_render_mesh {
+  int nv, ntri;
+  const tb_vec3 *x;
+  const int *tri;
+  float rgb[3];
+  const double *value; /* nv values, or NULL */
+  double lo, hi;
+  int wireframe; /* 1: the triangles' edges drawn over the surface */
+} tb_render_mesh;
+
+typedef struct tb_renderer tb_renderer;
+
+/* An image of w x h pixels, drawn at ss x ss samples a pixel (1..4). */
+tb_renderer *tb_renderer_new(int w, int h, int ss, tb_error *err);
+void tb_renderer_free(tb_renderer *r);
+/* Clears to the background colour and sets the camera. */
+void tb_renderer_begin(tb_renderer *r, const tb_camera *cam, const float bg[3]);
+void tb_renderer_mesh(tb_renderer *r, const tb_render_mesh *m);
+/* n segments (2n points), one colour, width in pixels. */
+void tb_renderer_lines(tb_renderer *r, int n, const tb_vec3 *ends, const float rgb[3], float width);
+/* A square of side 2 * half on the plane (point p, normal n), centred at
+ * the projection of c. */
+void tb_renderer_ground(tb_renderer *r, tb_vec3 p, tb_vec3 n, tb_vec3 c, double half);
+/* The colour bar of the colour map on the right, with lo, hi and a label
+ * drawn in the stroke font (digits, signs, '.', 'e', letters a-z). */
+void tb_renderer_colorbar(tb_renderer *r, double lo, double hi, const char *label);
+/* The colour map (viridis-like) at u in [0, 1]. */
+void tb_colormap(double u, float rgb[3]);
+/* Writes the image as an 8-bit RGB PNG (no time stamp: same pixels, same
+ * bytes). */
+int tb_renderer_write_png(tb_renderer *r, const char *path, tb_error *err);
+/* The image's RGB bytes, w * h * 3, top row first (valid until the next
+ * call). */
+const unsigned char *tb_renderer_pixels(tb_renderer *r, int *w, int *h);
+
+#endif

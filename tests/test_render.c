@@ -1,0 +1,121 @@
+/* The headless renderer (render/): a sphere's silhouette from an
+ * orthographic camera has the area of its disc, the corners stay
+ * background, the same input gives the same PNG bytes, no display is
+ * needed, and bad cameras, sizes and times are refused with exit 2. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_meshgen.h"
+#include "tb_render.h"
+#include "tb_test.h"
+
+/* The silhouette of a unit sphere (10242-vertex geodesic) seen along -z by
+ * an orthographic camera of half height 1.25 on a 400 x 400 image: a disc
+ * of radius 160 pixels. */
+static void sphere_area(void) {
+  tb_mesh m;
+  tb_error err;
+  if (tb_geosphere(10242, 1.0, &m, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  tb_renderer *r = tb_renderer_new(400, 400, 1, &err);
+  TB_CHECK_MSG(r != NULL, "%s", err.msg);
+  if (!r) {
+    tb_mesh_free(&m);
+    return;
+  }
+  tb_camera cam;
+  TB_CHECK(tb_camera_parse("eye=0,0,5 target=0,0,0 up=0,1,0 ortho=1.25", &cam, &err) == 0);
+  static const float white[3] = {1, 1, 1};
+  tb_renderer_begin(r, &cam, white);
+  tb_render_mesh rm = {m.nv, m.ntri, m.x, m.tri, {0.8f, 0.3f, 0.3f}, NULL, 0, 1, 0};
+  tb_renderer_mesh(r, &rm);
+  int w, h;
+  const unsigned char *px = tb_renderer_pixels(r, &w, &h);
+  long inside = 0;
+  for (long k = 0; k < (long)w * h; k++)
+    inside += !(px[3 * k] == 255 && px[3 * k + 1] == 255 && px[3 * k + 2] == 255);
+  double disc = M_PI * 160.0 * 160.0;
+  TB_CHECK_MSG(fabs(inside - disc) <= 0.01 * disc, "silhouette %ld pixels, disc %.0f", inside,
+               disc);
+  int corners[4][2] = {{0, 0}, {w - 1, 0}, {0, h - 1}, {w - 1, h - 1}};
+  for (int c = 0; c < 4; c++) {
+    const unsigned char *p = px + 3 * ((size_t)corners[c][1] * w + corners[c][0]);
+    TB_CHECK(p[0] == 255 && p[1] == 255 && p[2] == 255);
+  }
+  /* the centre is lit, not black or white */
+  const unsigned char *c = px + 3 * ((size_t)200 * w + 200);
+  TB_CHECK_MSG(c[0] > 60 && c[0] < 255 && c[0] > c[2], "centre %d %d %d", c[0], c[1], c[2]);
+  tb_renderer_free(r);
+  tb_mesh_free(&m);
+}
+
+static long file_bytes(const char *path, unsigned char **out) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return -1;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  *out = malloc((size_t)(n > 0 ? n : 1));
+  if (!*out || fread(*out, 1, (size_t)n, f) != (size_t)n) n = -1;
+  fclose(f);
+  return n;
+}
+
+/* The same scene twice, without a display: the same bytes. */
+static void deterministic(void) {
+  char args[1200], a[700], b[700];
+  for (int k = 0; k < 2; k++) {
+    snprintf(args, sizeof args,
+             "render --scene liver-press --model fem --set nodes=300 --set duration=0.3 --times "
+             "0.3 --color displacement --wireframe --size 320x240 --out %s/det%d",
+             tb_test_tmpdir(), k);
+    char cmd[1400];
+    snprintf(cmd, sizeof cmd, "env -u DISPLAY -u WAYLAND_DISPLAY %s %s", tb_test_cli(), args);
+    int rc = tb_test_run(cmd, tb_test_out, sizeof tb_test_out);
+    TB_CHECK_MSG(rc == 0, "%s", tb_test_out);
+  }
+  snprintf(a, sizeof a, "%s/det0/t0.300.png", tb_test_tmpdir());
+  snprintf(b, sizeof b, "%s/det1/t0.300.png", tb_test_tmpdir());
+  unsigned char *x = NULL, *y = NULL;
+  long nx = file_bytes(a, &x), ny = file_bytes(b, &y);
+  TB_CHECK_MSG(nx > 1000 && nx == ny && !memcmp(x, y, (size_t)nx), "%ld vs %ld bytes", nx, ny);
+  TB_CHECK(nx > 8 && !memcmp(x, "\x89PNG", 4));
+  free(x), free(y);
+}
+
+static void bad_input(void) {
+  static const struct {
+    const char *args, *what;
+  } cases[] = {
+      {"render --scene beam --model fem --camera 'eye=0,0,1' --out %s/b", "target"},
+      {"render --scene beam --model fem --camera 'eye=0,0,1 target=0,0,1' --out %s/b", "coincide"},
+      {"render --scene beam --model fem --camera 'eye=0,0,5 target=0,0,0 fov=200' --out %s/b",
+       "fov"},
+      {"render --scene beam --model fem --camera 'eye=0,0,5 target=0,0,0 up=0,0,1' --out %s/b",
+       "parallel"},
+      {"render --scene beam --model fem --view side --out %s/b", "unknown view"},
+      {"render --scene beam --model fem --times 1,0.5 --out %s/b", "--times"},
+      {"render --scene beam --model fem --times -1 --out %s/b", "--times"},
+      {"render --scene beam --model fem --size 5x5 --out %s/b", "--size"},
+      {"render --scene beam --model fem --color heat --out %s/b", "--color"},
+      {"render --mesh %s/none.obj --out x.png", "none.obj"},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    char args[800];
+    snprintf(args, sizeof args, cases[k].args, tb_test_tmpdir());
+    int rc = tb_test_cli_run(args);
+    TB_CHECK_MSG(rc == 2 && strstr(tb_test_out, cases[k].what), "%s: exit %d: %s", args, rc,
+                 tb_test_out);
+  }
+}
+
+const tb_test_case tb_tests_render[] = {
+    {"sphere_area", sphere_area},
+    {"deterministic", deterministic},
+    {"bad_input", bad_input},
+    {NULL, NULL},
+};
