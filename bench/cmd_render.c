@@ -67,15 +67,24 @@ static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam,
     for (int i = 0; i < su.nv; i++) c = tb_madd(c, 1.0 / su.nv, su.x[i]);
     tb_renderer_ground(r, s->ground_p, s->ground_n, c, s->size);
   }
-  tb_render_mesh body = {
-      su.nv, su.ntri,         su.x,        su.tri, {BODY[0], BODY[1], BODY[2]}, value,
-      lo,    hi > 0 ? hi : 1, o->wireframe};
+  tb_render_mesh body = {.nv = su.nv,
+                         .ntri = su.ntri,
+                         .x = su.x,
+                         .tri = su.tri,
+                         .rgb = {BODY[0], BODY[1], BODY[2]},
+                         .value = value,
+                         .lo = lo,
+                         .hi = hi > 0 ? hi : 1,
+                         .wireframe = o->wireframe};
   tb_renderer_mesh(r, &body);
   if (o->structure) structure(r, &s->mesh, su.x);
   tb_mesh tool;
   if (tb_sim_instrument(s, &tool)) {
-    tb_render_mesh t = {tool.nv, tool.ntri, tool.x, tool.tri, {TOOL[0], TOOL[1], TOOL[2]},
-                        NULL,    0,         1,      0};
+    tb_render_mesh t = {.nv = tool.nv,
+                        .ntri = tool.ntri,
+                        .x = tool.x,
+                        .tri = tool.tri,
+                        .rgb = {TOOL[0], TOOL[1], TOOL[2]}};
     tb_renderer_mesh(r, &t);
   }
   if (value) tb_renderer_colorbar(r, lo, hi > 0 ? hi : 1, "displacement");
@@ -116,8 +125,12 @@ static int render_mesh(const char *file, const opts *o) {
     fprintf(stderr, PROG ": %s\n", err.msg);
   } else {
     tb_renderer_begin(r, &cam, BG);
-    tb_render_mesh rm = {m.nv, m.ntri, m.x, m.tri,       {BODY[0], BODY[1], BODY[2]},
-                         NULL, 0,      1,   o->wireframe};
+    tb_render_mesh rm = {.nv = m.nv,
+                         .ntri = m.ntri,
+                         .x = m.x,
+                         .tri = m.tri,
+                         .rgb = {BODY[0], BODY[1], BODY[2]},
+                         .wireframe = o->wireframe};
     tb_renderer_mesh(r, &rm);
     if (o->structure && m.ntet) structure(r, &m, m.x);
     rc = tb_renderer_write_png(r, o->out, &err) ? TB_EXIT_FAIL : TB_EXIT_OK;

@@ -142,9 +142,9 @@ void tb_renderer_mesh(tb_renderer *r, const tb_render_mesh *m) {
   glVertexPointer(3, GL_FLOAT, 0, r->vx);
   glNormalPointer(GL_FLOAT, 0, r->vn);
   glColorPointer(4, GL_FLOAT, 0, r->vc);
-  if (m->wireframe) {
+  if (m->wireframe || m->on_top) {
     glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(1, 1);
+    glPolygonOffset(m->on_top ? -2 : 1, m->on_top ? -2 : 1);
   }
   glDrawElements(GL_TRIANGLES, 3 * m->ntri, GL_UNSIGNED_INT, m->tri);
   glDisable(GL_POLYGON_OFFSET_FILL);
@@ -168,6 +168,17 @@ void tb_renderer_lines(tb_renderer *r, int n, const tb_vec3 *ends, const float r
   glLineWidth(width * (GLfloat)r->ss);
   glBegin(GL_LINES);
   for (int k = 0; k < 2 * n; k++) glVertex3d(ends[k].x, ends[k].y, ends[k].z);
+  glEnd();
+}
+
+void tb_renderer_points(tb_renderer *r, int n, const tb_vec3 *x, const float *rgb, float size) {
+  glDisable(GL_LIGHTING);
+  glPointSize(size * (GLfloat)r->ss);
+  glBegin(GL_POINTS);
+  for (int k = 0; k < n; k++) {
+    glColor3f(rgb[3 * k], rgb[3 * k + 1], rgb[3 * k + 2]);
+    glVertex3d(x[k].x, x[k].y, x[k].z);
+  }
   glEnd();
 }
 

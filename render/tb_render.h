@@ -38,6 +38,7 @@ typedef struct tb_render_mesh {
   const double *value; /* nv values, or NULL */
   double lo, hi;
   int wireframe; /* 1: the triangles' edges drawn over the surface */
+  int on_top;    /* 1: drawn over coincident surfaces (highlighted triangles) */
 } tb_render_mesh;
 
 typedef struct tb_renderer tb_renderer;
@@ -50,6 +51,8 @@ void tb_renderer_begin(tb_renderer *r, const tb_camera *cam, const float bg[3]);
 void tb_renderer_mesh(tb_renderer *r, const tb_render_mesh *m);
 /* n segments (2n points), one colour, width in pixels. */
 void tb_renderer_lines(tb_renderer *r, int n, const tb_vec3 *ends, const float rgb[3], float width);
+/* n points of size pixels, each its own colour (rgb: 3 per point). */
+void tb_renderer_points(tb_renderer *r, int n, const tb_vec3 *x, const float *rgb, float size);
 /* A square of side 2 * half on the plane (point p, normal n), centred at
  * the projection of c. */
 void tb_renderer_ground(tb_renderer *r, tb_vec3 p, tb_vec3 n, tb_vec3 c, double half);

@@ -31,7 +31,8 @@ static void sphere_area(void) {
   TB_CHECK(tb_camera_parse("eye=0,0,5 target=0,0,0 up=0,1,0 ortho=1.25", &cam, &err) == 0);
   static const float white[3] = {1, 1, 1};
   tb_renderer_begin(r, &cam, white);
-  tb_render_mesh rm = {m.nv, m.ntri, m.x, m.tri, {0.8f, 0.3f, 0.3f}, NULL, 0, 1, 0};
+  tb_render_mesh rm = {
+      .nv = m.nv, .ntri = m.ntri, .x = m.x, .tri = m.tri, .rgb = {0.8f, 0.3f, 0.3f}};
   tb_renderer_mesh(r, &rm);
   int w, h;
   const unsigned char *px = tb_renderer_pixels(r, &w, &h);
