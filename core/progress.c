@@ -6,6 +6,7 @@
  * tested directly; tb_progress and tb_progress_tick feed them the clock.
  * The line is ended when done reaches total; "\033[K" clears what a longer
  * line left. */
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -125,9 +126,15 @@ void tb_progress_done(void) {
   if (run_tty) draw(now_s(), 1);
 }
 
-void tb_progress_tick(const char *note) {
+void tb_progress_tick(const char *fmt, ...) {
   if (!run.active || !run_tty) return;
   double now = now_s();
-  if (note) snprintf(run.note, sizeof run.note, "%s", note);
-  if (now - run.start - run.last_draw >= REDRAW_S) draw(now, 0);
+  if (now - run.start - run.last_draw < REDRAW_S) return;
+  if (fmt) { /* formatted only when drawn */
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(run.note, sizeof run.note, fmt, ap);
+    va_end(ap);
+  }
+  draw(now, 0);
 }

@@ -171,11 +171,13 @@ int tb_report_end(tb_report *r, tb_error *err);
 void tb_progress(const char *label, long done, long total);
 /* Ends the current line (a run whose total was unknown). */
 void tb_progress_done(void);
-/* A heartbeat from inside a long item: redraws the current line (at most
- * a few times a second) with the time so far and note, e.g. "solve 3/8".
- * Cheap (a clock read) when nothing needs drawing; NULL note keeps the
- * last one. Does nothing outside a run. */
-void tb_progress_tick(const char *note);
+/* A heartbeat from inside a long item (call it between sub-steps, e.g.
+ * every time step or Newton iteration): redraws the current line, at most
+ * four times a second, with the time so far and a note from fmt, e.g.
+ * "step %ld/%ld". Cheap: nothing when stderr is not a terminal or no bar
+ * runs, else a clock read; fmt is formatted only when the line is drawn.
+ * NULL fmt keeps the last note. A note lasts until the next item. */
+void tb_progress_tick(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
 /* The pieces of the above, for tests. A run of the bar: */
 typedef struct tb_progress_run {
