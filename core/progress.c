@@ -52,10 +52,14 @@ int tb_progress_update(tb_progress_run *r, const char *label, long done, long to
 
 double tb_progress_eta(const tb_progress_run *r, double now) {
   if (r->total <= 0 || r->done <= 0) return -1;
-  double per = r->t_done / (double)r->done; /* seconds per item so far */
+  /* seconds an item: as the finished ones took, or more when the current
+   * one has already taken longer (items differ: msm is fast, fem slow) */
+  double elapsed = now - r->start, per = r->t_done / (double)r->done;
+  double with_current = elapsed / (double)(r->done + 1);
+  if (with_current > per) per = with_current;
   long left = r->total - r->done;
   if (left <= 0) return 0;
-  double current = per - (now - r->start - r->t_done); /* the current item's remainder */
+  double current = per - (elapsed - r->t_done); /* the current item's remainder */
   return (current > 0 ? current : 0) + per * (double)(left - 1);
 }
 

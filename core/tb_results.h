@@ -194,9 +194,11 @@ typedef struct tb_progress_run {
  * the end, or a quarter second since the last redraw), else 0. */
 int tb_progress_update(tb_progress_run *r, const char *label, long done, long total, double now);
 /* Formats r's line at time now (no '\r', no newline) into buf; returns
- * buf. Left: unknown before the first item is done; then the time per item
- * so far times the items after the current one, plus what the current one
- * has left of that time. */
+ * buf. Left (tb_progress_eta): unknown before the first item is done; then
+ * the time an item times the items after the current one, plus what the
+ * current one has left of that time; the time an item: the finished
+ * items' mean, or elapsed / (done + 1) when larger (a slow current item
+ * raises the estimate instead of leaving it at zero). */
 const char *tb_progress_format(char *buf, size_t cap, const tb_progress_run *r, double now);
 /* The estimated seconds left at time now (the clock of start), < 0 when
  * unknown. */
