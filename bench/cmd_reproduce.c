@@ -1,5 +1,6 @@
 /* `tissuebench reproduce`: runs the reproduction suites, each writing
- * results/<suite>/ through the results pipeline (core/tb_results.h); and
+ * results/<suite>/ through the results pipeline (core/tb_results.h), then
+ * results/REPORT.md gathering them in the documents' order; and
  * `tissuebench table NAME`: one suite by the name of the table it makes.
  * A suite is one entry of the table below. */
 #include <stdio.h>
@@ -7,6 +8,7 @@
 #include <string.h>
 
 #include "tb_cli.h"
+#include "tb_results.h"
 #include "tb_timer.h"
 
 static const tb_suite_entry suites[] = {
@@ -42,6 +44,48 @@ static const tb_suite_entry suites[] = {
      tb_suite_stability},
 };
 static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
+
+/* REPORT.md's order, the documents': the thesis' chapter 2 (meshes), its
+ * chapter 3 (deformation: its table and figure, then our reference, the
+ * calibration against it, the error/speed trade-off, stability), its
+ * chapter 4 (collision: correctness first, then its tables, then the
+ * deforming liver). A chapter is a heading then suite names; every suite
+ * above appears once (tests/test_cli.c checks through --only). */
+static const char *const report_order[] = {
+    "#Chapter 2: meshes",
+    "meshes",
+    "#Chapter 3: deformation",
+    "table-3.5",
+    "figure-3.10",
+    "reference",
+    "calibration",
+    "pareto",
+    "stability",
+    "#Chapter 4: collision detection",
+    "correctness",
+    "table-4.1",
+    "table-4.2",
+    "refit",
+};
+
+/* Writes <results>/REPORT.md: status[s] for every suite (TB_REPORT_*). */
+static int write_report(tb_report *r, const int *status) {
+  for (size_t k = 0; k < sizeof report_order / sizeof report_order[0]; k++) {
+    const char *e = report_order[k];
+    if (e[0] == '#') {
+      tb_report_chapter(r, e + 1, NULL);
+      continue;
+    }
+    for (int s = 0; s < nsuites; s++)
+      if (!strcmp(suites[s].name, e)) tb_report_suite(r, e, suites[s].summary, status[s]);
+  }
+  tb_error err = {{0}};
+  if (tb_report_end(r, &err)) {
+    fprintf(stderr, "tissuebench reproduce: %s\n", err.msg);
+    return 1;
+  }
+  return 0;
+}
 
 /* Is name in the comma-separated list? */
 static int listed(const char *list, const char *name) {
@@ -110,9 +154,13 @@ int tb_cmd_reproduce(int argc, char **argv) {
       p = c ? c + 1 : p + len;
     }
   }
-  int failed = 0;
+  int failed = 0, status[sizeof suites / sizeof suites[0]];
+  tb_error err = {{0}};
+  tb_report *report = tb_report_begin(o.results, "tissuebench: the reproduction", o.seed, &err);
+  if (!report) fprintf(stderr, "tissuebench reproduce: no REPORT.md: %s\n", err.msg);
   uint64_t t0 = tb_time_ns();
   for (int s = 0; s < nsuites; s++) {
+    status[s] = TB_REPORT_NOT_RUN;
     if (only && !listed(only, suites[s].name)) continue;
     fprintf(stderr, "== %s (%s)\n", suites[s].name, o.full ? "full" : "quick");
     uint64_t ts = tb_time_ns();
@@ -120,10 +168,13 @@ int tb_cmd_reproduce(int argc, char **argv) {
     fprintf(stderr, "== %s: %s in %.1f s -> %s/%s/\n", suites[s].name, rc ? "FAILED" : "done",
             (double)(tb_time_ns() - ts) * 1e-9, o.results, suites[s].name);
     failed += rc != 0;
+    status[s] = rc ? TB_REPORT_FAILED : TB_REPORT_DONE;
   }
+  int no_report = !report || write_report(report, status);
+  if (!no_report) fprintf(stderr, "reproduce: report in %s/REPORT.md\n", o.results);
   fprintf(stderr, "reproduce: %d suite(s) failed, %.1f s in all\n", failed,
           (double)(tb_time_ns() - t0) * 1e-9);
-  return failed ? TB_EXIT_FAIL : TB_EXIT_OK;
+  return failed || no_report ? TB_EXIT_FAIL : TB_EXIT_OK;
 }
 
 /* `table NAME` / `figure NAME` [options]: reproduce --only the suite that

@@ -248,6 +248,7 @@ static int timed_step(runner *r, tb_error *err) {
     r->ms = p, r->cap = cap;
   }
   r->ms[r->nms++] = ms;
+  tb_progress_tick("model run: t = %.2f s", r->s.t);
   return rc;
 }
 

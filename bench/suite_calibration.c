@@ -220,6 +220,8 @@ int tb_suite_calibration(const tb_suite_opts *o) {
   if (!su) return fprintf(stderr, "calibration: %s\n", err.msg), 1;
   stage cal, val;
   int have_cal = 0, have_val = 0;
+  /* items: the reference solutions, the ks fit, the sm fit, the table */
+  tb_progress("calibration", 0, 4);
   if (stage_make(&cal, "beam", level, 1, o->seed, &err)) {
     fprintf(stderr, "calibration: beam: %s\n", err.msg);
     failed = 1;
@@ -234,11 +236,11 @@ int tb_suite_calibration(const tb_suite_opts *o) {
   double ks_log = 0, ab[2] = {log10(0.72), 0.63};
   int ks_n = 0, nm_n = 0;
   if (!failed) {
-    tb_progress("calibration", 0, 3);
+    tb_progress("calibration", 1, 4);
     fit f = {&cal, 0, 0, 0, {{0}}};
     ks_log = golden(&f, 1.0, 4.0, ks_evals[level]);
     ks_n = f.evals;
-    tb_progress("calibration", 1, 3);
+    tb_progress("calibration", 2, 4);
     fit g = {&cal, 1, 0, 0, {{0}}};
     const double steps[2] = {0.5, 0.25};
     nelder_mead(&g, ab, steps, nm_evals[level]);
@@ -250,7 +252,7 @@ int tb_suite_calibration(const tb_suite_opts *o) {
     ab[0] = fmin(0, ab[0]), ab[1] = fmin(1, fmax(0, ab[1]));
   }
   if (!failed) {
-    tb_progress("calibration", 2, 3);
+    tb_progress("calibration", 3, 4);
     row rows[8];
     int n = 0;
     for (int k = 0; k < 8; k++) tb_settings_init(&rows[k].def);
@@ -337,7 +339,7 @@ int tb_suite_calibration(const tb_suite_opts *o) {
                   dflt("fem", "E"), dflt("fem", "nu"), cal.plan.ref_res, val.ref.mesh.nv,
                   cal.ref.umax, val.ref.umax, cal.plan.load, val.plan.load, cal.plan.def.dt,
                   KD_LIGHT);
-    tb_progress("calibration", 3, 3);
+    tb_progress("calibration", 4, 4);
   }
   if (have_cal) stage_free(&cal);
   if (have_val) stage_free(&val);

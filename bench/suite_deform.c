@@ -49,6 +49,7 @@ static int deform_run(const char *model, const char *scene, const tb_sim_def *sd
   r->c.code = ST_STABLE;
   for (long q = 0; q < n; q++) {
     tb_error e;
+    tb_progress_tick("%s, %s: step %ld/%ld", model, scene, q + 1, n);
     if (tb_sim_step(&s, &e)) {
       r->c.code = s.health.ok ? ST_FAILED : tb_stab_classify(s.health.reason);
       snprintf(r->c.reason, sizeof r->c.reason, "%.199s", s.health.ok ? e.msg : s.health.reason);
@@ -120,14 +121,15 @@ int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *on
   sd.seed = 1;
   deform_result res[NMAPS][NTESTS];
   memset(res, 0, sizeof res);
+  long done = 0, total = (only ? 1 : NMAPS) * NTESTS; /* the maps run */
   for (int m = 0; m < NMAPS; m++) {
     if (only && only != &maps[m]) continue;
     for (int k = 0; k < NTESTS; k++) {
-      tb_progress("stability deformations", m * NTESTS + k, NMAPS * NTESTS);
+      tb_progress("stability deformations", done++, total);
       if (deform_run(maps[m].name, tests[k].scene, &sd, &res[m][k], err)) return -1;
     }
   }
-  tb_progress("stability deformations", 1, 1);
+  tb_progress("stability deformations", total, total);
   tb_table *t = tb_table_new("deform", "Large deformations of a 4 x 1 x 1 beam", 8, cols);
   for (int m = 0; m < NMAPS; m++)
     for (int k = 0; k < NTESTS; k++) {

@@ -199,7 +199,10 @@ int tb_suite_fig310(const tb_suite_opts *o) {
                            &err))) {
     fprintf(stderr, "figure 3.10: %s\n", err.msg);
     failed = 1;
-  }
+  } else if (!failed && body)
+    tb_suite_caption(s, "fig310",
+                     "Shape matching: milliseconds per frame against the number of particles, "
+                     "for 1, 8 and 50 clusters, linear and quadratic (thesis fig. 3.10)");
   free(body);
   if (tb_suite_end(s, &err)) fprintf(stderr, "figure 3.10: %s\n", err.msg), failed = 1;
   return failed;

@@ -147,6 +147,11 @@ static int write_outputs(tb_suite *su, const char *scene, const scene_run *r, co
            nm);
   if (!rc) rc = tb_suite_write_data(su, "chart.csv", header, body, err);
   if (!rc) rc = tb_suite_chart_vars(su, "chart_pareto.gp", "chart.csv", "pareto", vars, err);
+  if (!rc)
+    tb_suite_caption(su, "pareto",
+                     "%s: rms error against the reference solution against steps per second, "
+                     "every model, resolution and key parameter; the Pareto front joined",
+                     scene);
   free(body);
   return rc;
 }
@@ -166,6 +171,10 @@ static int run_scene(const tb_suite_opts *o, const char *scene) {
   double E = 0, nu = 0; /* the reference's material: fem's defaults */
   tb_model_setting("fem", NULL, "E", &E);
   tb_model_setting("fem", NULL, "nu", &nu);
+  /* items: the reference solve, then every variant at every resolution */
+  int total = 1, done = 0;
+  for (int v = 0; v < NVARIANTS; v++) total += variants[v].level <= level ? plan.nres : 0;
+  tb_progress("pareto", done++, total);
   tb_fid_ref ref;
   tb_sim_def rd = plan.def;
   rd.nodes = plan.ref_res;
@@ -187,8 +196,6 @@ static int run_scene(const tb_suite_opts *o, const char *scene) {
                 ref.has_reaction ? ", a reaction on the pulled patch" : "");
   scene_run r;
   memset(&r, 0, sizeof r);
-  int total = 0, done = 0;
-  for (int v = 0; v < NVARIANTS; v++) total += variants[v].level <= level ? plan.nres : 0;
   for (int ri = 0; ri < plan.nres && !failed; ri++) {
     tb_sim_def sd = plan.def;
     sd.nodes = plan.res[ri];

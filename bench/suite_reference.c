@@ -107,7 +107,7 @@ int tb_suite_reference(const tb_suite_opts *o) {
       tb_suite_counter(s, bname, "over_timoshenko", d / timo);
       tb_suite_counter(s, bname, "newton_iterations", iters);
     }
-  tb_progress("reference", 1, 1);
+  tb_progress("reference", 3 * n, 3 * n);
   tb_suite_table(s, t);
   tb_suite_note(s,
                 "Analytic: Euler-Bernoulli %.6f, Timoshenko %.6f (kappa 5/6). The beam's cells "

@@ -104,6 +104,7 @@ static void run_to_end(tb_sim *s, tb_stab_cell *c) {
   c->code = ST_STABLE, c->t = 0, c->reason[0] = 0;
   for (long k = 0; k < n; k++) {
     tb_error e;
+    tb_progress_tick("dt %g: step %ld/%ld", s->def.dt, k + 1, n);
     if (!tb_sim_step(s, &e)) continue;
     if (!s->health.ok) {
       c->code = tb_stab_classify(s->health.reason);
@@ -402,6 +403,7 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
 static int maps_part(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *only,
                      tb_error *err) {
   grid g = make_grid(o);
+  long done = 0, total = (long)(only ? 1 : NMAPS) * g.nmesh; /* the maps run, one item a mesh */
   for (int m = 0; m < NMAPS; m++) {
     const tb_stab_model *mm = &maps[m];
     if (only && only != mm) continue;
@@ -409,7 +411,7 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *
     int counts[ST_COUNT] = {0}, rc = 0;
     uint64_t t0 = tb_time_ns();
     for (int q = 0; q < g.nmesh && !rc; q++) {
-      tb_progress("stability maps", (long)(m * g.nmesh + q), (long)(NMAPS * g.nmesh));
+      tb_progress("stability maps", done++, total);
       tb_sim_def sd;
       tb_sim_def_init(&sd);
       sd.nodes = g.cells[q];
@@ -457,10 +459,16 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *
                g.ndt > 8 ? 1.8 : 3.0, mm == &maps[0], NODE_MASS, bfile[0] ? "; boundfile='" : "",
                bfile, bfile[0] ? "'" : "");
       rc = tb_suite_chart_vars(su, "chart_map.gp", csvname, base, vars, err);
+      if (!rc)
+        tb_suite_caption(su, base,
+                         "%s on a beam with %d cells along x: stable or why not (NaN, energy "
+                         "growth, inversion, velocity) over time step and %s%s",
+                         mm->name, g.cells[q], mm->label,
+                         mm == &maps[0] ? "; the line: the bisected largest stable time step" : "");
     }
     if (rc) return -1;
   }
-  tb_progress("stability maps", 1, 1);
+  tb_progress("stability maps", total, total);
   return 0;
 }
 

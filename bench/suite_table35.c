@@ -86,6 +86,7 @@ static int run(const tb_mesh *liver, int row, const tb_sim_def *sd, double *ms, 
     uint64_t t0 = tb_time_ns();
     rc = tb_sim_step(&s, err);
     if (ms) ms[k] = (double)(tb_time_ns() - t0) * 1e-6;
+    tb_progress_tick("%s: step %ld/%ld", rows[row].label, k + 1, steps);
     if (!rc && peak && fabs(s.t - s.def.release) < 0.5 * s.def.dt) *peak = tb_sim_measure(&s);
     if (!rc && before && k + 1 == steps - lround(1.0 / s.def.dt)) *before = tb_sim_measure(&s);
     if (!rc && series && (k + 1) % every == 0)
@@ -232,7 +233,7 @@ static int recovery(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver, 
                         ? "recovered"
                         : (rate > -0.01 ? "stuck distorted" : "still recovering"));
     }
-  tb_progress("table 3.5 recovery", 1, 1);
+  tb_progress("table 3.5 recovery", namps * NROWS, namps * NROWS);
   tb_suite_table(su, t);
   tb_suite_note(su,
                 "State: `recovered` when the largest displacement left is under 5%% of the "
@@ -270,7 +271,11 @@ static int recovery(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver, 
       tb_suite_chart_vars(su, "chart_lines.gp", "recovery.csv", "recovery", vars, &err)) {
     fprintf(stderr, "table 3.5: %s\n", body ? err.msg : "out of memory");
     failed = 1;
-  }
+  } else
+    tb_suite_caption(su, "recovery",
+                     "rms displacement from rest against time, every model, after a stretch of "
+                     "%.0f%% of the liver's length let go at 1 s (thesis §3.5: recovery)",
+                     100 * amps[namps - 1]);
   free(body);
   free(series);
   return failed;
@@ -317,6 +322,7 @@ static int press(tb_suite *su, const tb_suite_opts *o) {
       bad = tb_sim_step(&s, &err) != 0;
       ms[k] = (double)(tb_time_ns() - t0) * 1e-6;
       if (s.ncontact > most) most = s.ncontact;
+      tb_progress_tick("step %ld/%ld", k + 1, n);
     }
     if (bad) {
       tb_table_cell(t, "unstable (%.120s)", ms ? err.msg : "out of memory");

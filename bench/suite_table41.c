@@ -107,6 +107,9 @@ static int table41(const tb_suite_opts *o, tb_suite *s, const tb_pairset *d40, i
     fprintf(stderr, "table 4.1: %s\n", err.msg);
     return 1;
   }
+  tb_suite_caption(s, "table41",
+                   "Time for 0.1 to 2 million triangle-triangle tests, every method (thesis "
+                   "table 4.1)");
   return 0;
 }
 

@@ -273,7 +273,7 @@ void tb_results_fail(tb_suite *s, const char *fmt, ...) {
 }
 
 /* mkdir -p */
-static int make_dirs(const char *dir, tb_error *err) {
+int tb_results_make_dirs(const char *dir, tb_error *err) {
   char *p = tb_results_dup(dir);
   if (!p) return tb_error_set(err, dir, 0, "out of memory");
   for (char *q = p + 1;; q++) {
@@ -300,7 +300,7 @@ tb_suite *tb_suite_begin(const char *dir, const char *name, const char *title, u
     tb_error_set(err, "tb_suite_begin", 0, "a suite needs an output folder and a name");
     return NULL;
   }
-  if (make_dirs(dir, err)) return NULL;
+  if (tb_results_make_dirs(dir, err)) return NULL;
   tb_suite *s = calloc(1, sizeof *s);
   if (s) {
     s->dir = tb_results_dup(dir);
@@ -332,7 +332,7 @@ int tb_results_add(tb_suite *s, int kind, char *text, tb_table *t) {
   tb_results_item *it = tb_results_grow(s->items, &s->cap_items, s->nitems + 1, sizeof *it);
   if (!it) return -1;
   s->items = it;
-  it[s->nitems++] = (tb_results_item){kind, text, t};
+  it[s->nitems++] = (tb_results_item){kind, text, t, NULL};
   return 0;
 }
 
@@ -359,6 +359,57 @@ void tb_suite_table(tb_suite *s, tb_table *t) {
     tb_results_fail(s, "table \"%s\": out of memory", t->name);
     tb_table_free(t);
   }
+}
+
+void tb_suite_figure(tb_suite *s, const char *file, const char *fmt, ...) {
+  if (!s) return;
+  if (!file || !*file || file[0] == '/' || strstr(file, "..")) {
+    tb_results_fail(s, "a figure needs a file name inside the suite folder, without \"..\"");
+    return;
+  }
+  char *path = tb_results_join(s->dir, file);
+  struct stat sb;
+  int found = path && stat(path, &sb) == 0 && S_ISREG(sb.st_mode);
+  free(path);
+  if (!found) {
+    tb_results_fail(s, "figure \"%s\": no such file in %s", file, s->dir);
+    return;
+  }
+  char *name = tb_results_dup(file);
+  if (!name || tb_results_add(s, TB_ITEM_FIGURE, name, NULL)) {
+    free(name);
+    tb_results_fail(s, "figure \"%s\": out of memory", file);
+    return;
+  }
+  if (fmt) {
+    va_list ap;
+    va_start(ap, fmt);
+    s->items[s->nitems - 1].caption = vformat(fmt, ap);
+    va_end(ap);
+  }
+}
+
+void tb_suite_caption(tb_suite *s, const char *name, const char *fmt, ...) {
+  if (!s) return;
+  tb_results_item *it = NULL;
+  for (int i = s->nitems - 1; i >= 0 && !it && name && fmt; i--)
+    if ((s->items[i].kind == TB_ITEM_CHART || s->items[i].kind == TB_ITEM_FIGURE) &&
+        strcmp(s->items[i].text, name) == 0)
+      it = &s->items[i];
+  if (!it) {
+    tb_results_fail(s, "caption for \"%s\": no chart or figure of that name", name ? name : "");
+    return;
+  }
+  va_list ap;
+  va_start(ap, fmt);
+  char *c = vformat(fmt, ap);
+  va_end(ap);
+  if (!c) {
+    tb_results_fail(s, "caption for \"%s\": out of memory", name);
+    return;
+  }
+  free(it->caption);
+  it->caption = c;
 }
 
 static const char *const units[] = {"ns", "us", "ms", "s"};
@@ -505,6 +556,7 @@ static void add_timings(tb_suite *s) {
 static void suite_free(tb_suite *s) {
   for (int i = 0; i < s->nitems; i++) {
     free(s->items[i].text);
+    free(s->items[i].caption);
     tb_table_free(s->items[i].table);
   }
   for (int i = 0; i < s->nbenches; i++) {
@@ -528,6 +580,7 @@ int tb_suite_end(tb_suite *s, tb_error *err) {
   add_timings(s);
   int rc = tb_results_write_files(s, err);
   if (!rc && s->err[0]) rc = tb_error_set(err, s->dir, 0, "%s", s->err);
+  tb_results_report_add(s);
   suite_free(s);
   return rc;
 }

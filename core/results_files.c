@@ -33,8 +33,8 @@ static int is_number(const char *s) {
   return *end == 0;
 }
 
-static void md_table(FILE *f, const tb_table *t) {
-  fprintf(f, "## %s\n\n|", t->title[0] ? t->title : t->name);
+static void md_table(FILE *f, const tb_table *t, int level) {
+  fprintf(f, "%.*s %s\n\n|", level, "######", t->title[0] ? t->title : t->name);
   for (int j = 0; j < t->ncols; j++) {
     if (t->only[j] == TB_CSV_ONLY) continue;
     fputc(' ', f);
@@ -65,9 +65,7 @@ static void md_table(FILE *f, const tb_table *t) {
   fputc('\n', f);
 }
 
-static void md_write(FILE *f, const tb_suite *s) {
-  const tb_context *c = &s->ctx;
-  fprintf(f, "# %s\n\n", s->title);
+void tb_results_md_context(FILE *f, const tb_context *c) {
   fprintf(f, "- **Date**: %s\n", c->date);
   fprintf(f, "- **Host**: %s\n", c->host);
   fprintf(f, "- **CPU**: %s, %d cores", c->cpu, c->cores);
@@ -80,15 +78,43 @@ static void md_write(FILE *f, const tb_suite *s) {
   fprintf(f, "- **Versions**: CHOLMOD %s, FCL %s, Bullet %s (double), CGAL %s, TetGen %s\n",
           c->cholmod, c->fcl, c->bullet, c->cgal, c->tetgen);
   fprintf(f, "- **Seed**: %llu\n\n", (unsigned long long)c->seed);
+}
+
+/* A picture: the image, then its caption as a line of its own (viewers do
+ * not show the alt text). Charts link their other format. */
+static void md_picture(FILE *f, const tb_results_item *it, const char *prefix, const char *ext) {
+  const char *cap = it->caption ? it->caption : it->text;
+  fputs("![", f);
+  for (; *cap; cap++) /* alt text: no brackets, one line */
+    if (!strchr("[]", *cap)) fputc(*cap == '\n' || *cap == '\r' ? ' ' : *cap, f);
+  if (it->kind == TB_ITEM_CHART) {
+    fprintf(f, "](%s%s.%s)\n\n", prefix, it->text, ext);
+    if (it->caption)
+      fprintf(f, "*%s* ([%s](%s%s.%s))\n\n", it->caption, strcmp(ext, "png") ? "PNG" : "SVG",
+              prefix, it->text, strcmp(ext, "png") ? "png" : "svg");
+  } else {
+    fprintf(f, "](%s%s)\n\n", prefix, it->text);
+    if (it->caption) fprintf(f, "*%s*\n\n", it->caption);
+  }
+}
+
+void tb_results_md_body(FILE *f, const tb_suite *s, const char *prefix, int level,
+                        const char *ext) {
   for (int i = 0; i < s->nitems; i++) {
     const tb_results_item *it = &s->items[i];
     if (it->kind == TB_ITEM_NOTE)
       fprintf(f, "%s\n\n", it->text);
     else if (it->kind == TB_ITEM_TABLE)
-      md_table(f, it->table);
+      md_table(f, it->table, level);
     else
-      fprintf(f, "![%s](%s.svg)\n\n", it->text, it->text);
+      md_picture(f, it, prefix, ext);
   }
+}
+
+static void md_write(FILE *f, const tb_suite *s) {
+  fprintf(f, "# %s\n\n", s->title);
+  tb_results_md_context(f, &s->ctx);
+  tb_results_md_body(f, s, "", 2, "svg");
 }
 
 /* ---- table-<name>.csv ---- */

@@ -27,11 +27,12 @@ static inline const char *tb_results_cell(const tb_table *t, int r, int j) {
 }
 
 /* What table.md holds, in order. */
-enum { TB_ITEM_NOTE, TB_ITEM_TABLE, TB_ITEM_CHART };
+enum { TB_ITEM_NOTE, TB_ITEM_TABLE, TB_ITEM_CHART, TB_ITEM_FIGURE };
 typedef struct tb_results_item {
   int kind;
-  char *text; /* a note's text, or a chart's outbase */
+  char *text; /* a note's text, a chart's outbase, or a figure's file name */
   tb_table *table;
+  char *caption; /* a chart's or figure's caption, NULL when none */
 } tb_results_item;
 
 typedef struct tb_results_bench {
@@ -63,10 +64,22 @@ char *tb_results_join(const char *dir, const char *name); /* dir/name, malloc'd 
 void *tb_results_grow(void *p, int *cap, int need, size_t size);
 /* Appends to table.md's items (takes text and t); -1 when out of memory. */
 int tb_results_add(tb_suite *s, int kind, char *text, tb_table *t);
+/* mkdir -p dir. */
+int tb_results_make_dirs(const char *dir, tb_error *err);
 /* Records the first misuse of the run. */
 void tb_results_fail(tb_suite *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* core/results_files.c: writes table.md, table-<name>.csv and data.json. */
 int tb_results_write_files(tb_suite *s, tb_error *err);
+/* The run's context as a markdown list (table.md's and REPORT.md's header). */
+void tb_results_md_context(FILE *f, const tb_context *c);
+/* table.md's body (notes, tables, charts, figures in order): tables headed
+ * at `level` ("##" for 2), links prefixed with `prefix` (the suite folder
+ * seen from where f lives, "" for table.md), charts shown as <outbase>.<ext>. */
+void tb_results_md_body(FILE *f, const tb_suite *s, const char *prefix, int level, const char *ext);
+
+/* core/results_report.c: hands a finished suite to the open report, if
+ * any, when its folder lies inside the report's. */
+void tb_results_report_add(const tb_suite *s);
 
 #endif

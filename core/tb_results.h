@@ -12,6 +12,7 @@
 #ifndef TB_RESULTS_H
 #define TB_RESULTS_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "tb_error.h"
@@ -122,12 +123,85 @@ int tb_suite_chart(tb_suite *s, const char *script, const char *datafile, const 
  * (tools/chart_lines.gp reads title, xlabel, ylabel, logx, logy, points). */
 int tb_suite_chart_vars(tb_suite *s, const char *script, const char *datafile, const char *outbase,
                         const char *vars, tb_error *err);
+/* A picture already in the suite folder (a rendered frame, a photo: PNG,
+ * SVG, ...), shown in table.md and REPORT.md where it was added, with the
+ * caption made from fmt (NULL: none). A file name that is absolute, holds
+ * "..", or names no file is a misuse reported by tb_suite_end. */
+void tb_suite_figure(tb_suite *s, const char *file, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* The caption of the chart (its outbase) or figure (its file) called name:
+ * one sentence saying what it shows, under the picture in table.md and
+ * REPORT.md. No chart or figure of that name is a misuse. */
+void tb_suite_caption(tb_suite *s, const char *name, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 /* Writes table.md, table-<name>.csv per table, data.json; frees s. Also returns the first
  * misuse recorded during the run (the files are still written). */
 int tb_suite_end(tb_suite *s, tb_error *err);
 
+/* ---- the run's report: <dir>/REPORT.md ----
+ * One document for a whole `reproduce`: the run's context once at the top,
+ * then every suite's notes, tables, charts and figures (with captions) in
+ * the documents' order, chapter by chapter, links relative to <dir>.
+ * While a report is open, every suite ended (tb_suite_end) in a folder
+ * inside <dir> hands it its body; tb_report_end lays them out in the order
+ * of the tb_report_chapter / tb_report_suite calls. One report at a time. */
+typedef struct tb_report tb_report;
+/* NULL (err set) when dir cannot be created, a report is already open, or
+ * no memory. title: the document's heading. */
+tb_report *tb_report_begin(const char *dir, const char *title, uint64_t seed, tb_error *err);
+/* A chapter heading with an optional paragraph (NULL) under it; a chapter
+ * none of whose suites ran is left out. */
+void tb_report_chapter(tb_report *r, const char *heading, const char *intro);
+/* Whether a suite ran, failed or was not run (listed at the top). */
+enum { TB_REPORT_DONE = 0, TB_REPORT_FAILED = 1, TB_REPORT_NOT_RUN = 2 };
+/* The suite whose folder is <dir>/<folder> (or under it, e.g. pareto/liver)
+ * goes here, captioned with summary. */
+void tb_report_suite(tb_report *r, const char *folder, const char *summary, int status);
+/* Writes <dir>/REPORT.md, closes and frees r (also on error). */
+int tb_report_end(tb_report *r, tb_error *err);
+
 /* ---- progress on stderr (only when it is a terminal) ----
- * One line redrawn with '\r'; the line ends when done == total. */
+ * One line redrawn with '\r': label, bar, percent, done/total, the time
+ * elapsed and an estimate of the time left; the line ends when done ==
+ * total. A run of the bar begins with a new label (or done going back) and
+ * keeps its first total: a later call with another total is scaled to it,
+ * so the bar never jumps (pass total, total at the end). total <= 0: the
+ * total is unknown; the line shows the count and the time, no estimate,
+ * and tb_progress_done ends it. */
 void tb_progress(const char *label, long done, long total);
+/* Ends the current line (a run whose total was unknown). */
+void tb_progress_done(void);
+/* A heartbeat from inside a long item (call it between sub-steps, e.g.
+ * every time step or Newton iteration): redraws the current line, at most
+ * four times a second, with the time so far and a note from fmt, e.g.
+ * "step %ld/%ld". Cheap: nothing when stderr is not a terminal or no bar
+ * runs, else a clock read; fmt is formatted only when the line is drawn.
+ * NULL fmt keeps the last note. A note lasts until the next item. */
+void tb_progress_tick(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* The pieces of the above, for tests. A run of the bar: */
+typedef struct tb_progress_run {
+  char label[64];
+  char note[64];
+  long done, total; /* total <= 0: unknown */
+  double start;     /* seconds (any clock) when the run began */
+  double t_done;    /* seconds since start when done last grew */
+  double last_draw; /* seconds since start of the last redraw, < 0 never */
+  int active;
+} tb_progress_run;
+/* Feeds a tb_progress call made at time now (seconds); returns 1 when the
+ * line should be redrawn (a new run, done grew past a tenth of a percent,
+ * the end, or a quarter second since the last redraw), else 0. */
+int tb_progress_update(tb_progress_run *r, const char *label, long done, long total, double now);
+/* Formats r's line at time now (no '\r', no newline) into buf; returns
+ * buf. Left (tb_progress_eta): unknown before the first item is done; then
+ * the time an item times the items after the current one, plus what the
+ * current one has left of that time; the time an item: the finished
+ * items' mean, or elapsed / (done + 1) when larger (a slow current item
+ * raises the estimate instead of leaving it at zero). */
+const char *tb_progress_format(char *buf, size_t cap, const tb_progress_run *r, double now);
+/* The estimated seconds left at time now (the clock of start), < 0 when
+ * unknown. */
+double tb_progress_eta(const tb_progress_run *r, double now);
 
 #endif

@@ -43,6 +43,7 @@
 #include <string.h>
 
 #include "ref_priv.h"
+#include "tb_results.h"
 
 void openblas_set_num_threads(int num_threads);
 
@@ -292,6 +293,7 @@ static int newton(solver *S, double lam, char *why, size_t cap, tb_error *err) {
     return 1;
   }
   for (int it = 0, steps = 0;; it++) {
+    tb_progress_tick("reference solve: load %.2f, Newton iteration %d", lam, it + 1);
     double rnorm, scale, gapmax;
     residual(S, S->fint, lam, &rnorm, &scale, &gapmax);
     S->rel = scale > 0 ? rnorm / scale : (rnorm > 0 ? INFINITY : 0.0);

@@ -92,6 +92,45 @@ static void liver_stats_deterministic(void) {
   TB_CHECK(tb_test_cli_run("mesh liver --part bones --stats") == 2);
 }
 
+/* REPORT.md of `reproduce --only meshes` (run by reproduce_meshes_suite):
+ * the context once, the meshes table, the other suites said not run, and
+ * every relative link naming a file that exists. */
+static void report_of_meshes(void) {
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "cat %s/res/REPORT.md", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0, "no REPORT.md");
+  const char *md = tb_test_out;
+  const char *seed = strstr(md, "- **Seed**: ");
+  TB_CHECK_MSG(seed && !strstr(seed + 1, "- **Seed**: ") && strstr(md, "- **Commit**: "),
+               "the context not once: %s", md);
+  TB_CHECK(strstr(md, "**Date**") && strstr(strstr(md, "**Date**") + 1, "**Date**") == NULL);
+  TB_CHECK(strstr(md, "## Chapter 2: meshes") && strstr(md, "### meshes: "));
+  TB_CHECK(strstr(md, "| liver |") && strstr(md, "#### Mesh counts"));
+  TB_CHECK(strstr(md, "Not run this time (`--only`): `table-3.5`") && strstr(md, "`refit`."));
+  TB_CHECK(strstr(md, "Chapter 4") == NULL); /* none of its suites ran */
+  static const char *names[] = {"table-3.5", "figure-3.10", "reference", "calibration", "pareto",
+                                "stability", "correctness", "table-4.1", "table-4.2",   "refit"};
+  const char *notrun = strstr(md, "Not run this time");
+  for (int i = 0; notrun && i < 10; i++) {
+    char want[40];
+    snprintf(want, sizeof want, "`%s`", names[i]);
+    TB_CHECK_MSG(strstr(notrun, want), "%s not listed", names[i]);
+  }
+  int links = 0;
+  for (const char *p = strstr(md, "]("); p; p = strstr(p + 1, "](")) {
+    const char *e = strchr(p + 2, ')');
+    if (!e) break;
+    char link[300];
+    snprintf(link, sizeof link, "%.*s", (int)(e - p - 2), p + 2);
+    TB_CHECK_MSG(link[0] != '/' && !strstr(link, "://"), "not relative: %s", link);
+    char test[1024];
+    snprintf(test, sizeof test, "test -s '%s/res/%s'", tb_test_tmpdir(), link);
+    TB_CHECK_MSG(tb_test_run(test, NULL, 0) == 0, "REPORT.md links to a missing %s", link);
+    links++;
+  }
+  TB_CHECK_MSG(links >= 2, "%d links", links); /* table.md and data.json */
+}
+
 static void reproduce_meshes_suite(void) {
   TB_CHECK(tb_test_cli_run("reproduce --list") == 0 && strstr(tb_test_out, "meshes"));
   TB_CHECK(tb_test_cli_run("reproduce --only nonsense") == 2);
@@ -113,6 +152,7 @@ static void reproduce_meshes_suite(void) {
   TB_CHECK(strstr(tb_test_out, "1448") && strstr(tb_test_out, "9313") &&
            strstr(tb_test_out, "6288") && strstr(tb_test_out, "1248"));
   TB_CHECK(strstr(tb_test_out, "| liver |") && strstr(tb_test_out, "NO") == NULL);
+  report_of_meshes();
 }
 
 /* tools/setup.sh with fake dpkg-query and id on PATH: a missing package as

@@ -651,6 +651,134 @@ static void test_progress_on_tty(void) {
   close(master);
   TB_CHECK_MSG(strstr(out, "\rmeshes [") && strstr(out, " 25% (1/4)"), "tty got \"%s\"", out);
   TB_CHECK_MSG(strstr(out, "100% (4/4)") && strchr(out, '\n'), "tty got \"%s\"", out);
+  TB_CHECK_MSG(strstr(out, " elapsed, ") && strstr(out, " left"), "tty got \"%s\"", out);
+}
+
+/* The ETA: time per finished item times the items after the current one,
+ * plus what the current one has left of that time; unknown before the
+ * first item ends. */
+static void test_progress_eta(void) {
+  tb_progress_run r;
+  memset(&r, 0, sizeof r);
+  TB_CHECK(tb_progress_update(&r, "work", 0, 10, 100.0) == 1); /* a new run draws */
+  TB_CHECK(r.total == 10 && r.start == 100.0);
+  TB_CHECK(tb_progress_eta(&r, 101.0) < 0);
+  char line[256];
+  tb_progress_format(line, sizeof line, &r, 101.0);
+  TB_CHECK_MSG(strstr(line, "work [") && strstr(line, "(0/10) 0:01 elapsed, ? left"), "%s", line);
+  tb_progress_update(&r, "work", 4, 10, 108.0); /* 2 s an item */
+  TB_CHECK_NEAR(tb_progress_eta(&r, 108.0), 12.0, 1e-9);
+  TB_CHECK_NEAR(tb_progress_eta(&r, 109.5), 10.5, 1e-9); /* into the 5th item */
+  /* overdue: 15 s over 5 items is 3 s an item, for the 5 after it */
+  TB_CHECK_NEAR(tb_progress_eta(&r, 115.0), 15.0, 1e-9);
+  tb_progress_format(line, sizeof line, &r, 109.5);
+  TB_CHECK_MSG(strstr(line, " 40% (4/10) 0:10 elapsed, ~0:11 left"), "%s", line);
+  /* long runs in h:mm:ss */
+  tb_progress_update(&r, "work", 5, 10, 100.0 + 3725.0);
+  tb_progress_format(line, sizeof line, &r, 100.0 + 3725.0);
+  TB_CHECK_MSG(strstr(line, "1:02:05 elapsed, ~1:02:05 left"), "%s", line);
+  tb_progress_update(&r, "work", 10, 10, 100.0 + 7000.0);
+  TB_CHECK(!r.active && tb_progress_eta(&r, 7100.0) == 0);
+  tb_progress_format(line, sizeof line, &r, 7100.0);
+  TB_CHECK_MSG(strstr(line, "100% (10/10)") && strstr(line, ", 0:00 left"), "%s", line);
+  /* the same end again draws nothing */
+  TB_CHECK(tb_progress_update(&r, "work", 10, 10, 7200.0) == 0);
+}
+
+/* Within a run the total is the first one's: a call with another total is
+ * scaled to it (a caller's "1 of 1" at the end finishes the bar), done never
+ * goes back, and a new label or done going back begins a new run. */
+static void test_progress_total_never_jumps(void) {
+  tb_progress_run r;
+  memset(&r, 0, sizeof r);
+  tb_progress_update(&r, "maps", 0, 12, 0.0);
+  tb_progress_update(&r, "maps", 3, 12, 1.0);
+  TB_CHECK(r.total == 12 && r.done == 3);
+  tb_progress_update(&r, "maps", 1, 2, 2.0); /* half of another total */
+  TB_CHECK_MSG(r.total == 12 && r.done == 6, "total %ld done %ld", r.total, r.done);
+  tb_progress_update(&r, "maps", 1, 1, 3.0);
+  TB_CHECK(r.total == 12 && r.done == 12 && !r.active);
+  /* a new label: a new run with its own total and clock */
+  tb_progress_update(&r, "deform", 0, 5, 4.0);
+  TB_CHECK(r.active && r.total == 5 && r.done == 0 && r.start == 4.0);
+  tb_progress_update(&r, "deform", 2, 5, 6.0);
+  tb_progress_update(&r, "deform", 1, 5, 7.0); /* back: a new run */
+  TB_CHECK(r.done == 1 && r.start == 7.0);
+  /* redraws: not again within a quarter second unless something moved */
+  memset(&r, 0, sizeof r);
+  TB_CHECK(tb_progress_update(&r, "x", 0, 100000, 0.0) == 1);
+  r.last_draw = 0;
+  TB_CHECK(tb_progress_update(&r, "x", 1, 100000, 0.1) == 0);
+  TB_CHECK(tb_progress_update(&r, "x", 2, 100000, 0.3) == 1);
+  /* an unknown total: a count and the time, no bar and no estimate */
+  memset(&r, 0, sizeof r);
+  tb_progress_update(&r, "scan", 7, 0, 10.0);
+  tb_progress_update(&r, "scan", 9, 0, 75.0);
+  char line[256];
+  tb_progress_format(line, sizeof line, &r, 75.0);
+  TB_CHECK_MSG(strcmp(line, "scan: 9 done, 1:05 elapsed") == 0, "%s", line);
+  TB_CHECK(tb_progress_eta(&r, 75.0) < 0 && r.active);
+  strcpy(r.note, "step 3/8");
+  tb_progress_format(line, sizeof line, &r, 75.0);
+  TB_CHECK_MSG(strcmp(line, "scan: 9 done, 1:05 elapsed | step 3/8") == 0, "%s", line);
+  tb_progress_update(&r, "scan", 10, 0, 76.0); /* a new item drops the note */
+  TB_CHECK(r.note[0] == 0);
+}
+
+/* A suite ended while a report is open lands in REPORT.md under its place,
+ * its links prefixed with its folder, the context once, captions shown. */
+static void test_report(void) {
+  char dir[600], sub[700];
+  snprintf(dir, sizeof dir, "%s/report", tb_test_tmpdir());
+  snprintf(sub, sizeof sub, "%s/alpha/scene", dir);
+  tb_error err = {{0}};
+  tb_report *r = tb_report_begin(dir, "Test report", 7, &err);
+  TB_CHECK_MSG(r != NULL, "%s", err.msg);
+  if (!r) return;
+  TB_CHECK(tb_report_begin(dir, "again", 7, &err) == NULL); /* one at a time */
+  tb_suite *s = tb_suite_begin(sub, "alpha", "Alpha suite", 7, &err);
+  TB_CHECK(s != NULL);
+  if (!s) return;
+  static const char *cols[] = {"n", "time (ms)"};
+  tb_table *t = tb_table_new("speed", "Speed table", 2, cols);
+  tb_table_row(t);
+  tb_table_cell(t, "1");
+  tb_table_num(t, 2.5, "%.1f");
+  tb_suite_note(s, "A note.");
+  tb_suite_table(s, t);
+  FILE *f = fopen(path_in(sub, "pic.png"), "w");
+  if (f) fputs("png", f), fclose(f);
+  tb_suite_figure(s, "pic.png", "A rendered %s", "frame");
+  TB_CHECK(tb_suite_end(s, &err) == 0);
+  tb_report_chapter(r, "Chapter 1: one", NULL);
+  tb_report_suite(r, "beta", "never ran", TB_REPORT_NOT_RUN);
+  tb_report_chapter(r, "Chapter 2: two", "Intro.");
+  tb_report_suite(r, "alpha", "what alpha shows", TB_REPORT_DONE);
+  TB_CHECK_MSG(tb_report_end(r, &err) == 0, "%s", err.msg);
+  char *md = slurp(path_in(dir, "REPORT.md"));
+  TB_CHECK(md != NULL);
+  if (!md) return;
+  TB_CHECK_MSG(strncmp(md, "# Test report\n", 14) == 0, "%s", md);
+  TB_CHECK(strstr(md, "- **Seed**: 7") && strstr(strstr(md, "**Seed**") + 1, "**Seed**") == NULL);
+  TB_CHECK(strstr(md, "Not run this time (`--only`): `beta`."));
+  TB_CHECK(strstr(md, "Chapter 1") == NULL); /* none of its suites ran */
+  const char *ch2 = strstr(md, "## Chapter 2: two\n\nIntro.");
+  const char *sec = strstr(md, "### alpha/scene: Alpha suite");
+  const char *tab = strstr(md, "#### Speed table");
+  TB_CHECK_MSG(ch2 && sec && tab && ch2 < sec && sec < tab, "%s", md);
+  TB_CHECK(strstr(md, "*what alpha shows.* ([table.md](alpha/scene/table.md)"));
+  TB_CHECK(strstr(md, "![A rendered frame](alpha/scene/pic.png)\n\n*A rendered frame*"));
+  TB_CHECK(strstr(md, "| 1 | 2.5 |") && strstr(md, "A note."));
+  free(md);
+  /* table.md shows the figure with its own links; a missing one is a misuse */
+  md = slurp(path_in(sub, "table.md"));
+  TB_CHECK(md && strstr(md, "![A rendered frame](pic.png)"));
+  free(md);
+  s = tb_suite_begin(sub, "alpha", "Alpha", 7, &err);
+  if (!s) return;
+  tb_suite_figure(s, "nothing.png", "x");
+  tb_suite_caption(s, "nochart", "y");
+  TB_CHECK(tb_suite_end(s, &err) != 0 && strstr(err.msg, "nothing.png"));
 }
 
 const tb_test_case tb_tests_results[] = {
@@ -671,5 +799,8 @@ const tb_test_case tb_tests_results[] = {
     {"chart_errors", test_chart_errors},
     {"progress_silent_without_tty", test_progress_silent_without_tty},
     {"progress_on_tty", test_progress_on_tty},
+    {"progress_eta", test_progress_eta},
+    {"progress_total_never_jumps", test_progress_total_never_jumps},
+    {"report", test_report},
     {0, 0},
 };
