@@ -42,7 +42,7 @@ static const char *path_in(const char *dir, const char *name) {
   static char buf[4][700];
   static int slot;
   char *p = buf[slot++ % 4];
-  snprintf(p, 700, "%s/%s", dir, name);
+  if (snprintf(p, 700, "%s/%s", dir, name) >= 700) p[0] = 0; /* too long: names no file */
   return p;
 }
 
