@@ -42,6 +42,8 @@ static const tb_suite_entry suites[] = {
     {"stability", NULL, "stability",
      "stable/unstable over dt x stiffness per model (--model); large-deformation tests",
      tb_suite_stability},
+    {"figures", NULL, "pictures",
+     "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures},
 };
 static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
 
@@ -66,6 +68,8 @@ static const char *const report_order[] = {
     "table-4.1",
     "table-4.2",
     "refit",
+    "#Pictures: the documents' figures, rendered",
+    "figures",
 };
 
 /* Writes <results>/REPORT.md: status[s] for every suite (TB_REPORT_*). */

@@ -57,6 +57,7 @@ int tb_suite_refit(const tb_suite_opts *opts);
 int tb_suite_table35(const tb_suite_opts *opts);
 int tb_suite_fig310(const tb_suite_opts *opts);
 int tb_suite_stability(const tb_suite_opts *opts);
+int tb_suite_figures(const tb_suite_opts *opts);
 int tb_suite_pareto(const tb_suite_opts *opts);
 int tb_suite_calibration(const tb_suite_opts *opts);
 int tb_suite_reference(const tb_suite_opts *opts);

@@ -131,9 +131,10 @@ void tb_renderer_mesh(tb_renderer *r, const tb_render_mesh *m) {
   glEnable(GL_LIGHTING);
   glEnable(GL_LIGHT0);
   glEnable(GL_NORMALIZE);
+  glDisable(GL_COLOR_MATERIAL); /* the face it tracks is set while it is off */
+  glColorMaterial(m->any_side ? GL_FRONT_AND_BACK : GL_FRONT, GL_AMBIENT_AND_DIFFUSE);
   glEnable(GL_COLOR_MATERIAL);
-  glColorMaterial(GL_FRONT, GL_AMBIENT_AND_DIFFUSE);
-  glMaterialfv(GL_BACK, GL_AMBIENT_AND_DIFFUSE, back);
+  if (!m->any_side) glMaterialfv(GL_BACK, GL_AMBIENT_AND_DIFFUSE, back);
   glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, spec);
   glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, 24);
   glEnableClientState(GL_VERTEX_ARRAY);
@@ -146,7 +147,18 @@ void tb_renderer_mesh(tb_renderer *r, const tb_render_mesh *m) {
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(m->on_top ? -2 : 1, m->on_top ? -2 : 1);
   }
-  glDrawElements(GL_TRIANGLES, 3 * m->ntri, GL_UNSIGNED_INT, m->tri);
+  if (m->flat) {
+    glDisableClientState(GL_NORMAL_ARRAY);
+    glBegin(GL_TRIANGLES);
+    for (int k = 0; k < m->ntri; k++) {
+      const int *v = m->tri + 3 * k;
+      tb_vec3 n = tb_cross(tb_sub(m->x[v[1]], m->x[v[0]]), tb_sub(m->x[v[2]], m->x[v[0]]));
+      glNormal3d(n.x, n.y, n.z);
+      for (int c = 0; c < 3; c++) glArrayElement(v[c]);
+    }
+    glEnd();
+  } else
+    glDrawElements(GL_TRIANGLES, 3 * m->ntri, GL_UNSIGNED_INT, m->tri);
   glDisable(GL_POLYGON_OFFSET_FILL);
   glDisableClientState(GL_NORMAL_ARRAY);
   glDisableClientState(GL_COLOR_ARRAY);

@@ -39,6 +39,8 @@ typedef struct tb_render_mesh {
   double lo, hi;
   int wireframe; /* 1: the triangles' edges drawn over the surface */
   int on_top;    /* 1: drawn over coincident surfaces (highlighted triangles) */
+  int any_side;  /* 1: back faces in the front colour (triangles of mixed orientation) */
+  int flat;      /* 1: one normal per triangle (no smoothing across unrelated faces) */
 } tb_render_mesh;
 
 typedef struct tb_renderer tb_renderer;

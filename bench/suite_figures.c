@@ -1,0 +1,386 @@
+/* The documents' pictures, rendered headless (render/tb_render.h) into
+ * results/figures/: thesis fig. 2.15 (the liver surface from marching
+ * cubes), figs. 3.11-3.13 (each model's structure (a) and its stretched
+ * shape (b), steps/s beside the thesis's FPS), figs. 3.14-3.15 (a large
+ * twist and its release: shape matching recovers, mass-spring stays
+ * distorted), fig. 4.21 (the liver and the grasper on the table 4.2 path,
+ * intersecting triangles highlighted) and figs. 5.5-5.8 (the liver before,
+ * pressed, pulled, from the thesis's views). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_cli.h"
+#include "tb_collider.h"
+#include "tb_meshgen.h"
+#include "tb_render.h"
+#include "tb_results.h"
+#include "tb_scene.h"
+#include "tb_sim.h"
+#include "tb_sm.h"
+#include "tb_timer.h"
+
+#define W 640
+#define H 480
+
+static const float BG[3] = {1, 1, 1}, BODY[3] = {0.86f, 0.45f, 0.40f},
+                   TOOL[3] = {0.62f, 0.64f, 0.68f};
+static const float RED[3] = {0.9f, 0.05f, 0.05f}, INK[3] = {0.15f, 0.2f, 0.35f};
+
+typedef struct fig {
+  tb_suite *su;
+  tb_renderer *r;
+  const char *dir;
+  int failed;
+} fig;
+
+/* Writes the picture drawn so far as dir/name and adds it with a caption. */
+static void shoot(fig *f, const char *name, const char *caption) {
+  char path[1200];
+  tb_error err;
+  snprintf(path, sizeof path, "%s/%s", f->dir, name);
+  if (tb_renderer_write_png(f->r, path, &err)) {
+    fprintf(stderr, "figures: %s\n", err.msg);
+    f->failed = 1;
+    return;
+  }
+  tb_suite_figure(f->su, name, "%s", caption);
+}
+
+static void view(fig *f, const char *preset, const tb_mesh *m) {
+  tb_vec3 lo, hi;
+  tb_mesh_bbox(m, &lo, &hi);
+  tb_camera cam;
+  tb_camera_preset(preset, lo, hi, &cam);
+  tb_renderer_begin(f->r, &cam, BG);
+}
+
+static void surface(fig *f, int nv, const tb_vec3 *x, int ntri, const int *tri, const float rgb[3],
+                    const double *value, double hi, int wire) {
+  tb_render_mesh m = {.nv = nv,
+                      .ntri = ntri,
+                      .x = x,
+                      .tri = tri,
+                      .rgb = {rgb[0], rgb[1], rgb[2]},
+                      .value = value,
+                      .lo = 0,
+                      .hi = hi > 0 ? hi : 1,
+                      .wireframe = wire};
+  tb_renderer_mesh(f->r, &m);
+}
+
+static void edges(fig *f, const tb_mesh *m, const tb_vec3 *x) {
+  int *e = NULL, n = tb_mesh_edges(m, &e);
+  tb_vec3 *ends = n > 0 ? malloc(sizeof(tb_vec3) * 2 * (size_t)n) : NULL;
+  for (int k = 0; ends && k < n; k++) ends[2 * k] = x[e[2 * k]], ends[2 * k + 1] = x[e[2 * k + 1]];
+  if (ends) tb_renderer_lines(f->r, n, ends, INK, 1);
+  free(ends), free(e);
+}
+
+/* A simulation's body (coloured by displacement when hi > 0) and instrument. */
+static void body(fig *f, tb_sim *s, int colour) {
+  tb_surface su = tb_model_surface(&s->model);
+  double *u = colour ? malloc(sizeof(double) * (size_t)su.nv) : NULL, hi = 0;
+  for (int i = 0; u && i < su.nv; i++) u[i] = tb_dist(su.x[i], s->mesh.x[i]), hi = fmax(hi, u[i]);
+  surface(f, su.nv, su.x, su.ntri, su.tri, BODY, u, hi, 0);
+  tb_mesh tool;
+  if (tb_sim_instrument(s, &tool))
+    surface(f, tool.nv, tool.x, tool.ntri, tool.tri, TOOL, NULL, 0, 0);
+  if (u) tb_renderer_colorbar(f->r, 0, hi > 0 ? hi : 1, "displacement");
+  free(u);
+}
+
+/* Steps a simulation to time t; the median step time in *ms. */
+static int run_to(tb_sim *s, double t, double *ms, tb_error *err) {
+  long n = lround((t - s->t) / s->def.dt);
+  double *dt = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+  int rc = dt ? 0 : -1;
+  for (long k = 0; !rc && k < n; k++) {
+    uint64_t t0 = tb_time_ns();
+    rc = tb_sim_step(s, err);
+    dt[k] = (double)(tb_time_ns() - t0) * 1e-6;
+  }
+  if (ms && n > 0 && !rc) *ms = tb_stats_of(dt, (int)n).median;
+  free(dt);
+  return rc;
+}
+
+/* ---- fig. 2.15 ---- */
+static void liver_surface(fig *f, uint64_t seed) {
+  tb_liver_def d = tb_liver_default_def();
+  d.seed = seed;
+  tb_mesh m;
+  tb_error err;
+  if (tb_liver_surface(&d, &m, &err)) {
+    fprintf(stderr, "figures: %s\n", err.msg);
+    f->failed = 1;
+    return;
+  }
+  view(f, "left-front", &m);
+  surface(f, m.nv, m.x, m.ntri, m.tri, BODY, NULL, 0, 1);
+  char cap[200];
+  snprintf(cap, sizeof cap,
+           "Fig. 2.15: the liver surface from marching cubes on the synthetic CT volume, %d "
+           "vertices, %d triangles (thesis: 725, 1448).",
+           m.nv, m.ntri);
+  shoot(f, "fig-2.15-liver-surface.png", cap);
+  tb_mesh_free(&m);
+}
+
+/* ---- figs. 3.11-3.13 ---- */
+static void models(fig *f, const tb_suite_opts *o) {
+  static const struct {
+    const char *model, *fig, *what;
+    double fps;
+  } rows[] = {{"msm", "3.11", "springs on the tet edges", 335.7},
+              {"fem", "3.12", "the tetrahedra", 36.5},
+              {"sm", "3.13",
+               "the shape-matching clusters (each node coloured by its first cluster)", 787.0}};
+  for (int k = 0; k < 3; k++) {
+    tb_sim_def sd;
+    tb_sim_def_init(&sd);
+    sd.seed = o->seed;
+    tb_settings set;
+    tb_settings_init(&set);
+    tb_settings_set(&set, "node_mass=1", NULL);
+    tb_sim s;
+    tb_error err;
+    if (tb_sim_create(&s, "liver-stretch", &sd, rows[k].model, &set, NULL, &err)) {
+      fprintf(stderr, "figures: %s\n", err.msg);
+      f->failed = 1;
+      continue;
+    }
+    char name[64], cap[400];
+    view(f, "left-front", &s.mesh);
+    if (k < 2) {
+      edges(f, &s.mesh, s.mesh.x);
+    } else {
+      tb_sm_clusters c;
+      if (!tb_sm_clusters_build(&s.mesh, TB_CLUSTER_REGIONS, 50, 1.0, &c, &err)) {
+        float *rgb = malloc(sizeof(float) * 3 * (size_t)s.mesh.nv);
+        for (int i = 0; rgb && i < s.mesh.nv; i++) rgb[3 * i] = -1;
+        for (int q = 0; rgb && q < c.n; q++)
+          for (int j = c.start[q]; j < c.start[q + 1]; j++)
+            if (rgb[3 * c.node[j]] < 0) tb_colormap(fmod(q * 0.618034, 1.0), rgb + 3 * c.node[j]);
+        if (rgb) tb_renderer_points(f->r, s.mesh.nv, s.mesh.x, rgb, 4);
+        free(rgb);
+        tb_sm_clusters_free(&c);
+      }
+    }
+    snprintf(name, sizeof name, "fig-%s-a-%s-structure.png", rows[k].fig, rows[k].model);
+    snprintf(cap, sizeof cap, "Fig. %sa: %s model of the liver (%d nodes): %s.", rows[k].fig,
+             rows[k].model, s.mesh.nv, rows[k].what);
+    shoot(f, name, cap);
+    double ms = NAN;
+    uint64_t t0 = tb_time_ns();
+    int bad = run_to(&s, s.def.release, &ms, &err);
+    double run_ms = (double)(tb_time_ns() - t0) * 1e-6;
+    if (!bad) {
+      char bench[64];
+      snprintf(bench, sizeof bench, "stretch/%s", rows[k].model);
+      tb_suite_bench(f->su, bench, &run_ms, NULL, 1, "ms");
+      tb_suite_counter(f->su, bench, "median_step_ms", ms);
+      tb_suite_counter(f->su, bench, "thesis_fps", rows[k].fps);
+    }
+    if (bad) {
+      fprintf(stderr, "figures: %s\n", err.msg);
+      f->failed = 1;
+    } else {
+      view(f, "left-front", &s.mesh);
+      body(f, &s, 1);
+      snprintf(name, sizeof name, "fig-%s-b-%s-stretched.png", rows[k].fig, rows[k].model);
+      snprintf(cap, sizeof cap,
+               "Fig. %sb: %s, the liver stretched (liver-stretch at %g s, the patch pulled %g), "
+               "coloured by displacement; %.0f steps/s here (median step %.3f ms, simulation only) "
+               "against the thesis's %.1f FPS (i3-2100, with rendering).",
+               rows[k].fig, rows[k].model, s.t, s.def.amplitude, 1e3 / ms, ms, rows[k].fps);
+      shoot(f, name, cap);
+    }
+    tb_sim_destroy(&s);
+  }
+}
+
+/* ---- figs. 3.14-3.15 ---- */
+static void recovery(fig *f, const tb_suite_opts *o) {
+  static const char *const models[2] = {"sm", "msm"}, *const figs[2] = {"3.14", "3.15"};
+  for (int k = 0; k < 2; k++) {
+    tb_sim_def sd;
+    tb_sim_def_init(&sd);
+    sd.seed = o->seed, sd.drag = 1.5;
+    if (o->scale < 1) sd.duration = 3;
+    tb_settings set;
+    tb_settings_init(&set);
+    tb_settings_set(&set, "node_mass=1", NULL);
+    tb_sim s;
+    tb_error err;
+    if (tb_sim_create(&s, "beam-twist", &sd, models[k], &set, NULL, &err)) {
+      fprintf(stderr, "figures: %s\n", err.msg);
+      f->failed = 1;
+      continue;
+    }
+    double when[3] = {0, s.def.release, s.def.duration};
+    const char *what[3] = {"before", "twisted", "after"};
+    for (int q = 0; q < 3; q++) {
+      if (run_to(&s, when[q], NULL, &err)) {
+        fprintf(stderr, "figures: %s\n", err.msg);
+        f->failed = 1;
+        break;
+      }
+      tb_vec3 lo, hi;
+      tb_mesh_bbox(&s.mesh, &lo, &hi);
+      lo = tb_madd(lo, -0.6, tb_v3(1, 1, 1)), hi = tb_madd(hi, 0.6, tb_v3(1, 1, 1));
+      tb_camera cam;
+      tb_camera_preset("left-front", lo, hi, &cam);
+      tb_renderer_begin(f->r, &cam, BG);
+      body(f, &s, 0);
+      edges(f, &s.mesh, tb_model_positions(&s.model));
+      char name[64], cap[300];
+      tb_sim_metrics m = tb_sim_measure(&s);
+      snprintf(name, sizeof name, "fig-%s-%s-%d-%s.png", figs[k], models[k], q, what[q]);
+      snprintf(cap, sizeof cap,
+               "Fig. %s (%s), %s: beam-twist at t = %g s (end face turned %g degrees, let go at %g "
+               "s); largest displacement %.3g, %d inverted tets.",
+               figs[k], models[k], what[q], s.t, s.def.amplitude, s.def.release, m.max_disp,
+               m.inverted);
+      shoot(f, name, cap);
+    }
+    tb_sim_destroy(&s);
+  }
+}
+
+/* ---- fig. 4.21 ---- */
+static void collision(fig *f, const tb_suite_opts *o) {
+  tb_mesh liver, tool;
+  tb_error err;
+  if (tb_scene_make(o->seed, &liver, &tool, &err)) {
+    fprintf(stderr, "figures: %s\n", err.msg);
+    f->failed = 1;
+    return;
+  }
+  tb_collider *c = tb_collider_new("composite", &liver, &tool, NULL, NULL, NULL, &err);
+  tb_pairlist pairs = {0, 0, NULL};
+  tb_vec3 *tx = malloc(sizeof(tb_vec3) * (size_t)tool.nv);
+  int *hit = malloc(sizeof(int) * 3 * (size_t)liver.ntri);
+  static const double path[3] = {0.35, 0.6, 0.9};
+  for (int q = 0; c && tx && hit && q < 3; q++) {
+    tb_mat3 R;
+    tb_vec3 t;
+    tb_scene_pose(path[q], &R, &t);
+    if (tb_collider_pose(c, R, t, &err) || tb_collider_query(c, &pairs, NULL, &err)) break;
+    for (int i = 0; i < tool.nv; i++) tx[i] = tb_add(tb_m3_mulv(R, tool.x[i]), t);
+    int nh = 0;
+    for (int k = 0; k < pairs.n; k++)
+      if (!k || pairs.ij[2 * k] != pairs.ij[2 * k - 2])
+        memcpy(hit + 3 * nh++, liver.tri + 3 * pairs.ij[2 * k], sizeof(int) * 3);
+    tb_vec3 lo, hi;
+    tb_mesh_bbox(&liver, &lo, &hi);
+    tb_camera cam;
+    tb_vec3 ctr = tb_scale(tb_add(lo, hi), 0.5);
+    cam = (tb_camera){tb_add(ctr, tb_v3(4, -12, 9)), ctr, tb_v3(0, 0, 1), 32, 0};
+    tb_renderer_begin(f->r, &cam, BG);
+    /* every tet face, oriented either way: both sides in the body's colour */
+    tb_render_mesh b = {.nv = liver.nv,
+                        .ntri = liver.ntri,
+                        .x = liver.x,
+                        .tri = liver.tri,
+                        .rgb = {BODY[0], BODY[1], BODY[2]},
+                        .any_side = 1,
+                        .flat = 1};
+    tb_renderer_mesh(f->r, &b);
+    tb_render_mesh h = {.nv = liver.nv,
+                        .ntri = nh,
+                        .x = liver.x,
+                        .tri = hit,
+                        .rgb = {RED[0], RED[1], RED[2]},
+                        .on_top = 1,
+                        .any_side = 1,
+                        .flat = 1};
+    tb_renderer_mesh(f->r, &h);
+    surface(f, tool.nv, tx, tool.ntri, tool.tri, TOOL, NULL, 0, 0);
+    char name[64], cap[300];
+    snprintf(name, sizeof name, "fig-4.21-pose-%d.png", q + 1);
+    snprintf(
+        cap, sizeof cap,
+        "Fig. 4.21: the liver's collision model (%d triangles) and the grasper at path position "
+        "%.2f; the %d intersecting triangle pairs (composite BVH, exact test) in red "
+        "(%d liver triangles).",
+        liver.ntri, path[q], pairs.n, nh);
+    shoot(f, name, cap);
+  }
+  if (!c) fprintf(stderr, "figures: %s\n", err.msg), f->failed = 1;
+  tb_collider_free(c);
+  tb_pairlist_free(&pairs);
+  free(tx), free(hit);
+  tb_mesh_free(&liver), tb_mesh_free(&tool);
+}
+
+/* ---- figs. 5.5-5.8 ---- */
+static void system_views(fig *f, const tb_suite_opts *o) {
+  static const struct {
+    const char *scene, *fig, *what, *views[4];
+    int nviews;
+  } rows[] = {
+      {"liver-stretch", "5.5", "the liver before", {"front", "left-front", "left-back", "top"}, 4},
+      {"liver-press", "5.6", "pressed by the grasper", {"front", "left-front"}, 2},
+      {"liver-stretch", "5.7", "pulled", {"left-front", "left-back"}, 2}};
+  for (int k = 0; k < 3; k++) {
+    tb_sim_def sd;
+    tb_sim_def_init(&sd);
+    sd.seed = o->seed;
+    tb_settings set;
+    tb_settings_init(&set);
+    tb_settings_set(&set, "node_mass=1", NULL);
+    tb_sim s;
+    tb_error err;
+    if (tb_sim_create(&s, rows[k].scene, &sd, "sm", &set, NULL, &err)) {
+      fprintf(stderr, "figures: %s\n", err.msg);
+      f->failed = 1;
+      continue;
+    }
+    double t = k == 0 ? 0 : (k == 1 ? 0.75 * s.def.duration : s.def.release);
+    if (run_to(&s, t, NULL, &err)) {
+      fprintf(stderr, "figures: %s\n", err.msg);
+      f->failed = 1;
+    }
+    for (int v = 0; v < rows[k].nviews && !f->failed; v++) {
+      view(f, rows[k].views[v], &s.mesh);
+      body(f, &s, 0);
+      char name[80], cap[300];
+      snprintf(name, sizeof name, "fig-%s-%s.png", rows[k].fig, rows[k].views[v]);
+      snprintf(cap, sizeof cap,
+               "Fig. %s: %s (shape matching, %s at t = %g s), %s view; instrument penetration "
+               "after the contact response at most %.3g.",
+               rows[k].fig, rows[k].what, rows[k].scene, s.t, rows[k].views[v], s.pen_tool_max);
+      shoot(f, name, cap);
+    }
+    tb_sim_destroy(&s);
+  }
+}
+
+int tb_suite_figures(const tb_suite_opts *o) {
+  char dir[900];
+  tb_error err;
+  if (snprintf(dir, sizeof dir, "%s/figures", o->results) >= (int)sizeof dir) return 1;
+  tb_suite *su = tb_suite_begin(dir, "figures", "The documents' figures, rendered", o->seed, &err);
+  if (!su) return fprintf(stderr, "figures: %s\n", err.msg), 1;
+  fig f = {su, tb_renderer_new(W, H, 2, &err), dir, 0};
+  if (!f.r) {
+    fprintf(stderr, "figures: %s\n", err.msg);
+    tb_suite_end(su, &err);
+    return 1;
+  }
+  tb_suite_note(su,
+                "Rendered headless with OSMesa on Mesa's softpipe rasterizer (%dx%d, 2x2 samples a "
+                "pixel): the same run gives the same bytes. Models at the thesis's parameters with "
+                "unit node masses.",
+                W, H);
+  liver_surface(&f, o->seed);
+  models(&f, o);
+  recovery(&f, o);
+  collision(&f, o);
+  system_views(&f, o);
+  tb_renderer_free(f.r);
+  if (tb_suite_end(su, &err)) fprintf(stderr, "figures: %s\n", err.msg), f.failed = 1;
+  return f.failed;
+}
