@@ -6,7 +6,7 @@
 #   datafile, outbase     required: input CSV and output path without extension
 #   title, xlabel, ylabel optional strings (the labels should carry units)
 #   logx, logy            optional, 1 for a logarithmic axis
-#   points                optional, 0 for lines without point marks
+#   points                optional, 0 for lines with a mark every twelfth row only
 #   fitfile               optional CSV with the columns of datafile: a fitted
 #                         line per series (its points), drawn dashed in the
 #                         series' colour; the data are then drawn as marks only
@@ -48,7 +48,11 @@ set datafile separator comma
 # the number of our series: the paper's take the linetypes after them
 stats datafile skip 1 using 1 nooutput
 nours = STATS_columns - 1
-style = points ? "linespoints" : "lines"
+# points=0 (long series): lines with a mark every twelfth of the rows, so the
+# series still differ by marker
+nrows = STATS_records
+style = points ? "linespoints" : \
+        sprintf("linespoints pointinterval %d", nrows > 24 ? int(nrows / 12) : 1)
 if (fitfile ne "") { style = "points" }
 fitkey = (fitfile ne "") ? "dashed: least-squares line" : ""
 width = 1000; height = paperpanel ? 1100 : 620
