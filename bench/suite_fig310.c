@@ -97,7 +97,7 @@ int tb_suite_fig310(const tb_suite_opts *o) {
                                "50 linear (ms)",   "1 quadratic (ms)", "8 quadratic (ms)",
                                "50 quadratic (ms)"};
   tb_table *t = tb_table_new("frame", "Time per frame (median ms) against particles", 7, cols);
-  double ms[16][6];
+  double ms[16][6], slope[6] = {0}, icept[6] = {0};
   size_t cap = 4096, len = 0;
   char *body = malloc(cap);
   tb_rng rng = tb_rng_seed(o->seed);
@@ -141,6 +141,7 @@ int tb_suite_fig310(const tb_suite_opts *o) {
         sx += x, sy += y, sxx += x * x, sxy += x * y, syy += y * y;
       }
       double b = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+      slope[v] = b, icept[v] = (sy - b * sx) / n;
       double r = (n * sxy - sx * sy) / sqrt((n * sxx - sx * sx) * (n * syy - sy * sy));
       tb_table_row(lt);
       tb_table_cell(lt, "%d clusters, %s", clusters[v % 3], v < 3 ? "linear" : "quadratic");
@@ -188,14 +189,26 @@ int tb_suite_fig310(const tb_suite_opts *o) {
                 "these, only its shape: linear in particles, costlier with more clusters and with "
                 "quadratic; and 50 fps for 100 objects x 100 particles.",
                 SIDE, 0.2 * SIDE, frames);
+  /* the least-squares lines of the linearity table, at the smallest and largest sizes */
+  char fit[512];
+  int flen = 0;
+  for (int e = 0; e < 2; e++) {
+    double x = sizes[e ? nsizes - 1 : 0];
+    flen += snprintf(fit + flen, sizeof fit - (size_t)flen, "%g", x);
+    for (int v = 0; v < 6; v++)
+      flen += snprintf(fit + flen, sizeof fit - (size_t)flen, ",%.6g", icept[v] + slope[v] * x);
+    flen += snprintf(fit + flen, sizeof fit - (size_t)flen, "\n");
+  }
+  static const char *fig_header =
+      "particles,1 linear,8 linear,50 linear,1 quadratic,"
+      "8 quadratic,50 quadratic";
   if (!failed && body &&
-      (tb_suite_write_data(s, "fig310.csv",
-                           "particles,1 linear,8 linear,50 linear,1 quadratic,"
-                           "8 quadratic,50 quadratic",
-                           body, &err) ||
+      (tb_suite_write_data(s, "fig310.csv", fig_header, body, &err) ||
+       tb_suite_write_data(s, "fig310_fit.csv", fig_header, fit, &err) ||
        tb_suite_chart_vars(s, "chart_lines.gp", "fig310.csv", "fig310",
-                           "title='Shape matching: time per frame (thesis fig. 3.10)'; "
-                           "xlabel='particles'; ylabel='ms per frame'",
+                           "title='Shape matching: time per frame (thesis fig. 3.10), clusters "
+                           "and mode per series'; xlabel='particles (count)'; "
+                           "ylabel='time per frame (ms)'; fitfile='fig310_fit.csv'",
                            &err))) {
     fprintf(stderr, "figure 3.10: %s\n", err.msg);
     failed = 1;

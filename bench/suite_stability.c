@@ -40,10 +40,10 @@
 
 /* ---- the models and their stiffness axes ---- */
 const tb_stab_model tb_stab_models[] = {
-    {"msm", "ks", "spring stiffness ks", 10, 1e6, 1, 180},
-    {"fem", "E", "Young modulus E", 10, 1e6, 1, 3000},
-    {"fem-corot", "E", "Young modulus E", 10, 1e6, 1, 3000},
-    {"sm", "alpha", "shape-matching stiffness alpha", 0.05, 1, 0, 0},
+    {"msm", "ks", "spring stiffness ks (N/m)", 10, 1e6, 1, 180},
+    {"fem", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000},
+    {"fem-corot", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000},
+    {"sm", "alpha", "shape-matching stiffness alpha (dimensionless)", 0.05, 1, 0, 0},
 };
 const int tb_stab_nmodels = (int)(sizeof tb_stab_models / sizeof tb_stab_models[0]);
 #define NMAPS tb_stab_nmodels

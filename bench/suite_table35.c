@@ -265,7 +265,7 @@ static int recovery(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver, 
   char vars[256];
   snprintf(vars, sizeof vars,
            "title='Liver stretched by %.0f%% of its length, let go at 1 s'; xlabel='time (s)'; "
-           "ylabel='rms displacement from rest'; points=0",
+           "ylabel='rms displacement from rest (scene units)'; points=0",
            100 * amps[namps - 1]);
   if (!body || tb_suite_write_data(su, "recovery.csv", header, body, &err) ||
       tb_suite_chart_vars(su, "chart_lines.gp", "recovery.csv", "recovery", vars, &err)) {

@@ -1,6 +1,7 @@
 /* Data files and charts of a suite run: tb_suite_write_data writes a CSV
  * for gnuplot into the suite folder; tb_suite_chart runs
- * `gnuplot -e "datafile='...'; outbase='...'" tools/<script>` (posix_spawnp,
+ * `gnuplot -e "datafile='...'; outbase='...'; suitedir='.../'" tools/<script>`
+ * (suitedir: the suite folder, for the other files a script reads; posix_spawnp,
  * its output captured for the error message) and checks that <outbase>.png
  * and .svg were written. */
 #include <errno.h>
@@ -137,13 +138,15 @@ int tb_suite_chart_vars(tb_suite *s, const char *script, const char *datafile, c
   remove(png);
   remove(svg);
 
-  size_t cap = strlen(vars ? vars : "") + 2 * (sizeof data + sizeof base) + 64;
-  char *expr = malloc(cap), qdata[2100], qbase[2100];
+  size_t cap = strlen(vars ? vars : "") + 3 * (sizeof data + sizeof base) + 64;
+  char *expr = malloc(cap), qdata[2100], qbase[2100], sdir[1100], qdir[2300];
   if (!expr) return tb_error_set(err, spath, 0, "out of memory");
   gp_quote(qdata, sizeof qdata, data);
   gp_quote(qbase, sizeof qbase, base);
-  snprintf(expr, cap, "datafile=%s; outbase=%s%s%s", qdata, qbase, vars && *vars ? "; " : "",
-           vars ? vars : "");
+  snprintf(sdir, sizeof sdir, "%s/", s->dir);
+  gp_quote(qdir, sizeof qdir, sdir);
+  snprintf(expr, cap, "datafile=%s; outbase=%s; suitedir=%s%s%s", qdata, qbase, qdir,
+           vars && *vars ? "; " : "", vars ? vars : "");
   char out[1024];
   int st = run_gnuplot(expr, spath, out, sizeof out);
   free(expr);

@@ -114,13 +114,15 @@ void tb_suite_counter(tb_suite *s, const char *bench, const char *key, double va
 int tb_suite_write_data(tb_suite *s, const char *csv_name, const char *header, const char *body,
                         tb_error *err);
 /* Runs gnuplot on tools/<script> with variables datafile (path inside the
- * suite folder) and outbase; produces <dir>/<outbase>.png and .svg, linked
+ * suite folder), outbase and suitedir (the suite folder, ending in '/', for
+ * the other files a script reads); produces <dir>/<outbase>.png and .svg, linked
  * from table.md. A missing gnuplot, script or data file, or a failing
  * script, is an error. */
 int tb_suite_chart(tb_suite *s, const char *script, const char *datafile, const char *outbase,
                    tb_error *err);
 /* The same with more gnuplot -e assignments, e.g. "title='Solve'; logy=1"
- * (tools/chart_lines.gp reads title, xlabel, ylabel, logx, logy, points). */
+ * (tools/chart_lines.gp reads title, xlabel, ylabel, logx, logy, points, fitfile,
+ * paperfile, paperpanel, ...: see its head). */
 int tb_suite_chart_vars(tb_suite *s, const char *script, const char *datafile, const char *outbase,
                         const char *vars, tb_error *err);
 /* A picture already in the suite folder (a rendered frame, a photo: PNG,

@@ -2,8 +2,11 @@
  * samples, the files of a suite run (table.md, one tidy CSV per table with
  * quoting and bare numbers, data.json with counters checked by a small JSON
  * validator below), the run context,
- * gnuplot charts and their errors, and the progress bar's tty rule. */
+ * gnuplot charts and their errors, the charts' palette and the papers'
+ * series on the suites' charts, and the progress bar's tty rule. */
 #define _XOPEN_SOURCE 700 /* posix_openpt, grantpt, ptsname */
+#include <ctype.h>
+#include <dirent.h>
 #include <fcntl.h>
 #include <math.h>
 #include <poll.h>
@@ -13,6 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "tb_cli.h"
 #include "tb_results.h"
 #include "tb_test.h"
 
@@ -604,6 +608,174 @@ static void test_chart_errors(void) {
   TB_CHECK(tb_suite_end(s, &err) == 0);
 }
 
+/* ---- the palette and the papers' series on the suites' charts ---- */
+
+/* The plotted series of a gnuplot SVG: each <g id="gnuplot_plot_N"> group
+ * with a title of its own (untitled ones are titled gnuplot_plot_N), its
+ * colour the first rgb(...) inside the group. Returns the number of titled
+ * series, or -1 (with why) when two share a colour or one has none. */
+static int svg_series(const char *svg, char *why, size_t cap) {
+  static const char *open_tag = "<g id=\"gnuplot_plot_";
+  char colours[64][32], titles[64][80];
+  int n = 0;
+  why[0] = 0;
+  for (const char *g = strstr(svg, open_tag); g && n < 64;) {
+    const char *next = strstr(g + 1, open_tag), *t = strstr(g, "<title>");
+    if (!t || (next && t > next)) {
+      g = next;
+      continue;
+    }
+    t += strlen("<title>");
+    const char *te = strstr(t, "</title>");
+    if (!te || !strncmp(t, "gnuplot_plot_", 13)) {
+      g = next;
+      continue;
+    }
+    snprintf(titles[n], sizeof titles[n], "%.*s", (int)(te - t), t);
+    const char *c = strstr(te, "rgb(");
+    if (!c || (next && c > next)) {
+      snprintf(why, cap, "series \"%s\" has no colour", titles[n]);
+      return -1;
+    }
+    const char *ce = strchr(c, ')');
+    if (!ce) return snprintf(why, cap, "unterminated rgb("), -1;
+    size_t k = 0;
+    for (const char *q = c; q <= ce && k + 1 < sizeof colours[n]; q++)
+      if (*q != ' ') colours[n][k++] = *q;
+    colours[n][k] = 0;
+    for (int j = 0; j < n; j++)
+      if (!strcmp(colours[j], colours[n])) {
+        snprintf(why, cap, "\"%s\" and \"%s\" both %s", titles[j], titles[n], colours[n]);
+        return -1;
+      }
+    n++;
+    g = next;
+  }
+  return n;
+}
+
+static void test_svg_series_checker(void) {
+  char why[256];
+  const char *two =
+      "<g id=\"gnuplot_plot_1\" ><title>a</title><path stroke='rgb(1, 2, 3)'/></g>"
+      "<g id=\"gnuplot_plot_2\" ><title>gnuplot_plot_2</title>"
+      "<path stroke='rgb(1, 2, 3)'/></g>"
+      "<g id=\"gnuplot_plot_3\" ><title>b</title><path stroke='rgb(1,2,4)'/></g>";
+  TB_CHECK_MSG(svg_series(two, why, sizeof why) == 2, "%s", why);
+  const char *same =
+      "<g id=\"gnuplot_plot_1\" ><title>a</title><path stroke='rgb(1, 2, 3)'/></g>"
+      "<g id=\"gnuplot_plot_2\" ><title>b</title><use color='rgb(1,2,3)'/></g>";
+  TB_CHECK(svg_series(same, why, sizeof why) == -1 && strstr(why, "\"a\" and \"b\""));
+  const char *none = "<g id=\"gnuplot_plot_1\" ><title>a</title><path stroke='black'/></g>";
+  TB_CHECK(svg_series(none, why, sizeof why) == -1 && strstr(why, "no colour"));
+}
+
+/* tools/palette.gp: tb_colours[N] holds N distinct colours, enough for the
+ * largest chart (table 4.2: 10 series of ours, 3 of the thesis); every other
+ * script loads it and spells no colour of its own. */
+static void test_chart_palette(void) {
+  char path[1200];
+  snprintf(path, sizeof path, "%s/tools/palette.gp", tb_test_source_root());
+  char *pal = slurp(path);
+  TB_CHECK_MSG(pal, "cannot read %s", path);
+  if (!pal) return;
+  const char *a = strstr(pal, "array tb_colours[");
+  TB_CHECK(a != NULL);
+  int declared = a ? atoi(a + strlen("array tb_colours[")) : 0, n = 0, distinct = 1;
+  char cols[64][8];
+  for (const char *p = a ? strchr(a, '=') : NULL; p && *p && *p != ']' && n < 64; p++)
+    if (*p == '#' && p[-1] == '"') {
+      int k = 0;
+      for (; k < 7 && p[k] && p[k] != '"'; k++) cols[n][k] = (char)tolower((unsigned char)p[k]);
+      cols[n][k] = 0;
+      for (int j = 0; j < n; j++) distinct &= strcmp(cols[j], cols[n]) != 0;
+      n++;
+    }
+  TB_CHECK_MSG(n == declared && n >= 13, "%d colours listed, %d declared", n, declared);
+  TB_CHECK_MSG(distinct, "two colours of tools/palette.gp are the same");
+  free(pal);
+  snprintf(path, sizeof path, "%s/tools", tb_test_source_root());
+  DIR *d = opendir(path);
+  TB_CHECK(d != NULL);
+  int scripts = 0;
+  for (struct dirent *e; d && (e = readdir(d));) {
+    size_t len = strlen(e->d_name);
+    if (len < 4 || strcmp(e->d_name + len - 3, ".gp") || !strcmp(e->d_name, "palette.gp")) continue;
+    char sp[1500];
+    snprintf(sp, sizeof sp, "%s/%s", path, e->d_name);
+    char *text = slurp(sp);
+    TB_CHECK_MSG(text && strstr(text, "load tb_dir.\"palette.gp\""), "%s does not load palette.gp",
+                 e->d_name);
+    TB_CHECK_MSG(text && !strstr(text, "\"#") && !strstr(text, "'#"),
+                 "%s spells a colour of its own", e->d_name);
+    free(text);
+    scripts++;
+  }
+  if (d) closedir(d);
+  TB_CHECK_MSG(scripts >= 3, "%d chart scripts in tools/", scripts);
+}
+
+/* The chart path of a suite at a small scale: the papers' series in the
+ * data files and on the chart, every series its own colour. */
+static void check_chart(const char *dir, const char *svgname, int least,
+                        const char *const *titles) {
+  char *svg = slurp(path_in(dir, svgname)), why[256];
+  TB_CHECK_MSG(svg, "no %s/%s", dir, svgname);
+  if (!svg) return;
+  int n = svg_series(svg, why, sizeof why);
+  TB_CHECK_MSG(n >= least, "%s: %d series (at least %d expected) %s", svgname, n, least, why);
+  for (int k = 0; titles[k]; k++) {
+    char t[160];
+    snprintf(t, sizeof t, "<title>%s</title>", titles[k]);
+    TB_CHECK_MSG(strstr(svg, t), "%s has no series \"%s\"", svgname, titles[k]);
+  }
+  free(svg);
+}
+
+static void check_text(const char *path, const char *want) {
+  char *text = slurp(path);
+  TB_CHECK_MSG(text && strstr(text, want), "%s lacks \"%s\"", path, want);
+  free(text);
+}
+
+static void test_chart_paper_series(void) {
+  char res[400], dir[500];
+  snprintf(res, sizeof res, "%s/papers", tb_test_tmpdir());
+  tb_suite_opts o;
+  memset(&o, 0, sizeof o);
+  o.scale = 0.01, o.seed = 1, o.results = res;
+  TB_CHECK(tb_suite_table41(&o) == 0);
+  snprintf(dir, sizeof dir, "%s/table-4.1", res);
+  check_text(path_in(dir, "table41_thesis.csv"),
+             "tests (million),thesis Yu-He (i3-2100),thesis improved (i3-2100)\n0.1,70,42\n");
+  check_text(path_in(dir, "table41_thesis.csv"), "\n2,1256,739\n");
+  static const char *const t41[] = {"moller", "exact", "thesis Yu-He (i3-2100)",
+                                    "thesis improved (i3-2100)", NULL};
+  check_chart(dir, "table41.svg", 11, t41);
+
+  TB_CHECK(tb_suite_table42(&o) == 0);
+  snprintf(dir, sizeof dir, "%s/table-4.2", res);
+  check_text(path_in(dir, "table42_thesis.csv"), "\n0,263.2,263.2,254.7\n");
+  check_text(path_in(dir, "table42_thesis.csv"), "\n1106,53.2,17.2,42.7\n");
+  check_text(path_in(dir, "table42.svg"), "whole-frame FPS"); /* the thesis's own panel */
+  check_text(path_in(dir, "table42.svg"), "frames per second (1/s)");
+  static const char *const t42[] = {"composite+exact", "thesis composite (FPS)",
+                                    "thesis Sphere (FPS)", "thesis AABB (FPS)", NULL};
+  check_chart(dir, "table42.svg", 13, t42);
+
+  TB_CHECK(tb_suite_fig310(&o) == 0);
+  snprintf(dir, sizeof dir, "%s/figure-3.10", res);
+  char *fit = slurp(path_in(dir, "fig310_fit.csv"));
+  int lines = 0;
+  for (const char *p = fit; p && *p; p++) lines += *p == '\n';
+  TB_CHECK_MSG(fit && lines == 3 && !strncmp(fit, "particles,1 linear", 18), "fig310_fit.csv: %s",
+               fit ? fit : "(none)");
+  free(fit);
+  static const char *const t310[] = {"1 linear", "50 quadratic", "dashed: least-squares line",
+                                     NULL};
+  check_chart(dir, "fig310.svg", 7, t310);
+}
+
 /* ---- progress ---- */
 
 static void test_progress_silent_without_tty(void) {
@@ -797,6 +969,9 @@ const tb_test_case tb_tests_results[] = {
     {"write_data", test_write_data},
     {"chart", test_chart},
     {"chart_errors", test_chart_errors},
+    {"svg_series_checker", test_svg_series_checker},
+    {"chart_palette", test_chart_palette},
+    {"chart_paper_series", test_chart_paper_series},
     {"progress_silent_without_tty", test_progress_silent_without_tty},
     {"progress_on_tty", test_progress_on_tty},
     {"progress_eta", test_progress_eta},

@@ -30,7 +30,13 @@ if (!exists("psize")) psize = 3
 
 array names[6] = ["stable", "NaN or inf", "energy growth", "inverted elements", \
                   "velocity beyond bound", "step failed"]
-array colours[6] = ["#2ca02c", "#7f7f7f", "#d62728", "#9467bd", "#ff7f0e", "#000000"]
+# the palette beside this script; each status and line its own colour of it
+tb_dir = ""
+do for [k = strlen(ARG0):1:-1] { if (tb_dir eq "" && ARG0[k:k] eq "/") { tb_dir = ARG0[1:k] } }
+load tb_dir."palette.gp"
+array colours[6] = [tb_colours[3], tb_colours[13], tb_colours[2], tb_colours[5], \
+                    tb_colours[4], tb_colours[12]]
+c_bound = tb_colours[14]; c_bisected = tb_colours[1]; c_linearised = tb_colours[10]
 
 set datafile separator comma
 set key outside right top noenhanced box opaque
@@ -61,17 +67,17 @@ set output outbase.".png"
 extra = ""
 if (exists("boundfile")) {
   extra = ", boundfile skip 1 using (($1 == cells || cells < 0) ? $3 : 1/0):2 " . \
-          "with linespoints linewidth 2 pointtype 7 pointsize 1.2 linecolor rgb 'blue' " . \
+          "with linespoints linewidth 2 pointtype 7 pointsize 1.2 linecolor rgb '" . c_bisected . "' " . \
           "title 'largest stable dt (bisected)', " . \
           "boundfile skip 1 using (($1 == cells || cells < 0) ? $6 : 1/0):2 " . \
-          "with lines linewidth 2 dashtype 2 linecolor rgb 'blue' " . \
+          "with lines linewidth 2 dashtype 2 linecolor rgb '" . c_linearised . "' " . \
           "title 'mesh, linearised, with damping'"
 }
 # one series per status; the bound's curve only where asked for
 plot for [i = 0:5] datafile skip 1 \
        using 1:(((cells < 0 || $4 == cells) && $3 == i) ? $2 : 1/0) \
        with points pointtype 5 pointsize psize linecolor rgb colours[i + 1] title names[i + 1], \
-     (bound ? 4 * mass / x**2 : 1/0) with lines linewidth 2 linecolor rgb "black" \
+     (bound ? 4 * mass / x**2 : 1/0) with lines linewidth 2 linecolor rgb c_bound \
        title (bound ? "dt = 2 sqrt(m/k), one spring" : "") @extra
 set terminal svg size 1000,650 dynamic noenhanced
 set output outbase.".svg"
