@@ -60,8 +60,9 @@ static long file_bytes(const char *path, unsigned char **out) {
   fseek(f, 0, SEEK_END);
   long n = ftell(f);
   fseek(f, 0, SEEK_SET);
-  *out = malloc((size_t)(n > 0 ? n : 1));
+  *out = malloc((size_t)(n > 0 ? n : 0) + 1); /* NUL-terminated for text */
   if (!*out || fread(*out, 1, (size_t)n, f) != (size_t)n) n = -1;
+  if (*out && n >= 0) (*out)[n] = 0;
   fclose(f);
   return n;
 }
@@ -114,7 +115,39 @@ static void bad_input(void) {
   }
 }
 
+/* The figures suite: every picture it lists exists and is a PNG; the
+ * report shows them. */
+static void figures_suite(void) {
+  char args[800], path[900];
+  snprintf(args, sizeof args, "reproduce --only figures --results %s/figs", tb_test_tmpdir());
+  int rc = tb_test_cli_run(args);
+  TB_CHECK_MSG(rc == 0, "%s", tb_test_out);
+  snprintf(path, sizeof path, "%s/figs/figures/table.md", tb_test_tmpdir());
+  unsigned char *md = NULL;
+  long n = file_bytes(path, &md);
+  TB_CHECK_MSG(n > 0, "no %s", path);
+  int pictures = 0;
+  for (const char *p = md ? strstr((char *)md, "](fig-") : NULL; p && p < (char *)md + n;
+       p = strstr(p + 1, "](fig-")) {
+    char name[200];
+    if (sscanf(p + 2, "%199[^)]", name) != 1) break;
+    snprintf(path, sizeof path, "%s/figs/figures/%s", tb_test_tmpdir(), name);
+    unsigned char *png = NULL;
+    long k = file_bytes(path, &png);
+    TB_CHECK_MSG(k > 1000 && !memcmp(png, "\x89PNG", 4), "%s", path);
+    free(png);
+    pictures++;
+  }
+  free(md);
+  TB_CHECK_MSG(pictures >= 20, "%d pictures", pictures);
+  snprintf(path, sizeof path, "%s/figs/REPORT.md", tb_test_tmpdir());
+  n = file_bytes(path, &md);
+  TB_CHECK(n > 0 && md && strstr((char *)md, "](figures/fig-4.21-pose-1.png)"));
+  free(md);
+}
+
 const tb_test_case tb_tests_render[] = {
+    {"figures_suite", figures_suite},
     {"sphere_area", sphere_area},
     {"deterministic", deterministic},
     {"bad_input", bad_input},
