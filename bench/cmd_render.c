@@ -50,6 +50,24 @@ static void structure(tb_renderer *r, const tb_mesh *m, const tb_vec3 *x) {
   free(ends), free(e);
 }
 
+/* Von Mises stress per node: the mean over its tets (scenes/output.c's
+ * per-tet stress). */
+static int vertex_stress(const tb_sim *s, double *out) {
+  int nt = s->mesh.ntet, nv = s->mesh.nv;
+  double *vm = malloc(sizeof(double) * (size_t)(nt > 0 ? nt : 1));
+  int *count = calloc((size_t)nv, sizeof(int));
+  if (!vm || !count) return free(vm), free(count), -1;
+  tb_sim_tet_fields(s, NULL, vm, NULL);
+  for (int t = 0; t < nt; t++)
+    for (int c = 0; c < 4; c++) {
+      int i = s->mesh.tet[4 * t + c];
+      if (isfinite(vm[t])) out[i] += vm[t], count[i]++;
+    }
+  for (int i = 0; i < nv; i++) out[i] = count[i] ? out[i] / count[i] : 0;
+  free(vm), free(count);
+  return 0;
+}
+
 /* One picture of a scene's current state. */
 static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam, const char *path,
                  tb_error *err) {
@@ -57,9 +75,11 @@ static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam,
   tb_surface su = tb_model_surface(&s->model);
   double *value = NULL, lo = 0, hi = 0;
   if (o->color && strcmp(o->color, "none")) {
-    value = malloc(sizeof(double) * (size_t)(su.nv > 0 ? su.nv : 1));
-    if (!value) return tb_error_set(err, path, 0, "out of memory");
-    for (int i = 0; i < su.nv; i++) value[i] = tb_dist(su.x[i], s->mesh.x[i]);
+    value = calloc((size_t)(su.nv > 0 ? su.nv : 1), sizeof(double));
+    if (!value || (!strcmp(o->color, "von_mises") && vertex_stress(s, value)))
+      return free(value), tb_error_set(err, path, 0, "out of memory");
+    if (!strcmp(o->color, "displacement"))
+      for (int i = 0; i < su.nv; i++) value[i] = tb_dist(su.x[i], s->mesh.x[i]);
     for (int i = 0; i < su.nv; i++) hi = fmax(hi, value[i]);
   }
   if (s->has_ground) {
@@ -87,7 +107,7 @@ static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam,
                         .rgb = {TOOL[0], TOOL[1], TOOL[2]}};
     tb_renderer_mesh(r, &t);
   }
-  if (value) tb_renderer_colorbar(r, lo, hi > 0 ? hi : 1, "displacement");
+  if (value) tb_renderer_colorbar(r, lo, hi > 0 ? hi : 1, o->color);
   free(value);
   return tb_renderer_write_png(r, path, err);
 }
@@ -198,8 +218,8 @@ int tb_cmd_render(int argc, char **argv) {
       (sscanf(size, "%dx%d", &o.w, &o.h) != 2 || o.w < 8 || o.h < 8 || o.w > 8192 || o.h > 8192))
     return bad("--size '%s': expected WxH, each 8..8192", size);
   if (o.view && o.camera) return bad("%s", "give --view or --camera, not both");
-  if (strcmp(o.color, "none") && strcmp(o.color, "displacement"))
-    return bad("--color '%s': none or displacement", o.color);
+  if (strcmp(o.color, "none") && strcmp(o.color, "displacement") && strcmp(o.color, "von_mises"))
+    return bad("--color '%s': none, displacement or von_mises", o.color);
   if (mesh) return render_mesh(mesh, &o);
   double t[256];
   int nt = 0;
@@ -213,6 +233,11 @@ int tb_cmd_render(int argc, char **argv) {
   }
   tb_sim s;
   if (tb_sim_create(&s, scene, &sd, model, &set, NULL, &err)) return bad("%s", err.msg);
+  if (!strcmp(o.color, "von_mises") && !tb_sim_tet_fields(&s, NULL, NULL, NULL)) {
+    tb_sim_destroy(&s);
+    return bad("--color von_mises: model '%s' has no stress (no E and nu: use fem or fem-corot)",
+               model ? model : "of the scene");
+  }
   if (!times && !every) t[0] = s.def.duration, nt = 1;
   long steps = every ? lround(s.def.duration / s.def.dt) : lround(t[nt - 1] / s.def.dt);
   tb_vec3 lo, hi;

@@ -85,12 +85,14 @@ static const tb_command commands[] = {
      tb_cmd_simulate},
     {"render", "pictures of a mesh or of a scene at chosen times (PNG, headless)",
      "tissuebench render --mesh FILE --out PICTURE.png [options]\n"
-     "tissuebench render --scene NAME|FILE [--model M] [--set k=v ...] [--times t1,t2,... | --every K]\n"
+     "tissuebench render --scene NAME|FILE [--model M] [--set k=v ...] [--times t1,t2,... | "
+     "--every K]\n"
      "                   --out DIR [options]\n"
      "  --view V      front, left-front (default), left-back, top: the thesis's views, fitted\n"
      "  --camera SPEC \"eye=x,y,z target=x,y,z [up=x,y,z] (fov=DEG | ortho=HALF_HEIGHT)\"\n"
      "  --size WxH    image size (800x600); --ss N samples per pixel side (1..4, default 2)\n"
-     "  --color C     none (default) or displacement (a colour map with its colour bar)\n"
+     "  --color C     none (default), displacement or von_mises (fem, fem-corot): a colour\n"
+     "                map with its colour bar\n"
      "  --wireframe   the surface's triangle edges; --structure: the model's tet edges\n"
      "  a scene is drawn at each time (DIR/tT.png; default: its end) or every K steps\n"
      "  (DIR/frame_NNNNN.png), with its instrument and ground. OSMesa on Mesa's softpipe\n"

@@ -268,11 +268,13 @@ void tb_renderer_colorbar(tb_renderer *r, double lo, double hi, const char *labe
   glLineWidth((GLfloat)r->ss);
   double size = 0.025 * H;
   char text[32];
+  /* numbers right-aligned against the bar, the label above it ending at its right edge */
+  double em = 5.5 * size / 6;
   snprintf(text, sizeof text, "%.3g", hi);
-  tb_stroke_text(x0 - 0.13 * W, y1 - 0.5 * size, size, text);
+  tb_stroke_text(x0 - 0.01 * W - em * (double)strlen(text), y1 - 0.5 * size, size, text);
   snprintf(text, sizeof text, "%.3g", lo);
-  tb_stroke_text(x0 - 0.13 * W, y0 - 0.5 * size, size, text);
-  if (label) tb_stroke_text(x0 - 0.13 * W, y1 + 1.2 * size, size, label);
+  tb_stroke_text(x0 - 0.01 * W - em * (double)strlen(text), y0 - 0.5 * size, size, text);
+  if (label) tb_stroke_text(x1 - em * (double)strlen(label), y1 + 1.2 * size, size, label);
   glEnable(GL_DEPTH_TEST);
   glMatrixMode(GL_PROJECTION);
   glPopMatrix();

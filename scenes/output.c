@@ -45,6 +45,35 @@ static double von_mises(tb_mat3 a, double scale) {
   return sqrt(scale * s);
 }
 
+int tb_sim_tet_fields(const tb_sim *s, double *strain, double *vm, unsigned char *inv) {
+  const tb_mesh *m = &s->mesh;
+  const tb_vec3 *x = tb_model_positions(&s->model);
+  size_t nt = (size_t)m->ntet;
+  double E = 0, nu = 0;
+  const char *name = s->model.cls->name;
+  int stress =
+      tb_model_setting(name, NULL, "E", &E) == 0 && tb_model_setting(name, NULL, "nu", &nu) == 0;
+  if (stress) {
+    /* the run's own values, when the scene or the caller set them */
+    tb_model_setting(name, &s->settings, "E", &E);
+    tb_model_setting(name, &s->settings, "nu", &nu);
+  }
+  double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  for (size_t t = 0; t < nt; t++) {
+    const int *e = m->tet + 4 * t;
+    int ok;
+    tb_mat3 G = green_strain(m->x, x, e, &ok);
+    if (strain) strain[t] = ok ? von_mises(G, 2.0 / 3.0) : NAN;
+    double tr = G.m[0][0] + G.m[1][1] + G.m[2][2];
+    tb_mat3 S = G;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) S.m[r][c] = 2 * mu * G.m[r][c] + (r == c ? lam * tr : 0);
+    if (vm) vm[t] = ok && stress ? von_mises(S, 1.5) : NAN;
+    if (inv) inv[t] = !(tb_tet_volume(x[e[0]], x[e[1]], x[e[2]], x[e[3]]) > 0);
+  }
+  return stress;
+}
+
 int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
   if (mkdir(dir, 0777) && errno != EEXIST)
     return tb_error_set(err, dir, 0, "cannot create the folder: %s", strerror(errno));
@@ -63,28 +92,7 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
     return tb_error_set(err, path, 0, "out of memory");
   }
   for (size_t i = 0; i < nv; i++) disp[i] = tb_sub(x[i], m->x[i]);
-  double E = 0, nu = 0;
-  const char *name = s->model.cls->name;
-  int stress =
-      tb_model_setting(name, NULL, "E", &E) == 0 && tb_model_setting(name, NULL, "nu", &nu) == 0;
-  if (stress) {
-    /* the run's own values, when the scene or the caller set them */
-    tb_model_setting(name, &s->settings, "E", &E);
-    tb_model_setting(name, &s->settings, "nu", &nu);
-  }
-  double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
-  for (size_t t = 0; t < nt; t++) {
-    const int *e = m->tet + 4 * t;
-    int ok;
-    tb_mat3 G = green_strain(m->x, x, e, &ok);
-    strain[t] = ok ? von_mises(G, 2.0 / 3.0) : NAN;
-    double tr = G.m[0][0] + G.m[1][1] + G.m[2][2];
-    tb_mat3 S = G;
-    for (int r = 0; r < 3; r++)
-      for (int c = 0; c < 3; c++) S.m[r][c] = 2 * mu * G.m[r][c] + (r == c ? lam * tr : 0);
-    vm[t] = ok ? von_mises(S, 1.5) : NAN;
-    inv[t] = !(tb_tet_volume(x[e[0]], x[e[1]], x[e[2]], x[e[3]]) > 0);
-  }
+  int stress = tb_sim_tet_fields(s, strain, vm, inv);
   tb_vtu_array arrays[5] = {{"displacement", 3, &disp[0].x, NULL, 0},
                             {"velocity", 3, &v[0].x, NULL, 0},
                             {"strain", 1, strain, NULL, 1},

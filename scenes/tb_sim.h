@@ -189,6 +189,11 @@ int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol);
  * inverted; the instrument and the ground as their own pieces), dir
  * created; and dir/frames.pvd naming frames 0..n-1 with their times. */
 int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err);
+/* Per tet of the current state (arrays of ntet, any may be NULL): the
+ * equivalent Green strain, the von Mises stress of S = lambda tr(E) I +
+ * 2 mu E (NAN for models without E and nu), inverted (signed volume <= 0).
+ * Returns 1 when the model has a stress (E and nu). */
+int tb_sim_tet_fields(const tb_sim *s, double *strain, double *vm, unsigned char *inv);
 int tb_sim_write_pvd(const char *dir, int nframes, const double *times, tb_error *err);
 
 #endif

@@ -87,6 +87,12 @@ static void deterministic(void) {
   TB_CHECK_MSG(nx > 1000 && nx == ny && !memcmp(x, y, (size_t)nx), "%ld vs %ld bytes", nx, ny);
   TB_CHECK(nx > 8 && !memcmp(x, "\x89PNG", 4));
   free(x), free(y);
+  /* a stress map where the model has one */
+  snprintf(args, sizeof args,
+           "render --scene beam --model fem --color von_mises --size 160x120 --out %s/vm",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0 && strstr(tb_test_out, "/vm/t2.000.png"), "%s",
+               tb_test_out);
 }
 
 static void bad_input(void) {
@@ -105,6 +111,7 @@ static void bad_input(void) {
       {"render --scene beam --model fem --size 5x5 --out %s/b", "--size"},
       {"render --scene beam --model fem --color heat --out %s/b", "--color"},
       {"render --mesh %s/none.obj --out x.png", "none.obj"},
+      {"render --scene beam --model sm --color von_mises --out %s/b", "no stress"},
   };
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
     char args[800];
