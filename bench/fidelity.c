@@ -320,6 +320,7 @@ int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
   if (out->settled && quasistatic == 0) out->settle_time = fmax(0, at - t_full);
   const tb_vec3 *xs = tb_model_positions(&r.s.model);
   memcpy(x, xs, sizeof(tb_vec3) * (size_t)n);
+  if (o->keep_x) memcpy(o->keep_x, xs, sizeof(tb_vec3) * (size_t)n);
   memcpy(v, tb_model_velocities(&r.s.model), sizeof(tb_vec3) * (size_t)n);
   tb_fid_disp_error(r.s.mesh.x, x, fm->surf, fm->nsurf, fm->uref, ref->umax, &out->rms_err,
                     &out->max_err);

@@ -61,6 +61,7 @@ typedef struct tb_fid_opts {
   double window;       /* settle window, simulated s (0: max_time / 20); quasi-static: 3 steps */
   int recovery;        /* 1 (scenes that release): let go and measure what is left */
   int substeps;        /* the model's dt is def.dt / substeps (cost counted per def.dt) */
+  tb_vec3 *keep_x;     /* not NULL: receives the nodes' positions at equilibrium (mesh nv) */
 } tb_fid_opts;
 
 /* A resolution of a scene: its mesh, surface nodes and the reference
