@@ -1,8 +1,8 @@
 /* `tissuebench render`: pictures of a mesh file, or of a scene at chosen
  * times (or every k steps), headless (render/tb_render.h): the body's
  * surface shaded or coloured by displacement or von Mises stress with a
- * colour bar, the instrument, the ground, a wireframe and the model's
- * structure (its tet edges: the springs of msm, the elements of fem). */
+ * colour bar, the instrument, the ground, a wireframe, the model's
+ * structure (bench/tb_draw.h) and the triangles crossing the instrument. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 
 #include "tb_cli.h"
+#include "tb_draw.h"
 #include "tb_mesh_io.h"
 #include "tb_render.h"
 #include "tb_sim.h"
@@ -19,7 +20,7 @@
 
 typedef struct opts {
   const char *view, *camera, *color, *out;
-  int w, h, ss, wireframe, structure;
+  int w, h, ss, wireframe, structure, contacts;
 } opts;
 
 static int bad(const char *fmt, const char *a) {
@@ -29,8 +30,7 @@ static int bad(const char *fmt, const char *a) {
   return TB_EXIT_INPUT;
 }
 
-static const float BG[3] = {1, 1, 1}, BODY[3] = {0.86f, 0.45f, 0.40f},
-                   TOOL[3] = {0.62f, 0.64f, 0.68f};
+static const float BG[3] = {1, 1, 1};
 
 static int camera_for(const opts *o, tb_vec3 lo, tb_vec3 hi, tb_camera *cam, tb_error *err) {
   if (o->camera) return tb_camera_parse(o->camera, cam, err);
@@ -38,16 +38,6 @@ static int camera_for(const opts *o, tb_vec3 lo, tb_vec3 hi, tb_camera *cam, tb_
     return tb_error_set(err, "--view", 0, "unknown view '%s' (front, left-front, left-back, top)",
                         o->view);
   return 0;
-}
-
-/* Draws the structure: every tet edge as a thin dark line. */
-static void structure(tb_renderer *r, const tb_mesh *m, const tb_vec3 *x) {
-  int *e = NULL, n = tb_mesh_edges(m, &e);
-  tb_vec3 *ends = n > 0 ? malloc(sizeof(tb_vec3) * 2 * (size_t)n) : NULL;
-  for (int k = 0; ends && k < n; k++) ends[2 * k] = x[e[2 * k]], ends[2 * k + 1] = x[e[2 * k + 1]];
-  static const float ink[3] = {0.15f, 0.2f, 0.35f};
-  if (ends) tb_renderer_lines(r, n, ends, ink, 1);
-  free(ends), free(e);
 }
 
 /* Von Mises stress per node: the mean over its tets (scenes/output.c's
@@ -73,7 +63,7 @@ static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam,
                  tb_error *err) {
   tb_renderer_begin(r, cam, BG);
   tb_surface su = tb_model_surface(&s->model);
-  double *value = NULL, lo = 0, hi = 0;
+  double *value = NULL, hi = 0;
   if (o->color && strcmp(o->color, "none")) {
     value = calloc((size_t)(su.nv > 0 ? su.nv : 1), sizeof(double));
     if (!value || (!strcmp(o->color, "von_mises") && vertex_stress(s, value)))
@@ -82,32 +72,9 @@ static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam,
       for (int i = 0; i < su.nv; i++) value[i] = tb_dist(su.x[i], s->mesh.x[i]);
     for (int i = 0; i < su.nv; i++) hi = fmax(hi, value[i]);
   }
-  if (s->has_ground) {
-    tb_vec3 c = tb_v3(0, 0, 0);
-    for (int i = 0; i < su.nv; i++) c = tb_madd(c, 1.0 / su.nv, su.x[i]);
-    tb_renderer_ground(r, s->ground_p, s->ground_n, c, s->size);
-  }
-  tb_render_mesh body = {.nv = su.nv,
-                         .ntri = su.ntri,
-                         .x = su.x,
-                         .tri = su.tri,
-                         .rgb = {BODY[0], BODY[1], BODY[2]},
-                         .value = value,
-                         .lo = lo,
-                         .hi = hi > 0 ? hi : 1,
-                         .wireframe = o->wireframe};
-  tb_renderer_mesh(r, &body);
-  if (o->structure) structure(r, &s->mesh, su.x);
-  tb_mesh tool;
-  if (tb_sim_instrument(s, &tool)) {
-    tb_render_mesh t = {.nv = tool.nv,
-                        .ntri = tool.ntri,
-                        .x = tool.x,
-                        .tri = tool.tri,
-                        .rgb = {TOOL[0], TOOL[1], TOOL[2]}};
-    tb_renderer_mesh(r, &t);
-  }
-  if (value) tb_renderer_colorbar(r, lo, hi > 0 ? hi : 1, o->color);
+  tb_draw_sim(r, s, value, hi, o->color, o->wireframe);
+  if (o->structure && tb_draw_structure(r, s, err)) return free(value), -1;
+  if (o->contacts) tb_draw_contacts(r, s);
   free(value);
   return tb_renderer_write_png(r, path, err);
 }
@@ -149,10 +116,10 @@ static int render_mesh(const char *file, const opts *o) {
                          .ntri = m.ntri,
                          .x = m.x,
                          .tri = m.tri,
-                         .rgb = {BODY[0], BODY[1], BODY[2]},
+                         .rgb = {tb_draw_body_rgb[0], tb_draw_body_rgb[1], tb_draw_body_rgb[2]},
                          .wireframe = o->wireframe};
     tb_renderer_mesh(r, &rm);
-    if (o->structure && m.ntet) structure(r, &m, m.x);
+    if (o->structure && m.ntet) tb_draw_edges(r, &m, m.x);
     rc = tb_renderer_write_png(r, o->out, &err) ? TB_EXIT_FAIL : TB_EXIT_OK;
     if (rc)
       fprintf(stderr, PROG ": %s\n", err.msg);
@@ -165,7 +132,7 @@ static int render_mesh(const char *file, const opts *o) {
 }
 
 int tb_cmd_render(int argc, char **argv) {
-  opts o = {NULL, NULL, "none", NULL, 800, 600, 2, 0, 0};
+  opts o = {NULL, NULL, "none", NULL, 800, 600, 2, 0, 0, 0};
   const char *scene = NULL, *mesh = NULL, *model = NULL, *times = NULL, *size = NULL;
   long every = 0;
   int ss_given = 0;
@@ -176,8 +143,8 @@ int tb_cmd_render(int argc, char **argv) {
   tb_error err;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-    if (!strcmp(a, "--wireframe") || !strcmp(a, "--structure")) {
-      *(a[2] == 'w' ? &o.wireframe : &o.structure) = 1;
+    if (!strcmp(a, "--wireframe") || !strcmp(a, "--structure") || !strcmp(a, "--contacts")) {
+      *(a[2] == 'w' ? &o.wireframe : a[2] == 's' ? &o.structure : &o.contacts) = 1;
       continue;
     }
     if (!v) return bad("unknown or incomplete option '%s' (render --help)", a);

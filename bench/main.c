@@ -93,7 +93,8 @@ static const tb_command commands[] = {
      "  --size WxH    image size (800x600); --ss N samples per pixel side (1..4, default 2)\n"
      "  --color C     none (default), displacement or von_mises (fem, fem-corot): a colour\n"
      "                map with its colour bar\n"
-     "  --wireframe   the surface's triangle edges; --structure: the model's tet edges\n"
+     "  --wireframe   the surface's triangle edges; --structure: the model's tet edges (sm:\n"
+     "                its clusters); --contacts: surface triangles crossing the instrument\n"
      "  a scene is drawn at each time (DIR/tT.png; default: its end) or every K steps\n"
      "  (DIR/frame_NNNNN.png), with its instrument and ground. OSMesa on Mesa's softpipe\n"
      "  rasterizer: the same input gives the same bytes. Bad camera, size or times exit 2",

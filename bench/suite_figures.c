@@ -13,21 +13,21 @@
 
 #include "tb_cli.h"
 #include "tb_collider.h"
+#include "tb_draw.h"
 #include "tb_fidelity.h"
 #include "tb_meshgen.h"
 #include "tb_render.h"
 #include "tb_results.h"
 #include "tb_scene.h"
 #include "tb_sim.h"
-#include "tb_sm.h"
 #include "tb_timer.h"
 
 #define W 640
 #define H 480
 
-static const float BG[3] = {1, 1, 1}, BODY[3] = {0.86f, 0.45f, 0.40f},
-                   TOOL[3] = {0.62f, 0.64f, 0.68f};
-static const float RED[3] = {0.9f, 0.05f, 0.05f}, INK[3] = {0.15f, 0.2f, 0.35f};
+static const float BG[3] = {1, 1, 1}, RED[3] = {0.9f, 0.05f, 0.05f};
+#define BODY tb_draw_body_rgb
+#define TOOL tb_draw_tool_rgb
 
 typedef struct fig {
   tb_suite *su;
@@ -71,24 +71,12 @@ static void surface(fig *f, int nv, const tb_vec3 *x, int ntri, const int *tri, 
   tb_renderer_mesh(f->r, &m);
 }
 
-static void edges(fig *f, const tb_mesh *m, const tb_vec3 *x) {
-  int *e = NULL, n = tb_mesh_edges(m, &e);
-  tb_vec3 *ends = n > 0 ? malloc(sizeof(tb_vec3) * 2 * (size_t)n) : NULL;
-  for (int k = 0; ends && k < n; k++) ends[2 * k] = x[e[2 * k]], ends[2 * k + 1] = x[e[2 * k + 1]];
-  if (ends) tb_renderer_lines(f->r, n, ends, INK, 1);
-  free(ends), free(e);
-}
-
-/* A simulation's body (coloured by displacement when hi > 0) and instrument. */
+/* A simulation's body (coloured by displacement when colour), ground and instrument. */
 static void body(fig *f, tb_sim *s, int colour) {
   tb_surface su = tb_model_surface(&s->model);
   double *u = colour ? malloc(sizeof(double) * (size_t)su.nv) : NULL, hi = 0;
   for (int i = 0; u && i < su.nv; i++) u[i] = tb_dist(su.x[i], s->mesh.x[i]), hi = fmax(hi, u[i]);
-  surface(f, su.nv, su.x, su.ntri, su.tri, BODY, u, hi, 0);
-  tb_mesh tool;
-  if (tb_sim_instrument(s, &tool))
-    surface(f, tool.nv, tool.x, tool.ntri, tool.tri, TOOL, NULL, 0, 0);
-  if (u) tb_renderer_colorbar(f->r, 0, hi > 0 ? hi : 1, "displacement");
+  tb_draw_sim(f->r, s, u, hi, "displacement", 0);
   free(u);
 }
 
@@ -154,20 +142,9 @@ static void models(fig *f, const tb_suite_opts *o) {
     }
     char name[64], cap[400];
     view(f, "left-front", &s.mesh);
-    if (k < 2) {
-      edges(f, &s.mesh, s.mesh.x);
-    } else {
-      tb_sm_clusters c;
-      if (!tb_sm_clusters_build(&s.mesh, TB_CLUSTER_REGIONS, 50, 1.0, &c, &err)) {
-        float *rgb = malloc(sizeof(float) * 3 * (size_t)s.mesh.nv);
-        for (int i = 0; rgb && i < s.mesh.nv; i++) rgb[3 * i] = -1;
-        for (int q = 0; rgb && q < c.n; q++)
-          for (int j = c.start[q]; j < c.start[q + 1]; j++)
-            if (rgb[3 * c.node[j]] < 0) tb_colormap(fmod(q * 0.618034, 1.0), rgb + 3 * c.node[j]);
-        if (rgb) tb_renderer_points(f->r, s.mesh.nv, s.mesh.x, rgb, 4);
-        free(rgb);
-        tb_sm_clusters_free(&c);
-      }
+    if (tb_draw_structure(f->r, &s, &err)) {
+      fprintf(stderr, "figures: %s\n", err.msg);
+      f->failed = 1;
     }
     snprintf(name, sizeof name, "fig-%s-a-%s-structure.png", rows[k].fig, rows[k].model);
     snprintf(cap, sizeof cap, "Fig. %sa: %s model of the liver (%d nodes): %s.", rows[k].fig,
@@ -235,7 +212,7 @@ static void recovery(fig *f, const tb_suite_opts *o) {
       tb_camera_preset("left-front", lo, hi, &cam);
       tb_renderer_begin(f->r, &cam, BG);
       body(f, &s, 0);
-      edges(f, &s.mesh, tb_model_positions(&s.model));
+      tb_draw_edges(f->r, &s.mesh, tb_model_positions(&s.model));
       char name[64], cap[300];
       tb_sim_metrics m = tb_sim_measure(&s);
       snprintf(name, sizeof name, "fig-%s-%s-%d-%s.png", figs[k], models[k], q, what[q]);

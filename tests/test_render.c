@@ -87,6 +87,13 @@ static void deterministic(void) {
   TB_CHECK_MSG(nx > 1000 && nx == ny && !memcmp(x, y, (size_t)nx), "%ld vs %ld bytes", nx, ny);
   TB_CHECK(nx > 8 && !memcmp(x, "\x89PNG", 4));
   free(x), free(y);
+  /* the overlays: shape matching's clusters, the triangles crossing the instrument */
+  snprintf(args, sizeof args,
+           "render --scene liver-press --model sm --set nodes=300 --set duration=0.5 --structure "
+           "--contacts --size 160x120 --out %s/ov",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0 && strstr(tb_test_out, "/ov/t0.500.png"), "%s",
+               tb_test_out);
   /* a stress map where the model has one */
   snprintf(args, sizeof args,
            "render --scene beam --model fem --color von_mises --size 160x120 --out %s/vm",

@@ -1,0 +1,90 @@
+/* Drawing a simulation (bench/tb_draw.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_draw.h"
+#include "tb_sm.h"
+
+const float tb_draw_body_rgb[3] = {0.86f, 0.45f, 0.40f},
+            tb_draw_tool_rgb[3] = {0.62f, 0.64f, 0.68f};
+
+void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, const char *label,
+                 int wireframe) {
+  tb_surface su = tb_model_surface(&s->model);
+  if (s->has_ground) {
+    tb_vec3 c = tb_v3(0, 0, 0);
+    for (int i = 0; i < su.nv; i++) c = tb_madd(c, 1.0 / su.nv, su.x[i]);
+    tb_renderer_ground(r, s->ground_p, s->ground_n, c, s->size);
+  }
+  const float *b = tb_draw_body_rgb, *t = tb_draw_tool_rgb;
+  tb_render_mesh body = {.nv = su.nv,
+                         .ntri = su.ntri,
+                         .x = su.x,
+                         .tri = su.tri,
+                         .rgb = {b[0], b[1], b[2]},
+                         .value = value,
+                         .lo = 0,
+                         .hi = hi > 0 ? hi : 1,
+                         .wireframe = wireframe};
+  tb_renderer_mesh(r, &body);
+  tb_mesh tool;
+  if (tb_sim_instrument(s, &tool)) {
+    tb_render_mesh m = {
+        .nv = tool.nv, .ntri = tool.ntri, .x = tool.x, .tri = tool.tri, .rgb = {t[0], t[1], t[2]}};
+    tb_renderer_mesh(r, &m);
+  }
+  if (value) tb_renderer_colorbar(r, 0, hi > 0 ? hi : 1, label);
+}
+
+void tb_draw_edges(tb_renderer *r, const tb_mesh *m, const tb_vec3 *x) {
+  static const float ink[3] = {0.15f, 0.2f, 0.35f};
+  int *e = NULL, n = tb_mesh_edges(m, &e);
+  tb_vec3 *ends = n > 0 ? malloc(sizeof(tb_vec3) * 2 * (size_t)n) : NULL;
+  for (int k = 0; ends && k < n; k++) ends[2 * k] = x[e[2 * k]], ends[2 * k + 1] = x[e[2 * k + 1]];
+  if (ends) tb_renderer_lines(r, n, ends, ink, 1);
+  free(ends), free(e);
+}
+
+int tb_draw_structure(tb_renderer *r, const tb_sim *s, tb_error *err) {
+  const tb_vec3 *x = tb_model_positions(&s->model);
+  const char *name = s->model.cls->name;
+  double mode, clusters, radius;
+  if (tb_model_setting(name, &s->settings, "cluster_mode", &mode) ||
+      tb_model_setting(name, &s->settings, "clusters", &clusters) ||
+      tb_model_setting(name, &s->settings, "radius", &radius)) {
+    tb_draw_edges(r, &s->mesh, x);
+    return 0;
+  }
+  tb_sm_clusters c;
+  if (tb_sm_clusters_build(&s->mesh, (int)mode, (int)clusters, radius, &c, err)) return -1;
+  float *rgb = malloc(sizeof(float) * 3 * (size_t)s->mesh.nv);
+  for (int i = 0; rgb && i < s->mesh.nv; i++) rgb[3 * i] = -1;
+  /* cluster q's colour: the golden-ratio walk along the colour map */
+  for (int q = 0; rgb && q < c.n; q++)
+    for (int j = c.start[q]; j < c.start[q + 1]; j++)
+      if (rgb[3 * c.node[j]] < 0) tb_colormap(fmod(q * 0.618034, 1.0), rgb + 3 * c.node[j]);
+  if (rgb) tb_renderer_points(r, s->mesh.nv, x, rgb, 4);
+  free(rgb);
+  tb_sm_clusters_free(&c);
+  return 0;
+}
+
+int tb_draw_contacts(tb_renderer *r, const tb_sim *s) {
+  if (!s->has_tool || !s->pairs.n) return 0;
+  int *tri = malloc(sizeof(int) * 3 * (size_t)s->pairs.n), n = 0;
+  for (int k = 0; tri && k < s->pairs.n; k++)
+    if (!k || s->pairs.ij[2 * k] != s->pairs.ij[2 * k - 2])
+      memcpy(tri + 3 * n++, s->tool_surface.tri + 3 * s->pairs.ij[2 * k], sizeof(int) * 3);
+  tb_render_mesh m = {.nv = s->mesh.nv,
+                      .ntri = n,
+                      .x = tb_model_positions(&s->model),
+                      .tri = tri,
+                      .rgb = {0.9f, 0.05f, 0.05f},
+                      .on_top = 1,
+                      .any_side = 1,
+                      .flat = 1};
+  if (tri) tb_renderer_mesh(r, &m);
+  free(tri);
+  return n;
+}

@@ -1,0 +1,28 @@
+/* Drawing a simulation with the renderer (render/tb_render.h), shared by
+ * `render` and the figures suite: the body (flat colour or a colour map),
+ * its instrument and ground, the model's structure (tet edges: msm's
+ * springs, fem's elements; shape matching's clusters as coloured nodes)
+ * and the surface triangles the BVH finds crossing the instrument. */
+#ifndef TB_DRAW_H
+#define TB_DRAW_H
+
+#include "tb_render.h"
+#include "tb_sim.h"
+
+extern const float tb_draw_body_rgb[3], tb_draw_tool_rgb[3];
+
+/* The ground (if any), the body's current surface coloured by value
+ * (per node, over [0, hi]; NULL: flat) with its colour bar named label, and
+ * the instrument (if any). */
+void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, const char *label,
+                 int wireframe);
+/* Every tet edge of m at positions x as a thin dark line. */
+void tb_draw_edges(tb_renderer *r, const tb_mesh *m, const tb_vec3 *x);
+/* The model's structure: shape matching's clusters (each node coloured by
+ * its first cluster), else the tet edges. */
+int tb_draw_structure(tb_renderer *r, const tb_sim *s, tb_error *err);
+/* The body's surface triangles crossing the instrument at the last step,
+ * in red over the surface; returns how many. */
+int tb_draw_contacts(tb_renderer *r, const tb_sim *s);
+
+#endif
