@@ -301,7 +301,11 @@ static void system_views(fig *f, const tb_suite_opts *o) {
   } rows[] = {
       {"liver-stretch", "5.5", "the liver before", {"front", "left-front", "left-back", "top"}, 4},
       {"liver-press", "5.6", "pressed by the grasper", {"front", "left-front"}, 2},
-      {"liver-stretch", "5.7", "pulled", {"left-front", "left-back"}, 2}};
+      {"liver-stretch",
+       "5.7",
+       "pulled (the thesis's caption numbers this figure 5.8)",
+       {"left-front", "left-back"},
+       2}};
   for (int k = 0; k < 3; k++) {
     tb_sim_def sd;
     tb_sim_def_init(&sd);
