@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "tb_collider.h"
 #include "tb_meshgen.h"
 #include "tb_scene.h"
 
@@ -41,4 +42,29 @@ void tb_scene_deform(const tb_vec3 *x0, int n, double t, double amp, tb_vec3 *ou
     double a = sin(0.6 * p.x + 1.7 * t), b = cos(0.9 * p.y - 1.3 * t), c = sin(1.1 * p.z + 0.8 * t);
     out[i] = tb_add(p, tb_scale(tb_v3(0.3 * b * c, 0.4 * a * c, a * b), amp));
   }
+}
+
+const int tb_scene_thesis_pairs[TB_SCENE_ROWS] = {0, 32, 97, 279, 534, 733, 925, 1106};
+
+int tb_scene_row_poses(tb_collider *c, int npose, const int *target, int n, double *s, int *pairs,
+                       tb_error *err) {
+  int *count = malloc(sizeof(int) * (size_t)(npose > 0 ? npose : 1));
+  tb_pairlist pl = {0, 0, NULL};
+  int rc = count && npose >= 2 ? 0 : tb_error_set(err, "scene", 0, "out of memory (or npose < 2)");
+  for (int k = 0; !rc && k < npose; k++) {
+    tb_mat3 R;
+    tb_vec3 t;
+    tb_scene_pose((double)k / (npose - 1), &R, &t);
+    rc = tb_collider_pose(c, R, t, err) || tb_collider_query(c, &pl, NULL, err);
+    count[k] = pl.n;
+  }
+  for (int r = 0; !rc && r < n; r++) {
+    int best = 0;
+    for (int k = 1; k < npose; k++)
+      if (abs(count[k] - target[r]) < abs(count[best] - target[r])) best = k;
+    s[r] = (double)best / (npose - 1), pairs[r] = count[best];
+  }
+  tb_pairlist_free(&pl);
+  free(count);
+  return rc ? -1 : 0;
 }

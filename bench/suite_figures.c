@@ -240,8 +240,15 @@ static void collision(fig *f, const tb_suite_opts *o) {
   tb_pairlist pairs = {0, 0, NULL};
   tb_vec3 *tx = malloc(sizeof(tb_vec3) * (size_t)tool.nv);
   int *hit = malloc(sizeof(int) * 3 * (size_t)liver.ntri);
-  static const double path[3] = {0.35, 0.6, 0.9};
-  for (int q = 0; c && tx && hit && q < 3; q++) {
+  /* the poses of table 4.2's rows: pair counts nearest the thesis's */
+  double path[TB_SCENE_ROWS];
+  int rows[TB_SCENE_ROWS];
+  if (c && tb_scene_row_poses(c, o->scale < 1 ? 21 : 141, tb_scene_thesis_pairs, TB_SCENE_ROWS,
+                              path, rows, &err)) {
+    fprintf(stderr, "figures: %s\n", err.msg);
+    f->failed = 1;
+  }
+  for (int q = 0; c && tx && hit && !f->failed && q < TB_SCENE_ROWS; q++) {
     tb_mat3 R;
     tb_vec3 t;
     tb_scene_pose(path[q], &R, &t);
@@ -277,13 +284,13 @@ static void collision(fig *f, const tb_suite_opts *o) {
     tb_renderer_mesh(f->r, &h);
     surface(f, tool.nv, tx, tool.ntri, tool.tri, TOOL, NULL, 0, 0);
     char name[64], cap[300];
-    snprintf(name, sizeof name, "fig-4.21-pose-%d.png", q + 1);
+    snprintf(name, sizeof name, "fig-4.21-row-%d.png", q + 1);
     snprintf(
         cap, sizeof cap,
-        "Fig. 4.21: the liver's collision model (%d triangles) and the grasper at path position "
-        "%.2f; the %d intersecting triangle pairs (composite BVH, exact test) in red "
-        "(%d liver triangles).",
-        liver.ntri, path[q], pairs.n, nh);
+        "Fig. 4.21: the liver's collision model (%d triangles) and the grasper at table 4.2's row "
+        "%d (thesis: %d pairs; path position %.3f): the %d intersecting triangle pairs "
+        "(composite BVH, exact test) in red (%d liver triangles).",
+        liver.ntri, q + 1, tb_scene_thesis_pairs[q], path[q], pairs.n, nh);
     shoot(f, name, cap);
   }
   if (!c) fprintf(stderr, "figures: %s\n", err.msg), f->failed = 1;

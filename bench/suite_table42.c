@@ -17,8 +17,8 @@
 #include "tb_scene.h"
 #include "tb_timer.h"
 
-#define NROWS 8
-static const int thesis_pairs[NROWS] = {0, 32, 97, 279, 534, 733, 925, 1106};
+#define NROWS TB_SCENE_ROWS
+#define thesis_pairs tb_scene_thesis_pairs
 static const double thesis_fps[NROWS][3] = {
     {263.2, 263.2, 254.7}, {260.3, 259.7, 251.6}, {253.6, 250.1, 244.8}, {217.9, 211.2, 214.6},
     {163.2, 148.4, 158.9}, {129.4, 95.6, 119.4},  {89.6, 47.3, 73.1},    {53.2, 17.2, 42.7}};
@@ -84,30 +84,20 @@ int tb_suite_table42(const tb_suite_opts *o) {
   tb_bvh_def dl, di;
   thesis_defs("composite", &dl, &di);
   tb_collider *ref = tb_collider_new("composite", &liver, &inst, &dl, &di, NULL, &err);
-  int *count = malloc(sizeof(int) * (size_t)npose), row_pose[NROWS];
+  double row_s[NROWS];
+  int row_count[NROWS];
   tb_pairlist pl = {0, 0, NULL}, truth[NROWS];
   memset(truth, 0, sizeof truth);
-  for (int k = 0; ref && count && k < npose; k++) {
-    tb_mat3 R;
-    tb_vec3 t;
-    tb_scene_pose((double)k / (npose - 1), &R, &t);
-    if (tb_collider_pose(ref, R, t, &err) || tb_collider_query(ref, &pl, NULL, &err)) break;
-    count[k] = pl.n;
-  }
+  if (!ref || tb_scene_row_poses(ref, npose, thesis_pairs, NROWS, row_s, row_count, &err))
+    failed = 1;
   tb_collider_free(ref);
-  for (int r = 0; r < NROWS; r++) {
-    int best = 0;
-    for (int k = 1; k < npose; k++)
-      if (abs(count[k] - thesis_pairs[r]) < abs(count[best] - thesis_pairs[r])) best = k;
-    row_pose[r] = best;
-  }
   /* brute force with the exact test at every row: the truth */
   tb_collider *brute = tb_collider_new("brute", &liver, &inst, NULL, NULL, NULL, &err);
   for (int r = 0; brute && r < NROWS; r++) {
     tb_progress("table 4.2 (brute force)", r, NROWS);
     tb_mat3 R;
     tb_vec3 t;
-    tb_scene_pose((double)row_pose[r] / (npose - 1), &R, &t);
+    tb_scene_pose(row_s[r], &R, &t);
     if (tb_collider_pose(brute, R, t, &err) || tb_collider_query(brute, &truth[r], NULL, &err))
       failed = 1;
   }
@@ -138,7 +128,7 @@ int tb_suite_table42(const tb_suite_opts *o) {
     for (int r = 0; r < NROWS; r++) {
       tb_mat3 R;
       tb_vec3 t;
-      tb_scene_pose((double)row_pose[r] / (npose - 1), &R, &t);
+      tb_scene_pose(row_s[r], &R, &t);
       if (tb_collider_pose(c, R, t, &err)) failed = 1;
       /* warm-up, and enough queries per sample for at least 2 ms */
       long iters = 1;
@@ -261,7 +251,6 @@ int tb_suite_table42(const tb_suite_opts *o) {
   }
   for (int r = 0; r < NROWS; r++) tb_pairlist_free(&truth[r]);
   tb_pairlist_free(&pl);
-  free(count);
   tb_mesh_free(&liver), tb_mesh_free(&inst);
   if (tb_suite_end(s, &err)) return fprintf(stderr, "table 4.2: %s\n", err.msg), 1;
   return failed;

@@ -16,6 +16,16 @@ int tb_scene_make(uint64_t seed, tb_mesh *liver, tb_mesh *instrument, tb_error *
 /* The path, s in [0, 1]: the grasper lying nearly along x, its jaws ahead,
  * the tip moving from x = 7 (clear of the liver) to x = 3.5 (deep inside). */
 void tb_scene_pose(double s, tb_mat3 *R, tb_vec3 *t);
+/* Thesis table 4.2's rows: intersecting triangle pairs 0 ... 1106. */
+#define TB_SCENE_ROWS 8
+extern const int tb_scene_thesis_pairs[TB_SCENE_ROWS];
+/* The path positions, among npose evenly spaced samples of [0, 1], whose
+ * intersecting-pair counts (c: the liver fixed, the instrument posed by
+ * tb_scene_pose) are nearest each of the n targets (the first of equals):
+ * s[r] and its count pairs[r]. */
+typedef struct tb_collider tb_collider;
+int tb_scene_row_poses(tb_collider *c, int npose, const int *target, int n, double *s, int *pairs,
+                       tb_error *err);
 /* The liver's rest positions x0 displaced at time t (smooth, amplitude amp). */
 void tb_scene_deform(const tb_vec3 *x0, int n, double t, double amp, tb_vec3 *out);
 

@@ -156,7 +156,7 @@ static void figures_suite(void) {
   TB_CHECK_MSG(pictures >= 20, "%d pictures", pictures);
   snprintf(path, sizeof path, "%s/figs/REPORT.md", tb_test_tmpdir());
   n = file_bytes(path, &md);
-  TB_CHECK(n > 0 && md && strstr((char *)md, "](figures/fig-4.21-pose-1.png)"));
+  TB_CHECK(n > 0 && md && strstr((char *)md, "](figures/fig-4.21-row-2.png)"));
   free(md);
 }
 
