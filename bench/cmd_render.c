@@ -12,6 +12,7 @@
 
 #include "tb_cli.h"
 #include "tb_draw.h"
+#include "tb_fidelity.h"
 #include "tb_mesh_io.h"
 #include "tb_render.h"
 #include "tb_sim.h"
@@ -19,7 +20,7 @@
 #define PROG "tissuebench render"
 
 typedef struct opts {
-  const char *view, *camera, *color, *out;
+  const char *view, *camera, *color, *out, *scene;
   int w, h, ss, wireframe, structure, contacts;
 } opts;
 
@@ -58,6 +59,35 @@ static int vertex_stress(const tb_sim *s, double *out) {
   return 0;
 }
 
+/* Error against the reference solution (bench/tb_fidelity.h): the static
+ * problem of the scene's loads at the current time, compressible
+ * Neo-Hookean on quadratic tets at the fidelity suites' reference
+ * resolution; per surface node |u - u_ref| / max |u_ref| (meaningful once
+ * the model has settled). Scenes with a static problem: beam,
+ * liver-stretch. */
+static int vertex_error(tb_sim *s, const char *scene, double *out, tb_error *err) {
+  tb_fid_plan plan;
+  if (tb_fid_plan_for(scene, 1, s->def.seed, &plan, err)) return -1;
+  tb_sim_def rd = s->def;
+  rd.nodes = plan.ref_res;
+  tb_fid_ref ref;
+  tb_fid_mesh fm;
+  if (tb_fid_reference(scene, &rd, s->t, NULL, &ref, err)) return -1;
+  int rc = tb_fid_mesh_make(&ref, &s->def, &fm, err);
+  if (!rc && (fm.mesh.nv != s->mesh.nv || !(ref.umax > 0)))
+    rc = tb_error_set(err, scene, 0, "%s",
+                      ref.umax > 0 ? "the reference's sampling mesh is not the scene's"
+                                   : "no load at this time: nothing to compare");
+  const tb_vec3 *x = tb_model_positions(&s->model);
+  for (int q = 0; !rc && q < fm.nsurf; q++) {
+    int i = fm.surf[q];
+    out[i] = tb_dist(tb_sub(x[i], s->mesh.x[i]), fm.uref[q]) / ref.umax;
+  }
+  if (!rc) tb_fid_mesh_free(&fm);
+  tb_fid_ref_free(&ref);
+  return rc;
+}
+
 /* One picture of a scene's current state. */
 static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam, const char *path,
                  tb_error *err) {
@@ -68,6 +98,7 @@ static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam,
     value = calloc((size_t)(su.nv > 0 ? su.nv : 1), sizeof(double));
     if (!value || (!strcmp(o->color, "von_mises") && vertex_stress(s, value)))
       return free(value), tb_error_set(err, path, 0, "out of memory");
+    if (!strcmp(o->color, "error") && vertex_error(s, o->scene, value, err)) return free(value), -1;
     if (!strcmp(o->color, "displacement"))
       for (int i = 0; i < su.nv; i++) value[i] = tb_dist(su.x[i], s->mesh.x[i]);
     for (int i = 0; i < su.nv; i++) hi = fmax(hi, value[i]);
@@ -76,7 +107,12 @@ static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam,
   if (o->structure && tb_draw_structure(r, s, err)) return free(value), -1;
   if (o->contacts) tb_draw_contacts(r, s);
   free(value);
-  return tb_renderer_write_png(r, path, err);
+  if (tb_renderer_write_png(r, path, err)) return -1;
+  if (strcmp(o->color, "none"))
+    printf("%s (%s from 0 to %.6g)\n", path, o->color, hi);
+  else
+    printf("%s\n", path);
+  return 0;
 }
 
 /* "0,0.5,1.5": ascending times >= 0. */
@@ -132,7 +168,7 @@ static int render_mesh(const char *file, const opts *o) {
 }
 
 int tb_cmd_render(int argc, char **argv) {
-  opts o = {NULL, NULL, "none", NULL, 800, 600, 2, 0, 0, 0};
+  opts o = {NULL, NULL, "none", NULL, NULL, 800, 600, 2, 0, 0, 0};
   const char *scene = NULL, *mesh = NULL, *model = NULL, *times = NULL, *size = NULL;
   long every = 0;
   int ss_given = 0;
@@ -185,8 +221,15 @@ int tb_cmd_render(int argc, char **argv) {
       (sscanf(size, "%dx%d", &o.w, &o.h) != 2 || o.w < 8 || o.h < 8 || o.w > 8192 || o.h > 8192))
     return bad("--size '%s': expected WxH, each 8..8192", size);
   if (o.view && o.camera) return bad("%s", "give --view or --camera, not both");
-  if (strcmp(o.color, "none") && strcmp(o.color, "displacement") && strcmp(o.color, "von_mises"))
-    return bad("--color '%s': none, displacement or von_mises", o.color);
+  if (strcmp(o.color, "none") && strcmp(o.color, "displacement") && strcmp(o.color, "von_mises") &&
+      strcmp(o.color, "error"))
+    return bad("--color '%s': none, displacement, von_mises or error", o.color);
+  if (!strcmp(o.color, "error") &&
+      (!scene || (strcmp(scene, "beam") && strcmp(scene, "liver-stretch"))))
+    return bad("%s",
+               "--color error: the reference solution exists for the scenes beam and "
+               "liver-stretch");
+  o.scene = scene;
   if (mesh) return render_mesh(mesh, &o);
   double t[256];
   int nt = 0;
@@ -229,7 +272,7 @@ int tb_cmd_render(int argc, char **argv) {
         fprintf(stderr, PROG ": %s\n", err.msg);
         rc = TB_EXIT_FAIL;
       } else
-        printf("%s\n", path), count++;
+        count++;
     }
     if (k < steps && tb_sim_step(&s, &err)) {
       printf("status: unstable (%s)\n", err.msg);

@@ -94,6 +94,16 @@ static void deterministic(void) {
            tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_cli_run(args) == 0 && strstr(tb_test_out, "/ov/t0.500.png"), "%s",
                tb_test_out);
+  /* the error against the reference: T4 locking leaves about half the tip deflection out */
+  snprintf(args, sizeof args,
+           "render --scene beam --model fem --set quasistatic=1 --times 0.5 --color error --size "
+           "160x120 --out %s/err",
+           tb_test_tmpdir());
+  double worst = 0;
+  const char *e = NULL;
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0 && (e = strstr(tb_test_out, "(error from 0 to ")) &&
+                   sscanf(e + 17, "%lf", &worst) == 1 && worst > 0.3 && worst < 0.7,
+               "largest error %g: %s", worst, tb_test_out);
   /* a stress map where the model has one */
   snprintf(args, sizeof args,
            "render --scene beam --model fem --color von_mises --size 160x120 --out %s/vm",
@@ -119,6 +129,7 @@ static void bad_input(void) {
       {"render --scene beam --model fem --color heat --out %s/b", "--color"},
       {"render --mesh %s/none.obj --out x.png", "none.obj"},
       {"render --scene beam --model sm --color von_mises --out %s/b", "no stress"},
+      {"render --scene liver-press --model fem --color error --out %s/b", "beam and liver-stretch"},
   };
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
     char args[800];
