@@ -61,6 +61,26 @@ void tb_test_expect_read_error(const char *path, long line, const char *reason) 
   if (rc == 0) tb_mesh_free(&m);
 }
 
+/* The whole file as a string (NULL when unreadable); the caller frees. */
+char *tb_test_slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  size_t n = 0, cap = 4096;
+  char *s = malloc(cap);
+  int c;
+  while (s && (c = fgetc(f)) != EOF) {
+    if (n + 1 >= cap) {
+      char *t = realloc(s, cap *= 2);
+      if (!t) free(s);
+      s = t;
+    }
+    if (s) s[n++] = (char)c;
+  }
+  fclose(f);
+  if (s) s[n] = 0;
+  return s;
+}
+
 const char *tb_test_tmpdir(void) { return tmpdir; }
 const char *tb_test_cli(void) { return TB_BUILD_ROOT "/tissuebench"; }
 const char *tb_test_source_root(void) { return TB_SOURCE_ROOT; }

@@ -43,6 +43,8 @@ const char *tb_test_source_root(void);
  * cap-1 bytes of its combined stdout+stderr into out (may be NULL). */
 int tb_test_run(const char *cmd, char *out, int cap);
 
+/* The whole file as a string (NULL when unreadable); the caller frees. */
+char *tb_test_slurp(const char *path);
 /* Reads path (tb_mesh_read) expecting failure with the message
  * "path:LINE: ...REASON..." (line 0: "path: ...") and an empty mesh. */
 void tb_test_expect_read_error(const char *path, long line, const char *reason);

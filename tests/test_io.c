@@ -348,19 +348,10 @@ static void test_write_surface_compact(void) {
   tb_mesh_free(&beam);
 }
 
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  char *s = calloc(1, 1 << 16);
-  if (s) s[fread(s, 1, (1 << 16) - 1, f)] = 0;
-  fclose(f);
-  return s;
-}
-
 static void test_write_vtk(void) {
   tb_mesh tets = cube(1, 1), tris = cube(0, 1);
   if (!write_ok(tmp("t.vtk"), &tets) || !write_ok(tmp("s.vtk"), &tris)) return;
-  char *a = slurp(tmp("t.vtk")), *b = slurp(tmp("s.vtk")), line[200];
+  char *a = tb_test_slurp(tmp("t.vtk")), *b = tb_test_slurp(tmp("s.vtk")), line[200];
   TB_CHECK(a && b);
   if (a && b) {
     TB_CHECK(strncmp(a, "# vtk DataFile Version 3.0\n", 27) == 0);

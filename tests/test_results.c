@@ -22,26 +22,6 @@
 
 /* ---- helpers ---- */
 
-/* The whole file as a string (NULL when unreadable); the caller frees. */
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  size_t n = 0, cap = 4096;
-  char *s = malloc(cap);
-  int c;
-  while (s && (c = fgetc(f)) != EOF) {
-    if (n + 1 >= cap) {
-      char *t = realloc(s, cap *= 2);
-      if (!t) free(s);
-      s = t;
-    }
-    if (s) s[n++] = (char)c;
-  }
-  fclose(f);
-  if (s) s[n] = 0;
-  return s;
-}
-
 static const char *path_in(const char *dir, const char *name) {
   static char buf[4][700];
   static int slot;
@@ -261,7 +241,7 @@ static void test_suite_writes_files(void) {
 }
 
 static void test_table_md(void) {
-  char *md = slurp(path_in(run_suite("md"), "table.md"));
+  char *md = tb_test_slurp(path_in(run_suite("md"), "table.md"));
   TB_CHECK(md);
   if (!md) return;
   TB_CHECK(strncmp(md, "# Demo suite\n", 13) == 0);
@@ -370,9 +350,9 @@ static void test_csv_checker(void) {
 
 static void test_data_csv(void) {
   const char *dir = run_suite("csv");
-  char *speed = slurp(path_in(dir, "table-speed.csv"));
-  char *counts = slurp(path_in(dir, "table-counts.csv"));
-  char *timings = slurp(path_in(dir, "table-timings.csv"));
+  char *speed = tb_test_slurp(path_in(dir, "table-speed.csv"));
+  char *counts = tb_test_slurp(path_in(dir, "table-counts.csv"));
+  char *timings = tb_test_slurp(path_in(dir, "table-timings.csv"));
   TB_CHECK(speed && counts && timings);
   if (speed) {
     /* bare numbers: no 'x' or '%' from table.md, the unit in the header, "-" empty */
@@ -426,7 +406,7 @@ static void test_mixed_column_reported(void) {
 }
 
 static void test_data_json(void) {
-  char *js = slurp(path_in(run_suite("json"), "data.json"));
+  char *js = tb_test_slurp(path_in(run_suite("json"), "data.json"));
   TB_CHECK(js);
   if (!js) return;
   TB_CHECK(json_valid(js));
@@ -556,7 +536,7 @@ static void test_write_data(void) {
   char dir[600];
   tb_suite *s = chart_suite("data", dir, sizeof dir);
   if (!s) return;
-  char *text = slurp(path_in(dir, "lines.csv"));
+  char *text = tb_test_slurp(path_in(dir, "lines.csv"));
   TB_CHECK(text && strcmp(text, "n,a (ms),b (ms)\n1,2,3\n10,4,5\n100,8,6\n") == 0);
   free(text);
   tb_error err = {{0}};
@@ -578,11 +558,11 @@ static void test_chart(void) {
   rc = tb_suite_chart(s, "chart_lines.gp", "lines.csv", "plain", &err);
   TB_CHECK_MSG(rc == 0, "chart: %s", err.msg);
   TB_CHECK(size_of(path_in(dir, "plain.png")) > 0 && size_of(path_in(dir, "plain.svg")) > 0);
-  char *svg = slurp(path_in(dir, "lines.svg"));
+  char *svg = tb_test_slurp(path_in(dir, "lines.svg"));
   TB_CHECK(svg && strstr(svg, "<svg") && strstr(svg, "a (ms)"));
   free(svg);
   TB_CHECK(tb_suite_end(s, &err) == 0);
-  char *md = slurp(path_in(dir, "table.md"));
+  char *md = tb_test_slurp(path_in(dir, "table.md"));
   TB_CHECK(md && strstr(md, "![lines](lines.svg)") && strstr(md, "![plain](plain.svg)"));
   free(md);
 }
@@ -676,7 +656,7 @@ static void test_svg_series_checker(void) {
 static void test_chart_palette(void) {
   char path[1200];
   snprintf(path, sizeof path, "%s/tools/palette.gp", tb_test_source_root());
-  char *pal = slurp(path);
+  char *pal = tb_test_slurp(path);
   TB_CHECK_MSG(pal, "cannot read %s", path);
   if (!pal) return;
   const char *a = strstr(pal, "array tb_colours[");
@@ -703,7 +683,7 @@ static void test_chart_palette(void) {
     if (len < 4 || strcmp(e->d_name + len - 3, ".gp") || !strcmp(e->d_name, "palette.gp")) continue;
     char sp[1500];
     snprintf(sp, sizeof sp, "%s/%s", path, e->d_name);
-    char *text = slurp(sp);
+    char *text = tb_test_slurp(sp);
     TB_CHECK_MSG(text && strstr(text, "load tb_dir.\"palette.gp\""), "%s does not load palette.gp",
                  e->d_name);
     TB_CHECK_MSG(text && !strstr(text, "\"#") && !strstr(text, "'#"),
@@ -719,7 +699,7 @@ static void test_chart_palette(void) {
  * data files and on the chart, every series its own colour. */
 static void check_chart(const char *dir, const char *svgname, int least,
                         const char *const *titles) {
-  char *svg = slurp(path_in(dir, svgname)), why[256];
+  char *svg = tb_test_slurp(path_in(dir, svgname)), why[256];
   TB_CHECK_MSG(svg, "no %s/%s", dir, svgname);
   if (!svg) return;
   int n = svg_series(svg, why, sizeof why);
@@ -733,7 +713,7 @@ static void check_chart(const char *dir, const char *svgname, int least,
 }
 
 static void check_text(const char *path, const char *want) {
-  char *text = slurp(path);
+  char *text = tb_test_slurp(path);
   TB_CHECK_MSG(text && strstr(text, want), "%s lacks \"%s\"", path, want);
   free(text);
 }
@@ -765,7 +745,7 @@ static void test_chart_paper_series(void) {
 
   TB_CHECK(tb_suite_fig310(&o) == 0);
   snprintf(dir, sizeof dir, "%s/figure-3.10", res);
-  char *fit = slurp(path_in(dir, "fig310_fit.csv"));
+  char *fit = tb_test_slurp(path_in(dir, "fig310_fit.csv"));
   int lines = 0;
   for (const char *p = fit; p && *p; p++) lines += *p == '\n';
   TB_CHECK_MSG(fit && lines == 3 && !strncmp(fit, "particles,1 linear", 18), "fig310_fit.csv: %s",
@@ -927,7 +907,7 @@ static void test_report(void) {
   tb_report_chapter(r, "Chapter 2: two", "Intro.");
   tb_report_suite(r, "alpha", "what alpha shows", TB_REPORT_DONE);
   TB_CHECK_MSG(tb_report_end(r, &err) == 0, "%s", err.msg);
-  char *md = slurp(path_in(dir, "REPORT.md"));
+  char *md = tb_test_slurp(path_in(dir, "REPORT.md"));
   TB_CHECK(md != NULL);
   if (!md) return;
   TB_CHECK_MSG(strncmp(md, "# Test report\n", 14) == 0, "%s", md);
@@ -943,7 +923,7 @@ static void test_report(void) {
   TB_CHECK(strstr(md, "| 1 | 2.5 |") && strstr(md, "A note."));
   free(md);
   /* table.md shows the figure with its own links; a missing one is a misuse */
-  md = slurp(path_in(sub, "table.md"));
+  md = tb_test_slurp(path_in(sub, "table.md"));
   TB_CHECK(md && strstr(md, "![A rendered frame](pic.png)"));
   free(md);
   s = tb_suite_begin(sub, "alpha", "Alpha", 7, &err);

@@ -21,15 +21,6 @@ static const char *tmp(const char *name) {
   return s;
 }
 
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  char *s = calloc(1, 1 << 20);
-  if (s) s[fread(s, 1, (1 << 20) - 1, f)] = 0;
-  fclose(f);
-  return s;
-}
-
 /* 1-based line of the first occurrence of needle in s (0 if absent). */
 static long line_of(const char *s, const char *needle) {
   const char *p = strstr(s, needle);
@@ -165,7 +156,7 @@ static void test_vtu_layout(void) {
   tb_vtu_piece p = {4, x, 1, tri, 1, tet, 1, &a};
   tb_error err = {{0}};
   TB_CHECK_MSG(tb_vtu_write(tmp("one.vtu"), &p, 1, &err) == 0, "%s", err.msg);
-  char *s = slurp(tmp("one.vtu"));
+  char *s = tb_test_slurp(tmp("one.vtu"));
   if (!s) return;
   static const char head[] = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\"";
   TB_CHECK(strncmp(s, head, strlen(head)) == 0);
@@ -201,7 +192,7 @@ static void test_pvd(void) {
   const char *files[3] = {"f/frame_0000.vtu", "f/frame_0001.vtu", "f/a&b.vtu"};
   tb_error err = {{0}};
   TB_CHECK_MSG(tb_pvd_write(tmp("run.pvd"), 3, t, files, &err) == 0, "%s", err.msg);
-  char *s = slurp(tmp("run.pvd"));
+  char *s = tb_test_slurp(tmp("run.pvd"));
   if (!s) return;
   TB_CHECK(strstr(s, "<VTKFile type=\"Collection\""));
   TB_CHECK(
@@ -232,7 +223,7 @@ static void test_vtu_errors(void) {
   tb_vtu_piece p = {4, x, 0, NULL, 1, tet, 0, NULL};
   tb_error err = {{0}};
   TB_CHECK_MSG(tb_vtu_write(tmp("good.vtu"), &p, 1, &err) == 0, "%s", err.msg);
-  char *good = slurp(tmp("good.vtu"));
+  char *good = tb_test_slurp(tmp("good.vtu"));
   if (!good) return;
   static const char *types_tag = "Name=\"types\"";
   long points = line_of(good, "<Points>") + 1, types = line_of(good, types_tag);
