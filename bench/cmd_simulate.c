@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "tb_cli.h"
+#include "tb_parse.h"
 #include "tb_results.h"
 #include "tb_sim.h"
 #include "tb_timer.h"
@@ -62,20 +63,6 @@ static int bad(const char *fmt, const char *a) {
   return TB_EXIT_INPUT;
 }
 
-/* Three comma-separated numbers. */
-static int parse_vec(const char *s, tb_vec3 *out) {
-  char *end;
-  double v[3];
-  for (int k = 0; k < 3; k++) {
-    errno = 0;
-    v[k] = strtod(s, &end);
-    if (end == s || errno || !isfinite(v[k]) || (k < 2 ? *end != ',' : *end != 0)) return -1;
-    s = end + (k < 2);
-  }
-  *out = tb_v3(v[0], v[1], v[2]);
-  return 0;
-}
-
 /* The quick form: a description built from --mesh, --fix/--fix-box, --gravity. */
 static int quick_desc(tb_scene_desc *d, const char *mesh, const char *fix, const char *fixbox,
                       const char *gravity, tb_error *err) {
@@ -96,7 +83,8 @@ static int quick_desc(tb_scene_desc *d, const char *mesh, const char *fix, const
   }
   if (gravity) {
     tb_vec3 g;
-    if (parse_vec(gravity, &g))
+    const char *rest;
+    if (tb_parse_vec3(gravity, &g, &rest) || *rest)
       return tb_error_set(err, "--gravity", 0, "'%s' is not gx,gy,gz", gravity);
     d->param[TB_P_GRAVITY] = tb_len(g);
     if (tb_len(g) > 0) d->gravity_dir = tb_scale(g, 1.0 / tb_len(g));

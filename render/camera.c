@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "tb_parse.h"
 #include "tb_render.h"
 
 int tb_camera_preset(const char *name, tb_vec3 lo, tb_vec3 hi, tb_camera *out) {
@@ -30,22 +31,6 @@ int tb_camera_preset(const char *name, tb_vec3 lo, tb_vec3 hi, tb_camera *out) {
   return -1;
 }
 
-/* Three numbers "x,y,z". */
-static int vec3(const char *s, tb_vec3 *v) {
-  char *end;
-  double c[3];
-  for (int k = 0; k < 3; k++) {
-    errno = 0;
-    c[k] = strtod(s, &end);
-    if (end == s || errno || !isfinite(c[k])) return -1;
-    if (k < 2 && *end != ',') return -1;
-    s = end + (k < 2);
-  }
-  if (*end && *end != ' ' && *end != ';') return -1;
-  *v = tb_v3(c[0], c[1], c[2]);
-  return 0;
-}
-
 int tb_camera_parse(const char *spec, tb_camera *out, tb_error *err) {
   memset(out, 0, sizeof *out);
   out->up = tb_v3(0, 0, 1);
@@ -60,7 +45,9 @@ int tb_camera_parse(const char *spec, tb_camera *out, tb_error *err) {
     const char *k = tok, *v = eq + 1;
     if (!strcmp(k, "eye") || !strcmp(k, "target") || !strcmp(k, "up")) {
       tb_vec3 *dst = k[0] == 'e' ? &out->eye : k[0] == 't' ? &out->target : &out->up;
-      if (vec3(v, dst)) return tb_error_set(err, "--camera", 0, "%s: '%s' is not x,y,z", k, v);
+      const char *rest;
+      if (tb_parse_vec3(v, dst, &rest) || *rest)
+        return tb_error_set(err, "--camera", 0, "%s: '%s' is not x,y,z", k, v);
       have_eye |= k[0] == 'e', have_target |= k[0] == 't';
     } else if (!strcmp(k, "fov") || !strcmp(k, "ortho")) {
       char *end;

@@ -1,0 +1,13 @@
+/* Strict parsing of values given as text on the command line: three
+ * comma-separated finite numbers "x,y,z". */
+#ifndef TB_PARSE_H
+#define TB_PARSE_H
+
+#include "tb_math.h"
+
+/* Parses "x,y,z" at the start of s into *out; *rest (may be NULL) points
+ * past the third number. Returns -1 (out untouched) when s does not start
+ * with three finite numbers separated by commas. */
+int tb_parse_vec3(const char *s, tb_vec3 *out, const char **rest);
+
+#endif
