@@ -80,6 +80,28 @@ static void body(fig *f, tb_sim *s, int colour) {
   free(u);
 }
 
+/* Builds scene with model at unit node masses (the thesis's demos) and the
+ * suite's seed; sd's other fields as given (NULL: the scene's). A failure
+ * is reported and marks the suite failed. */
+static int make_sim(fig *f, tb_sim *s, const char *scene, const char *model, tb_sim_def *sd,
+                    uint64_t seed) {
+  tb_sim_def d;
+  if (sd)
+    d = *sd;
+  else
+    tb_sim_def_init(&d);
+  d.seed = seed;
+  tb_settings set;
+  tb_settings_init(&set);
+  tb_error err;
+  if (!tb_settings_set(&set, "node_mass=1", &err) &&
+      !tb_sim_create(s, scene, &d, model, &set, NULL, &err))
+    return 0;
+  fprintf(stderr, "figures: %s\n", err.msg);
+  f->failed = 1;
+  return -1;
+}
+
 /* Steps a simulation to time t; the median step time in *ms. */
 static int run_to(tb_sim *s, double t, double *ms, tb_error *err) {
   long n = lround((t - s->t) / s->def.dt);
@@ -127,19 +149,9 @@ static void models(fig *f, const tb_suite_opts *o) {
               {"sm", "3.13",
                "the shape-matching clusters (each node coloured by its first cluster)", 787.0}};
   for (int k = 0; k < 3; k++) {
-    tb_sim_def sd;
-    tb_sim_def_init(&sd);
-    sd.seed = o->seed;
-    tb_settings set;
-    tb_settings_init(&set);
-    tb_settings_set(&set, "node_mass=1", NULL);
     tb_sim s;
     tb_error err;
-    if (tb_sim_create(&s, "liver-stretch", &sd, rows[k].model, &set, NULL, &err)) {
-      fprintf(stderr, "figures: %s\n", err.msg);
-      f->failed = 1;
-      continue;
-    }
+    if (make_sim(f, &s, "liver-stretch", rows[k].model, NULL, o->seed)) continue;
     char name[64], cap[400];
     view(f, "left-front", &s.mesh);
     if (tb_draw_structure(f->r, &s, &err)) {
@@ -185,18 +197,11 @@ static void recovery(fig *f, const tb_suite_opts *o) {
   for (int k = 0; k < 2; k++) {
     tb_sim_def sd;
     tb_sim_def_init(&sd);
-    sd.seed = o->seed, sd.drag = 1.5;
+    sd.drag = 1.5;
     if (o->scale < 1) sd.duration = 3;
-    tb_settings set;
-    tb_settings_init(&set);
-    tb_settings_set(&set, "node_mass=1", NULL);
     tb_sim s;
     tb_error err;
-    if (tb_sim_create(&s, "beam-twist", &sd, models[k], &set, NULL, &err)) {
-      fprintf(stderr, "figures: %s\n", err.msg);
-      f->failed = 1;
-      continue;
-    }
+    if (make_sim(f, &s, "beam-twist", models[k], &sd, o->seed)) continue;
     double when[3] = {0, s.def.release, s.def.duration};
     const char *what[3] = {"before", "twisted", "after"};
     for (int q = 0; q < 3; q++) {
@@ -314,19 +319,9 @@ static void system_views(fig *f, const tb_suite_opts *o) {
        {"left-front", "left-back"},
        2}};
   for (int k = 0; k < 3; k++) {
-    tb_sim_def sd;
-    tb_sim_def_init(&sd);
-    sd.seed = o->seed;
-    tb_settings set;
-    tb_settings_init(&set);
-    tb_settings_set(&set, "node_mass=1", NULL);
     tb_sim s;
     tb_error err;
-    if (tb_sim_create(&s, rows[k].scene, &sd, "sm", &set, NULL, &err)) {
-      fprintf(stderr, "figures: %s\n", err.msg);
-      f->failed = 1;
-      continue;
-    }
+    if (make_sim(f, &s, rows[k].scene, "sm", NULL, o->seed)) continue;
     double t = k == 0 ? 0 : (k == 1 ? 0.75 * s.def.duration : s.def.release);
     if (run_to(&s, t, NULL, &err)) {
       fprintf(stderr, "figures: %s\n", err.msg);
