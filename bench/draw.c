@@ -15,7 +15,7 @@ void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, cons
   if (s->has_ground) {
     tb_vec3 c = tb_v3(0, 0, 0);
     for (int i = 0; i < su.nv; i++) c = tb_madd(c, 1.0 / su.nv, su.x[i]);
-    tb_renderer_ground(r, s->ground_p, s->ground_n, c, s->size);
+    tb_renderer_ground(r, s->ground.p, s->ground.n, c, s->size);
   }
   const float *b = tb_draw_body_rgb, *t = tb_draw_tool_rgb;
   tb_render_mesh body = {.nv = su.nv,

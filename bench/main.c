@@ -9,6 +9,7 @@
 
 #include "tb_cli.h"
 #include "tb_results.h"
+#include "tb_threads.h"
 
 static int cmd_help(int argc, char **argv);
 static int cmd_test(int argc, char **argv);
@@ -126,7 +127,9 @@ static const int ncommands = (int)(sizeof commands / sizeof commands[0]);
 static int cmd_help(int argc, char **argv) {
   (void)argc, (void)argv;
   printf("usage: tissuebench COMMAND [options]   (COMMAND --help for its options)\n");
-  printf("       tissuebench --version\n\n");
+  printf("       tissuebench --version\n");
+  printf("every command takes --threads N: worker threads of the parallel loops (default: one\n"
+         "per core; results are identical for any N)\n\n");
   for (int i = 0; i < ncommands; i++) printf("  %-10s %s\n", commands[i].name, commands[i].summary);
   return TB_EXIT_OK;
 }
@@ -178,8 +181,37 @@ static int print_version(void) {
   return TB_EXIT_OK;
 }
 
+/* `--threads N` anywhere after the command (every command takes it): the
+ * worker threads of the parallel loops, removed from argv. 0 or absent: one
+ * per core. Results are the same for any N. Returns -1 on a bad value. */
+static int take_threads(int *argc, char **argv) {
+  int n = 0, seen = 0;
+  for (int i = 2; i < *argc;) {
+    if (strcmp(argv[i], "--threads")) {
+      i++;
+      continue;
+    }
+    char *end = NULL;
+    long v = i + 1 < *argc ? strtol(argv[i + 1], &end, 10) : -1;
+    if (i + 1 >= *argc || end == argv[i + 1] || *end || v < 0 || v > 4096) {
+      fprintf(stderr, "tissuebench: --threads needs a whole number in [0, 4096] (0: one per core)\n");
+      return -1;
+    }
+    if (seen++) {
+      fprintf(stderr, "tissuebench: --threads given twice\n");
+      return -1;
+    }
+    n = (int)v;
+    memmove(argv + i, argv + i + 2, sizeof(char *) * (size_t)(*argc - i - 1));
+    *argc -= 2;
+  }
+  tb_threads_set(n);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   if (argc < 2) return cmd_help(argc, argv), TB_EXIT_INPUT;
+  if (take_threads(&argc, argv)) return TB_EXIT_INPUT;
   const char *name = argv[1];
   if (!strcmp(name, "--version") || !strcmp(name, "version")) return print_version();
   if (!strcmp(name, "--help") || !strcmp(name, "-h")) name = "help";

@@ -60,7 +60,7 @@ static double time_frames(const tb_mesh *m, int count, const tb_settings *d, int
     fx[i] = tb_madd(m->x[i], 0.2 * SIDE,
                     tb_v3(tb_rng_range(r, -1, 1), tb_rng_range(r, -1, 1), tb_rng_range(r, -1, 1)));
   }
-  tb_step in;
+  tb_step in = {0};
   memset(&in, 0, sizeof in);
   in.dt = 0.01;
   in.nfixed = m->nv, in.fixed = fi, in.fixed_x = fx;

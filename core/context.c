@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "tb_results.h"
+#include "tb_threads.h"
 #include "tb_versions.h"
 
 #ifndef TB_SOURCE_ROOT
@@ -189,4 +190,5 @@ void tb_context_collect(tb_context *c, uint64_t seed) {
   collect_git(c);
   tb_versions_get(c->cholmod, c->fcl, c->bullet, c->cgal, c->tetgen, sizeof c->cholmod);
   c->seed = seed;
+  c->threads = tb_threads();
 }

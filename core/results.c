@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "results_priv.h"
+#include "tb_threads.h"
 
 /* ---- small helpers ---- */
 
@@ -436,15 +437,12 @@ void tb_suite_bench(tb_suite *s, const char *name, const double *real, const dou
     return;
   }
   if (!cpu) cpu = real;
-  tb_results_bench b = {tb_results_dup(name),
-                        units[u],
-                        n,
-                        malloc((size_t)n * sizeof(double)),
-                        malloc((size_t)n * sizeof(double)),
-                        0,
-                        0,
-                        NULL,
-                        NULL};
+  tb_results_bench b = {.name = tb_results_dup(name),
+                        .unit = units[u],
+                        .n = n,
+                        .threads = tb_threads(),
+                        .real = malloc((size_t)n * sizeof(double)),
+                        .cpu = malloc((size_t)n * sizeof(double))};
   tb_results_bench *bs = b.name && b.real && b.cpu ? tb_results_grow(s->benches, &s->cap_benches,
                                                                      s->nbenches + 1, sizeof *bs)
                                                    : NULL;
@@ -495,7 +493,7 @@ void tb_suite_counter(tb_suite *s, const char *bench, const char *key, double va
     }
     s->benches = bs;
     b = &bs[s->nbenches++];
-    *b = (tb_results_bench){name, "s", 0, NULL, NULL, 0, 0, NULL, NULL};
+    *b = (tb_results_bench){.name = name, .unit = "s", .threads = tb_threads()};
   }
   for (int i = 0; i < b->ncounters; i++)
     if (strcmp(b->keys[i], key) == 0) {

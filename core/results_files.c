@@ -68,7 +68,7 @@ static void md_table(FILE *f, const tb_table *t, int level) {
 void tb_results_md_context(FILE *f, const tb_context *c) {
   fprintf(f, "- **Date**: %s\n", c->date);
   fprintf(f, "- **Host**: %s\n", c->host);
-  fprintf(f, "- **CPU**: %s, %d cores", c->cpu, c->cores);
+  fprintf(f, "- **CPU**: %s, %d cores, %d threads used", c->cpu, c->cores, c->threads);
   if (c->mhz > 0) fprintf(f, ", %d MHz", c->mhz);
   fprintf(f, "\n- **Compiler**: %s, %s\n", c->compiler, c->flags);
   fprintf(f, "- **Commit**: %s%s\n", c->commit,
@@ -266,6 +266,7 @@ static void json_context(FILE *f, const tb_suite *s) {
   json_kv(f, "bullet_version", c->bullet);
   json_kv(f, "cgal_version", c->cgal);
   json_kv(f, "tetgen_version", c->tetgen);
+  fprintf(f, "    \"threads\": %d,\n", c->threads);
   fprintf(f, "    \"seed\": %llu\n  },\n", (unsigned long long)c->seed);
 }
 
@@ -289,14 +290,14 @@ static void json_entry(FILE *f, const tb_results_bench *b, int family, int rep, 
           agg ? "aggregate" : "iteration", b->n);
   if (agg)
     fprintf(f,
-            "      \"threads\": 1,\n      \"aggregate_name\": \"%s\",\n"
+            "      \"threads\": %d,\n      \"aggregate_name\": \"%s\",\n"
             "      \"aggregate_unit\": \"time\",\n      \"iterations\": %d,\n",
-            agg, b->n);
+            b->threads, agg, b->n);
   else
     fprintf(f,
-            "      \"repetition_index\": %d,\n      \"threads\": 1,\n"
+            "      \"repetition_index\": %d,\n      \"threads\": %d,\n"
             "      \"iterations\": 1,\n",
-            rep);
+            rep, b->threads);
   fputs("      \"real_time\": ", f);
   json_num(f, real);
   fputs(",\n      \"cpu_time\": ", f);

@@ -39,6 +39,7 @@ typedef struct tb_results_bench {
   char *name;
   const char *unit; /* one of "ns", "us", "ms", "s" */
   int n;            /* 0: counters only */
+  int threads;      /* in effect when it was added */
   double *real, *cpu;
   int ncounters, cap_counters;
   char **keys;

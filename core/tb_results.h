@@ -30,6 +30,7 @@ typedef struct tb_context {
   int dirty;          /* uncommitted changes at run time: 1, 0, or -1 unknown */
   char cholmod[32], fcl[32], bullet[32], cgal[32], tetgen[32];
   uint64_t seed;
+  int threads; /* worker threads in effect (core/tb_threads.h) */
   /* Google Benchmark's context fields */
   int cpu_scaling; /* 1 when cpu0's governor is not "performance", 0 also when absent */
   struct tb_cache {
@@ -99,7 +100,7 @@ void tb_suite_note(tb_suite *s, const char *fmt, ...) __attribute__((format(prin
 void tb_suite_table(tb_suite *s, tb_table *t);
 /* One benchmark entry: per-repetition times in the given unit ("ns", "us",
  * "ms", "s"); real and CPU time may be the same array (cpu NULL: same as
- * real). Also summarised in a "timings" table at the end of table.md. */
+ * real). The entry records the thread count in effect when it is added. Also summarised in a "timings" table at the end of table.md. */
 void tb_suite_bench(tb_suite *s, const char *name, const double *real, const double *cpu, int n,
                     const char *unit);
 /* A Google Benchmark user counter: a measurement that is not a time (an

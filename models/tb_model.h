@@ -84,6 +84,13 @@ typedef struct tb_setting {
   TB_SETTING_YOUNG(T, "Young's modulus"), \
       TB_SETTING_R(T, nu, 0.3, -1.0, 0.5, TB_OPEN_LO | TB_OPEN_HI, "Poisson ratio")
 
+/* A rigid ground: the plane (x - p).n >= 0 (n unit), Coulomb friction with
+ * static mu_s >= kinetic mu_k, normal restitution in [0, 1]. */
+typedef struct tb_ground {
+  tb_vec3 p, n;
+  double mu_s, mu_k, restitution;
+} tb_ground;
+
 /* What one step receives. */
 typedef struct tb_step {
   double dt;
@@ -92,6 +99,10 @@ typedef struct tb_step {
   int nfixed;
   const int *fixed;       /* prescribed nodes, strictly ascending */
   const tb_vec3 *fixed_x; /* their positions at the end of the step */
+  /* The scene's ground, or NULL. A model whose class sets own_ground
+   * projects it inside its step (with friction and restitution); for the
+   * others the scene corrects the state after the step (scenes/contact.c). */
+  const tb_ground *ground;
 } tb_step;
 
 /* The current surface of a model: nv points x (the model's points for tet
@@ -135,6 +146,9 @@ typedef struct tb_model_class {
   /* Overwrites positions and velocities of points ids[0..n) between steps
    * (contact response); x or v may be NULL to leave that one as it is. */
   void (*correct)(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v);
+  /* 1: the step handles tb_step.ground itself (position-based models
+   * project it with their constraints). */
+  int own_ground;
 } tb_model_class;
 
 /* The table of models (models/model.c). */
@@ -190,6 +204,21 @@ tb_mat3 tb_m3_polar(tb_mat3 a);
 void tb_m3_sym_eigen(tb_mat3 a, double w[3], tb_mat3 *v);
 /* Inverse; returns 0 when |det| <= tiny * (scale)^3. */
 int tb_m3_inverse(tb_mat3 a, tb_mat3 *inv);
+
+/* Coulomb friction of a ground contact (models/ground.c): n contact nodes
+ * ids[k] whose positions p[k] the ground has put on its plane, depth[k] the
+ * normal correction it made over the step, x0 the positions at the step's
+ * start, mass per node. Static friction is decided for the contact as a
+ * whole; p[k] loses its tangential displacement when it sticks, else that
+ * displacement is shortened by mu_k depth[k]; keep[k] gets the share kept
+ * (0 when stuck), for the tangential velocity. Returns 1 when it sticks. */
+int tb_ground_friction(const tb_ground *g, int n, const int *ids, const double *depth,
+                       const tb_vec3 *x0, const double *mass, tb_vec3 *p, double *keep);
+
+/* Colours of the tets (models/tet_colour.c): tets of one colour share no
+ * node. order[start[c] .. start[c+1]) are colour c's tets (malloc'ed, in mesh
+ * order within a colour). */
+int tb_tet_colours(const tb_mesh *mesh, int *ncolours, int **order, int **start, tb_error *err);
 
 /* ---- blow-up detection (every suite and the CLI check each run) ---- */
 typedef struct tb_health {

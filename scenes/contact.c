@@ -4,19 +4,14 @@
  * and their velocities corrected (tb_model_correct).
  *
  * Ground: plane (x - p).n >= 0. A node below it is projected onto it; the
- * tangential displacement of the step is then limited by Coulomb friction
- * in position form (Macklin et al. 2014, "Unified particle physics", §6.1):
- * with d the penetration depth (the normal displacement the contact
- * removed, m d / dt^2 the normal force) and dx_t the step's tangential
- * displacement, static friction holds when |sum m dx_t| <= mu_s sum m d
- * over the contact's nodes, and then every contact node's dx_t is undone
- * (the body sticks); otherwise each node's dx_t is shortened by mu_k d
- * (kinetic). Deciding static friction for the contact as a whole makes an
- * elastic block, whose contact nodes carry unequal loads, stick or slip as
- * a rigid one does: on a slope of angle a under gravity the sums are
- * M g sin a dt^2 and M g cos a dt^2 from rest, so it sticks exactly when
- * tan a <= mu_s and otherwise slides with acceleration g (sin a - mu_k cos a).
- * The normal velocity is reflected with the restitution coefficient.
+ * step's tangential displacement is then limited by Coulomb friction in
+ * position form (tb_ground_friction, models/ground.c: static friction
+ * decided for the contact as a whole, so a block on a slope of angle a
+ * sticks exactly when tan a <= mu_s and otherwise slides with acceleration
+ * g (sin a - mu_k cos a)); the normal velocity is reflected with the
+ * restitution coefficient. Models whose class says own_ground (the
+ * position-based ones) project the ground inside their step instead, with
+ * the same friction; for them this file only measures the depth.
  *
  * Instrument: its real closed mesh. The composite BVH (collision/) finds
  * the body's surface triangles crossing the instrument's; their nodes and
@@ -146,17 +141,28 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   const tb_scene_desc *d = &s->desc;
   const double *P = s->param;
   const char *path = d->path[0] ? d->path : d->name;
-  if (d->has_ground) {
+  if (d->has_ground && s->param[TB_P_GROUND] != 0) {
     const tb_scene_ground *g = &d->ground;
     s->has_ground = 1;
-    s->ground_p = evec(g->point, P);
-    s->ground_n = tb_normalize(evec(g->normal, P));
-    s->mu_s = tb_expr_eval(g->mu_s, P), s->mu_k = tb_expr_eval(g->mu_k, P);
-    s->restitution = tb_expr_eval(g->restitution, P);
-    if (!(s->mu_s >= 0) || !(s->mu_k >= 0) || s->mu_k > s->mu_s)
+    tb_ground *gr = &s->ground;
+    gr->p = evec(g->point, P);
+    gr->n = tb_normalize(evec(g->normal, P));
+    double angle = tb_expr_eval(g->angle, P);
+    if (angle != 0) { /* `rotate`: about the origin, as the mesh's */
+      tb_vec3 axis = evec(g->axis, P);
+      if (!(tb_len(axis) > 0))
+        return tb_error_set(err, path, g->line, "[ground] rotate: the axis must not be zero");
+      tb_mat3 R = tb_m3_rotation(axis, angle * (M_PI / 180.0));
+      gr->p = tb_m3_mulv(R, gr->p), gr->n = tb_m3_mulv(R, gr->n);
+    }
+    if (!(tb_len(gr->n) > 0) || !tb_isfinite3(gr->n))
+      return tb_error_set(err, path, g->line, "[ground] normal must not be zero");
+    gr->mu_s = tb_expr_eval(g->mu_s, P), gr->mu_k = tb_expr_eval(g->mu_k, P);
+    gr->restitution = tb_expr_eval(g->restitution, P);
+    if (!(gr->mu_s >= 0) || !(gr->mu_k >= 0) || gr->mu_k > gr->mu_s)
       return tb_error_set(err, path, g->line, "[ground] needs 0 <= mu_k <= mu_s (got %g, %g)",
-                          s->mu_k, s->mu_s);
-    if (!(s->restitution >= 0 && s->restitution <= 1))
+                          gr->mu_k, gr->mu_s);
+    if (!(gr->restitution >= 0 && gr->restitution <= 1))
       return tb_error_set(err, path, g->line, "[ground] restitution must be in [0, 1]");
   }
   if (!d->has_tool) return 0;
@@ -208,35 +214,22 @@ void tb_sim_contact_free(tb_sim *s) {
 
 static void ground(tb_sim *s, int *n) {
   const tb_vec3 *x = tb_model_positions(&s->model), *v = tb_model_velocities(&s->model);
-  tb_vec3 nrm = s->ground_n, T = tb_v3(0, 0, 0);
-  double N = 0;
+  const tb_ground *g = &s->ground;
   int first = *n;
-  /* the contacts: each node below the plane put on it; the step's tangential
-   * displacement (kept in vc_buf for now) and the contact's impulses */
-  for (int i = 0; i < s->mesh.nv; i++) {
-    double h = tb_dot(tb_sub(x[i], s->ground_p), nrm);
+  for (int i = 0; i < s->mesh.nv; i++) { /* the contacts: each node below put on the plane */
+    double h = tb_dot(tb_sub(x[i], g->p), g->n);
     if (h >= 0 || s->mark[i]) continue;
-    tb_vec3 p = tb_madd(x[i], -h, nrm), dx = tb_sub(p, s->x_prev[i]);
-    tb_vec3 dxt = tb_madd(dx, -tb_dot(dx, nrm), nrm);
-    s->ids_buf[*n] = i, s->xc_buf[*n] = p, s->vc_buf[*n] = dxt;
+    s->ids_buf[*n] = i, s->xc_buf[*n] = tb_madd(x[i], -h, g->n), s->depth_buf[*n] = -h;
     (*n)++;
-    T = tb_madd(T, s->mass[i], dxt), N += s->mass[i] * -h;
   }
-  /* static friction for the contact as a whole (the sum of its nodes'
-   * tangential and normal impulses, so an elastic body whose nodes carry
-   * unequal loads sticks or slips as a rigid block would); kinetic
-   * friction per node */
-  int stick = tb_len(T) <= s->mu_s * N;
-  for (int k = first; k < *n; k++) {
-    int i = s->ids_buf[k];
-    tb_vec3 dxt = s->vc_buf[k];
-    double depth = tb_dot(tb_sub(s->xc_buf[k], x[i]), nrm), lt = tb_len(dxt), keep = 0;
-    if (!stick && lt > 0) keep = fmax(0, 1 - s->mu_k * depth / lt);
-    s->xc_buf[k] = tb_madd(s->xc_buf[k], keep - 1, dxt);
-    double vn = tb_dot(v[i], nrm);
-    tb_vec3 vt = tb_scale(tb_madd(v[i], -vn, nrm), keep);
-    if (vn < 0) vn = -s->restitution * vn;
-    s->vc_buf[k] = tb_madd(vt, vn, nrm);
+  tb_ground_friction(g, *n - first, s->ids_buf + first, s->depth_buf + first, s->x_prev, s->mass,
+                     s->xc_buf + first, s->keep_buf + first);
+  for (int k = first; k < *n; k++) { /* velocity: friction's share, restitution */
+    tb_vec3 vi = v[s->ids_buf[k]];
+    double vn = tb_dot(vi, g->n);
+    tb_vec3 vt = tb_scale(tb_madd(vi, -vn, g->n), s->keep_buf[k]);
+    if (vn < 0) vn = -g->restitution * vn;
+    s->vc_buf[k] = tb_madd(vt, vn, g->n);
   }
 }
 
@@ -371,7 +364,7 @@ static int tool(tb_sim *s, int *n, tb_error *err) {
 
 int tb_sim_contact(tb_sim *s, tb_error *err) {
   int n = 0;
-  if (s->has_ground) ground(s, &n);
+  if (s->has_ground && !s->model.cls->own_ground) ground(s, &n); /* else done in the step */
   /* a node caught by both keeps the instrument's answer (applied last) */
   if (s->has_tool && tool(s, &n, err)) return -1;
   if (n) tb_model_correct(&s->model, n, s->ids_buf, s->xc_buf, s->vc_buf);
@@ -379,7 +372,7 @@ int tb_sim_contact(tb_sim *s, tb_error *err) {
     const tb_vec3 *x = tb_model_positions(&s->model);
     double worst = 0;
     for (int i = 0; i < s->mesh.nv; i++) {
-      double h = tb_dot(tb_sub(x[i], s->ground_p), s->ground_n);
+      double h = tb_dot(tb_sub(x[i], s->ground.p), s->ground.n);
       if (-h > worst) worst = -h;
     }
     s->pen_ground = worst;

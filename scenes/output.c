@@ -108,11 +108,11 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
   static const int quad_tri[6] = {0, 1, 2, 0, 2, 3};
   if (s->has_ground) {
     /* a square of twice the body's size around the body's foot on the plane */
-    tb_vec3 n = s->ground_n, a = fabs(n.x) < 0.9 ? tb_v3(1, 0, 0) : tb_v3(0, 1, 0);
+    tb_vec3 n = s->ground.n, a = fabs(n.x) < 0.9 ? tb_v3(1, 0, 0) : tb_v3(0, 1, 0);
     tb_vec3 u = tb_normalize(tb_cross(n, a)), w = tb_cross(n, u), c = tb_v3(0, 0, 0);
     for (size_t i = 0; i < nv; i++) c = tb_add(c, x[i]);
     c = tb_scale(c, 1.0 / (double)(nv ? nv : 1));
-    c = tb_madd(c, -tb_dot(tb_sub(c, s->ground_p), n), n);
+    c = tb_madd(c, -tb_dot(tb_sub(c, s->ground.p), n), n);
     double r = s->size;
     quad[0] = tb_add(c, tb_add(tb_scale(u, -r), tb_scale(w, -r)));
     quad[1] = tb_add(c, tb_add(tb_scale(u, r), tb_scale(w, -r)));

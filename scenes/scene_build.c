@@ -42,7 +42,8 @@ static int liver_nodes(int nodes, uint64_t seed, const char *path, int line, tb_
 static int build(const tb_mesh_source *src, const char *scene_path, const double *param,
                  uint64_t seed, tb_mesh *out, tb_error *err);
 
-/* Places a mesh: x' = R(axis, angle) (scale x) + translate. */
+/* Places a mesh: x' = R(axis, angle) (scale x) + translate, then with
+ * `bottom` moved so its bounding box's bottom centre (smallest z) is there. */
 static int place(const tb_mesh_source *src, const char *scene_path, const double *param, tb_mesh *m,
                  tb_error *err) {
   double s = tb_expr_eval(src->scale, param), a = tb_expr_eval(src->angle, param);
@@ -53,9 +54,16 @@ static int place(const tb_mesh_source *src, const char *scene_path, const double
   if (!(s > 0)) return tb_error_set(err, scene_path, src->line, "scale must be > 0 (got %g)", s);
   if (a != 0 && !(tb_len(axis) > 0))
     return tb_error_set(err, scene_path, src->line, "rotate: the axis must not be zero");
-  if (s == 1 && a == 0 && t.x == 0 && t.y == 0 && t.z == 0) return 0;
   tb_mat3 R = a != 0 ? tb_m3_rotation(axis, a * (M_PI / 180.0)) : tb_m3_identity();
   for (int i = 0; i < m->nv; i++) m->x[i] = tb_add(tb_m3_mulv(R, tb_scale(m->x[i], s)), t);
+  if (src->has_bottom && m->nv > 0) { /* bounding box's bottom centre to `bottom` */
+    tb_vec3 lo = m->x[0], hi = m->x[0];
+    for (int i = 1; i < m->nv; i++) lo = tb_vmin(lo, m->x[i]), hi = tb_vmax(hi, m->x[i]);
+    tb_vec3 b = tb_v3(tb_expr_eval(src->bottom[0], param), tb_expr_eval(src->bottom[1], param),
+                      tb_expr_eval(src->bottom[2], param));
+    tb_vec3 d = tb_sub(b, tb_v3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z));
+    for (int i = 0; i < m->nv; i++) m->x[i] = tb_add(m->x[i], d);
+  }
   return 0;
 }
 
@@ -70,6 +78,7 @@ static int build(const tb_mesh_source *src, const char *scene_path, const double
                  uint64_t seed, tb_mesh *out, tb_error *err) {
   memset(out, 0, sizeof *out);
   if (src->path[0]) return tb_mesh_read(src->path, out, err);
+  if (src->prefer[0]) return tb_mesh_read(src->prefer, out, err);
   const tb_generator *g = tb_generator_find(src->generator);
   if (!g) return tb_error_set(err, scene_path, src->line, "unknown generator '%s'", src->generator);
   double p[TB_GEN_MAX_PARAMS];

@@ -15,7 +15,8 @@
 
 const char *const tb_scene_param_names[TB_P_COUNT] = {
     "dt",   "duration",  "amplitude", "release",       "nodes",        "gravity",
-    "vmax", "inversion", "drag",      "energy_factor", "energy_every", "rest_speed"};
+    "vmax", "inversion", "drag",      "energy_factor", "energy_every", "rest_speed",
+    "ground"};
 
 int tb_scene_param_index(const char *name) {
   for (int i = 0; i < TB_P_COUNT; i++)
@@ -40,6 +41,7 @@ void tb_scene_desc_init(tb_scene_desc *d) {
   d->param[TB_P_ENERGY_FACTOR] = 100;
   d->param[TB_P_ENERGY_EVERY] = 16;
   d->param[TB_P_REST_SPEED] = 1e-3;
+  d->param[TB_P_GROUND] = 1;
   d->gravity_dir = tb_v3(0, 0, -1);
   d->seed = 1;
 }
@@ -196,6 +198,17 @@ static int mesh_key(parser *p, tb_mesh_source *m, const char *key, const char *v
     m->angle = e[3];
     return 1;
   }
+  if (!strcmp(key, "bottom")) {
+    if (tb_scene_parse_list(value, m->bottom, 3, 3) < 0)
+      return fail(p, "bottom: '%s' is not x,y,z%s", value, "");
+    m->has_bottom = 1;
+    return 1;
+  }
+  if (!strcmp(key, "prefer")) { /* unreadable (e.g. no ../shared/data): the generator is used */
+    const char *why;
+    if (tb_scene_resolve_path(p->dir, value, m->prefer, sizeof m->prefer, &why)) m->prefer[0] = 0;
+    return 1;
+  }
   if (!strcmp(key, "file")) {
     if (m->generator[0]) return fail(p, "give either file or generate, not both%s%s", "", "");
     const char *why;
@@ -302,6 +315,14 @@ static int ground_key(parser *p, tb_scene_ground *g, const char *key, const char
       return fail(p, "%s: '%s' is not x,y,z", key, value);
     return 1;
   }
+  if (!strcmp(key, "rotate")) {
+    tb_expr e[4];
+    if (tb_scene_parse_list(value, e, 4, 4) < 0)
+      return fail(p, "rotate: '%s' is not ax,ay,az, degrees%s", value, "");
+    for (int i = 0; i < 3; i++) g->axis[i] = e[i];
+    g->angle = e[3];
+    return 1;
+  }
   tb_expr *e = !strcmp(key, "mu_s")          ? &g->mu_s
                : !strcmp(key, "mu_k")        ? &g->mu_k
                : !strcmp(key, "restitution") ? &g->restitution
@@ -390,6 +411,8 @@ static int handler(void *user, const char *section, const char *key, const char 
       d->ground.normal[0] = d->ground.normal[1] = (tb_expr){0, -1};
       for (int i = 0; i < 3; i++) d->ground.point[i] = (tb_expr){0, -1};
       d->ground.mu_s = d->ground.mu_k = d->ground.restitution = (tb_expr){0, -1};
+      d->ground.axis[0] = d->ground.axis[1] = (tb_expr){0, -1};
+      d->ground.axis[2] = (tb_expr){1, -1}, d->ground.angle = (tb_expr){0, -1};
     }
     r = ground_key(p, &d->ground, key, value);
   } else if (!strcmp(section, "instrument")) {

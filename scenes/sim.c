@@ -14,8 +14,9 @@
 #include "sim_priv.h"
 
 /* The built-in scenes: scenes/NAME.ini. */
-static const char *const builtin[] = {"liver-stretch", "liver-press", "beam",      "drop",
-                                      "beam-stretch",  "beam-twist",  "beam-crush"};
+static const char *const builtin[] = {"liver-stretch", "liver-press", "beam",       "drop",
+                                      "beam-stretch",  "beam-twist",  "beam-crush", "liver-drop",
+                                      "slope"};
 #define NBUILTIN ((int)(sizeof builtin / sizeof builtin[0]))
 
 const char *const *tb_sim_scene_names(int *count) {
@@ -63,7 +64,7 @@ void tb_sim_def_init(tb_sim_def *d) {
   memset(d, 0, sizeof *d);
   d->dt = d->duration = d->amplitude = d->release = d->gravity = d->vmax = NAN;
   d->drag = d->energy_factor = d->rest_speed = NAN;
-  d->nodes = d->inversion = d->energy_every = -1;
+  d->nodes = d->inversion = d->energy_every = d->ground = -1;
 }
 
 /* The overrides' fields in tb_scene_param order (int fields flagged). */
@@ -76,7 +77,8 @@ static const struct {
     {offsetof(tb_sim_def, nodes), 1},        {offsetof(tb_sim_def, gravity), 0},
     {offsetof(tb_sim_def, vmax), 0},         {offsetof(tb_sim_def, inversion), 1},
     {offsetof(tb_sim_def, drag), 0},         {offsetof(tb_sim_def, energy_factor), 0},
-    {offsetof(tb_sim_def, energy_every), 1}, {offsetof(tb_sim_def, rest_speed), 0}};
+    {offsetof(tb_sim_def, energy_every), 1}, {offsetof(tb_sim_def, rest_speed), 0},
+    {offsetof(tb_sim_def, ground), 1}};
 
 static double get_field(const tb_sim_def *d, int i) {
   const char *p = (const char *)d + fields[i].off;
@@ -147,6 +149,8 @@ static int resolve_params(tb_sim *s, const tb_sim_def *def, tb_error *err) {
     return tb_error_set(err, path, 0, "energy_factor must be > 0");
   if (!(s->param[TB_P_ENERGY_EVERY] >= 1))
     return tb_error_set(err, path, 0, "energy_every must be >= 1");
+  if (s->param[TB_P_GROUND] != 0 && s->param[TB_P_GROUND] != 1)
+    return tb_error_set(err, path, 0, "ground must be 0 (left out) or 1 (the file's)");
   /* the effective overrides, for callers that read s->def */
   tb_sim_def_init(&s->def);
   for (int i = 0; i < TB_P_COUNT; i++) put_field(&s->def, i, s->param[i]);
@@ -249,8 +253,10 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   s->ids_buf = malloc(sizeof(int) * n);
   s->xc_buf = malloc(sizeof(tb_vec3) * n);
   s->vc_buf = malloc(sizeof(tb_vec3) * n);
+  s->depth_buf = malloc(sizeof(double) * n);
+  s->keep_buf = malloc(sizeof(double) * n);
   if (!s->fixed || !s->fixed_x || !s->force || !s->mark || !s->target || !s->on_surface ||
-      !s->x_prev || !s->ids_buf || !s->xc_buf || !s->vc_buf) {
+      !s->x_prev || !s->ids_buf || !s->xc_buf || !s->vc_buf || !s->depth_buf || !s->keep_buf) {
     tb_error_set(err, path, 0, "out of memory");
     goto fail;
   }
@@ -432,13 +438,14 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
       s->force[i] = tb_madd(s->force[i], -s->def.drag * s->mass[i], v[i]);
   if (s->has_ground || s->has_tool)
     memcpy(s->x_prev, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
-  tb_step in;
+  tb_step in = {0};
   in.dt = s->def.dt;
   in.gravity = s->gravity;
   in.force = s->force;
   in.nfixed = s->nfixed;
   in.fixed = s->fixed;
   in.fixed_x = s->fixed_x;
+  in.ground = s->has_ground ? &s->ground : NULL;
   if (tb_model_step(&s->model, &in, err)) return -1;
   if (tb_model_npoints(&s->model) != s->mesh.nv)
     return tb_error_set(err, s->model.cls->name, 0,
@@ -463,6 +470,7 @@ void tb_sim_destroy(tb_sim *s) {
   tb_mesh_free(&s->mesh);
   free(s->fixed), free(s->fixed_x), free(s->force), free(s->mark), free(s->target);
   free(s->on_surface), free(s->x_prev), free(s->ids_buf), free(s->xc_buf), free(s->vc_buf);
+  free(s->depth_buf), free(s->keep_buf);
   free(s->anchor), free(s->driven), free(s->probe);
   for (int i = 0; s->forces && i < s->nforce; i++) free(s->forces[i].ids);
   for (int i = 0; s->moves && i < s->nmove; i++) {

@@ -86,18 +86,22 @@ typedef struct tb_scene_move {
 typedef struct tb_scene_ground {
   tb_expr point[3], normal[3];
   tb_expr mu_s, mu_k, restitution;
+  tb_expr axis[3], angle; /* `rotate`: the plane turned about the origin (as the mesh's) */
   int line;
 } tb_scene_ground;
 
 /* Where a mesh comes from: a file, or a generator with settings. */
 typedef struct tb_mesh_source {
   char path[1024];    /* resolved file path, or "" */
+  char prefer[1024];  /* `prefer`: this file when it could be read (else the generator), or "" */
   char generator[32]; /* liver, beam, sphere, instrument */
   int nset;
   char setkey[12][32];
   tb_expr setval[12];
   /* placed after loading: x' = R(axis, angle) (scale x) + translate */
   tb_expr scale, axis[3], angle, translate[3];
+  int has_bottom;     /* `bottom`: then translated so its bounding box's bottom centre is here */
+  tb_expr bottom[3];
   int line;
 } tb_mesh_source;
 
@@ -126,6 +130,7 @@ enum {
   TB_P_ENERGY_FACTOR,
   TB_P_ENERGY_EVERY,
   TB_P_REST_SPEED,
+  TB_P_GROUND,
   TB_P_COUNT
 };
 extern const char *const tb_scene_param_names[TB_P_COUNT];

@@ -32,6 +32,7 @@ typedef struct tb_sim_def {
   int energy_every;     /* the energy is checked on the first this-many steps, then on every
                            this-many-th (1: every step) */
   double rest_speed;    /* at rest: largest node speed below this times the scene size per s */
+  int ground;           /* 0: the file's [ground] is left out (1: kept) */
   uint64_t seed;        /* 0: the file's seed */
 } tb_sim_def;
 
@@ -99,10 +100,9 @@ typedef struct tb_sim {
   int nforce, nmove;
   tb_sim_group *forces, *moves;
   int hold; /* 1: moves are not let go at their release (held until cleared) */
-  /* ground: plane through ground_p with unit normal ground_n, Coulomb friction */
+  /* ground: a plane with Coulomb friction and restitution */
   int has_ground;
-  tb_vec3 ground_p, ground_n;
-  double mu_s, mu_k, restitution;
+  tb_ground ground;
   /* the instrument: its mesh in its own frame, pose per step, contact */
   int has_tool;
   tb_mesh tool;        /* local coordinates */
@@ -122,6 +122,7 @@ typedef struct tb_sim {
   tb_vec3 *x_prev; /* positions before the step (friction) */
   int *ids_buf;    /* scratch for contact corrections */
   tb_vec3 *xc_buf, *vc_buf;
+  double *depth_buf, *keep_buf;
   /* penetration: of the last step (after the contact response) and the largest over the run */
   double pen_ground, pen_tool, pen_ground_max, pen_tool_max;
   double pen_tool_before_max; /* largest depth inside the tool before the response */

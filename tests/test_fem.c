@@ -52,7 +52,7 @@ static tb_fem_stats stats(tb_model *m) {
 }
 
 static tb_step plain(double dt, tb_vec3 g) {
-  tb_step s;
+  tb_step s = {0};
   memset(&s, 0, sizeof s);
   s.dt = dt, s.gravity = g;
   return s;

@@ -193,7 +193,7 @@ static double sideways_ratio(tb_beam_split split) {
   tb_settings_set(&d, "quasistatic=1", &err);
   tb_model mod;
   if (tb_model_create(&mod, "fem", &m, &d, &err) == 0) {
-    tb_step st;
+    tb_step st = {0};
     memset(&st, 0, sizeof st);
     st.dt = 0.01, st.force = force, st.nfixed = nfixed, st.fixed = fixed, st.fixed_x = fx;
     if (tb_model_step(&mod, &st, &err) == 0) {

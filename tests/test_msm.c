@@ -33,7 +33,7 @@ static int create(tb_model *m, const tb_mesh *mesh, const tb_settings *d) {
 }
 
 static tb_step no_load(double dt) {
-  tb_step s;
+  tb_step s = {0};
   memset(&s, 0, sizeof s);
   s.dt = dt;
   return s;

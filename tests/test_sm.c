@@ -66,7 +66,7 @@ static tb_vec3 box3(tb_rng *r, double h) {
 }
 
 static tb_step no_forces(double dt) {
-  tb_step s;
+  tb_step s = {0};
   memset(&s, 0, sizeof s);
   s.dt = dt;
   return s;

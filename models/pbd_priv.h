@@ -1,0 +1,88 @@
+/* Private to the position-based models (pbd.c builds them, pbd_solve.c
+ * steps them): the state, and the per-tet strain energies with their first
+ * Piola-Kirchhoff stresses, inlined into the projection. */
+#ifndef TB_PBD_PRIV_H
+#define TB_PBD_PRIV_H
+
+#include "tb_model.h"
+
+enum { PBD_STVK, PBD_NEOHOOKEAN };
+enum { PBD_BDF2, PBD_PATENT, PBD_EULER }; /* the integrator setting */
+
+/* The settings of pbd-stvk and xpbd-stvk (xpbd ignores k). */
+typedef struct pbd_settings {
+  double density, node_mass, E, nu, k, damping;
+  int iterations, energy, integrator;
+} pbd_settings;
+
+typedef struct pbd {
+  int xpbd; /* 1: XPBD (compliance, accumulated lambda); 0: the patent's PBD */
+  pbd_settings set;
+  double mu, lambda; /* Lame parameters from E, nu */
+  int nv, nt;
+  /* hot, per node: current, previous and predicted positions, current and
+   * previous velocity, inverse mass (w) and the w the step uses (0 for prescribed nodes) */
+  tb_vec3 *x, *xm1, *p, *v, *vm1;
+  double *mass, *invm, *w;
+  /* per node, the ground contact of the step: normal correction, and the
+   * contact list (ids, positions, keep) friction works on */
+  double *depth;
+  int *cids;         /* contact k's node */
+  tb_vec3 *cp;       /* its position */
+  double *cdepth;    /* its summed normal correction */
+  double *cvn, *keep; /* its predicted normal velocity; the tangential share friction kept */
+  /* hot, per tet in colour order: nodes, rest volume, D_m^-1 (row-major),
+   * XPBD's lambda */
+  int (*tet)[4];
+  double *vol;
+  double (*dminv)[9];
+  double *lam;
+  int ncolours, *colour_start;
+  /* BDF2 needs the previous step (and its dt) */
+  int have_prev;
+  double last_dt;
+  tb_mesh rest; /* rest mesh: positions and tets in mesh order (energy) */
+} pbd;
+
+/* Energy density psi(F) and P = d psi / dF for F (row-major); returns 0 for
+ * a Neo-Hookean tet with det F <= 0, where it is undefined. */
+static inline int pbd_energy(int kind, double mu, double lambda, const double F[9], double *psi,
+                             double P[9]) {
+  if (kind == PBD_STVK) {
+    /* E = (F^T F - I) / 2, psi = mu E:E + lambda/2 tr(E)^2, P = F (2 mu E + lambda tr(E) I) */
+    double E[9];
+    for (int r = 0; r < 3; r++)
+      for (int c = r; c < 3; c++) {
+        double s = F[r] * F[c] + F[3 + r] * F[3 + c] + F[6 + r] * F[6 + c];
+        E[3 * r + c] = E[3 * c + r] = 0.5 * (s - (r == c));
+      }
+    double tr = E[0] + E[4] + E[8], ee = 0;
+    for (int k = 0; k < 9; k++) ee += E[k] * E[k];
+    *psi = mu * ee + 0.5 * lambda * tr * tr;
+    double S[9];
+    for (int k = 0; k < 9; k++) S[k] = 2 * mu * E[k];
+    S[0] += lambda * tr, S[4] += lambda * tr, S[8] += lambda * tr;
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++)
+        P[3 * r + c] = F[3 * r] * S[c] + F[3 * r + 1] * S[3 + c] + F[3 * r + 2] * S[6 + c];
+    return 1;
+  }
+  /* compressible Neo-Hookean (Bonet & Wood): psi = mu/2 (I1 - 3) - mu ln J
+   * + lambda/2 (ln J)^2, P = mu (F - F^-T) + lambda ln J F^-T */
+  double C[9] = {F[4] * F[8] - F[5] * F[7], F[5] * F[6] - F[3] * F[8], F[3] * F[7] - F[4] * F[6],
+                 F[2] * F[7] - F[1] * F[8], F[0] * F[8] - F[2] * F[6], F[1] * F[6] - F[0] * F[7],
+                 F[1] * F[5] - F[2] * F[4], F[2] * F[3] - F[0] * F[5], F[0] * F[4] - F[1] * F[3]};
+  double J = F[0] * C[0] + F[1] * C[1] + F[2] * C[2]; /* C: cofactor matrix, F^-T = C / J */
+  if (!(J > 0)) return 0;
+  double lj = log(J), i1 = 0;
+  for (int k = 0; k < 9; k++) i1 += F[k] * F[k];
+  *psi = 0.5 * mu * (i1 - 3) - mu * lj + 0.5 * lambda * lj * lj;
+  double a = (lambda * lj - mu) / J;
+  for (int k = 0; k < 9; k++) P[k] = mu * F[k] + a * C[k];
+  return 1;
+}
+
+/* The step (pbd_solve.c). */
+int pbd_step(void *self, const tb_step *in, tb_error *err);
+
+#endif

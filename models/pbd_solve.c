@@ -1,0 +1,201 @@
+/* One step of the position-based models (the 2022 patent's method, SPEC
+ * §2.5; XPBD after Macklin, Müller & Chentanez 2016).
+ *
+ *  0. Damping (Müller et al. 2007, "Position based dynamics", §3.5): each
+ *     velocity's deviation from the body's rigid motion (v_cm + w x r_i, w
+ *     from the angular momentum and inertia) is reduced by the share
+ *     1 - exp(-damping dt), so rigid motion (a fall, a slide) is not slowed.
+ *     Sums in node order: the same for any thread count.
+ *  1. Prediction, by the integrator setting, with a = gravity + w f:
+ *     euler (PBD's and XPBD's usual; patent eqs. 2-3): v <- v + dt a,
+ *       p <- x + dt v;
+ *     bdf2 (default of pbd-stvk): the second-order backward difference for
+ *       both, v~ = (4 v_n - v_{n-1}) / 3 + 2/3 dt a, p = (4 x_n - x_{n-1}) / 3
+ *       + 2/3 dt v~, so that the velocity of step 4 gives back v~ when no
+ *       constraint acts (exact for a free fall);
+ *     patent: eqs. 2-3 followed by the BDF2 velocity of step 4, as the patent
+ *       states them. That pair is inconsistent: unconstrained, v_{n+1} =
+ *       3/2 v_n - 1/2 v_{n-1} + dt g, which accelerates at 2g for any dt
+ *       (tests/test_pbd.c measures it); it is kept to show that.
+ *     The first step, and a step after a change of dt, are euler.
+ *     Prescribed nodes are put at their positions and get w = 0 for the step.
+ *  2. Projection, `iterations` Gauss-Seidel sweeps. Each tet's constraint
+ *     is projected along its gradient, g_j = dU/dx_j with U = V psi(F) the
+ *     tet's strain energy (F = D_s D_m^-1, P(F) from pbd_priv.h; g_j = V P
+ *     D_m^-T column j for three nodes, minus their sum for the fourth):
+ *       PBD  (patent): C = U, dp_j = -k s w_j g_j, s = C / sum_j w_j |g_j|^2;
+ *       XPBD: C = sqrt(2U) with compliance 1 (so C^2 / 2 = U, the element's
+ *             energy), dlambda = (-C - a lambda) / (sum_j w_j |g_j|^2 / C^2 + a),
+ *             a = 1 / dt^2, lambda += dlambda, dp_j = w_j (g_j / C) dlambda.
+ *     Tets are swept colour by colour (tets of one colour share no node,
+ *     models/tet_colour.c): a colour's tets are projected in parallel and
+ *     the result does not depend on the thread count. After the tets of
+ *     each sweep the ground constraint (p - q).n >= 0 (patent eq. 4) is
+ *     projected for every free node, so the sweep ends with nothing below
+ *     the ground; each node's normal corrections are summed.
+ *  3. Friction (models/ground.c) on the nodes the ground touched, their
+ *     summed correction standing for the normal impulse.
+ *  4. Velocity: bdf2 and patent v = (3 x_{n+1} - 4 x_n + x_{n-1}) / (2 dt)
+ *     (patent §[0171]); euler (and every first step) (x_{n+1} - x_n) / dt. A
+ *     ground contact's normal velocity is the restitution times its
+ *     approaching speed (friction is already in the positions; a node that
+ *     sticks gets no tangential velocity). Prescribed nodes get the velocity that moved them,
+ *     (x_fixed - x_n) / dt.
+ * Nothing is allocated here. */
+#include <math.h>
+#include <string.h>
+
+#include "pbd_priv.h"
+
+/* Projects tet t (colour order) on p; alpha: XPBD's compliance / dt^2. */
+static inline void project(pbd *s, int t, double alpha) {
+  const int *n = s->tet[t];
+  tb_vec3 *p = s->p;
+  const double *w = s->w, *D = s->dminv[t];
+  double w0 = w[n[0]], w1 = w[n[1]], w2 = w[n[2]], w3 = w[n[3]];
+  if (w0 + w1 + w2 + w3 == 0) return;
+  tb_vec3 x3 = p[n[3]];
+  double ds[9]; /* D_s, columns x_j - x_3 */
+  for (int j = 0; j < 3; j++) {
+    tb_vec3 e = tb_sub(p[n[j]], x3);
+    ds[j] = e.x, ds[3 + j] = e.y, ds[6 + j] = e.z;
+  }
+  double F[9], P[9], psi;
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      F[3 * r + c] = ds[3 * r] * D[c] + ds[3 * r + 1] * D[3 + c] + ds[3 * r + 2] * D[6 + c];
+  if (!pbd_energy(s->set.energy, s->mu, s->lambda, F, &psi, P)) return;
+  double V = s->vol[t], U = V * psi;
+  if (!(U > 1e-300)) return;
+  tb_vec3 g[4]; /* g_j = V (P D_m^-T) column j */
+  for (int j = 0; j < 3; j++)
+    g[j] = tb_v3(V * (P[0] * D[3 * j] + P[1] * D[3 * j + 1] + P[2] * D[3 * j + 2]),
+                 V * (P[3] * D[3 * j] + P[4] * D[3 * j + 1] + P[5] * D[3 * j + 2]),
+                 V * (P[6] * D[3 * j] + P[7] * D[3 * j + 1] + P[8] * D[3 * j + 2]));
+  g[3] = tb_scale(tb_add(tb_add(g[0], g[1]), g[2]), -1);
+  double sum = w0 * tb_dot(g[0], g[0]) + w1 * tb_dot(g[1], g[1]) + w2 * tb_dot(g[2], g[2]) +
+               w3 * tb_dot(g[3], g[3]);
+  if (!(sum > 0)) return;
+  double f;
+  if (s->xpbd) {
+    double C = sqrt(2 * U);
+    double dl = (-C - alpha * s->lam[t]) / (sum / (C * C) + alpha);
+    s->lam[t] += dl;
+    f = dl / C;
+  } else {
+    f = -s->set.k * U / sum;
+  }
+  double wj[4] = {w0, w1, w2, w3};
+  for (int j = 0; j < 4; j++) p[n[j]] = tb_madd(p[n[j]], f * wj[j], g[j]);
+}
+
+/* Step 0: velocities relative to the rigid motion damped by the share c. */
+static void damp(pbd *s, double c) {
+  double M = 0;
+  tb_vec3 xc = tb_v3(0, 0, 0), vc = tb_v3(0, 0, 0), L = tb_v3(0, 0, 0);
+  for (int i = 0; i < s->nv; i++) {
+    M += s->mass[i];
+    xc = tb_madd(xc, s->mass[i], s->x[i]), vc = tb_madd(vc, s->mass[i], s->v[i]);
+  }
+  xc = tb_scale(xc, 1 / M), vc = tb_scale(vc, 1 / M);
+  tb_mat3 I = {{{0}}};
+  for (int i = 0; i < s->nv; i++) {
+    tb_vec3 r = tb_sub(s->x[i], xc);
+    double m = s->mass[i], rr = tb_dot(r, r);
+    L = tb_madd(L, m, tb_cross(r, s->v[i]));
+    double rv[3] = {r.x, r.y, r.z};
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) I.m[a][b] += m * ((a == b) * rr - rv[a] * rv[b]);
+  }
+  tb_mat3 Iinv;
+  tb_vec3 w = tb_m3_inverse(I, &Iinv) ? tb_m3_mulv(Iinv, L) : tb_v3(0, 0, 0);
+  for (int i = 0; i < s->nv; i++) {
+    tb_vec3 rigid = tb_add(vc, tb_cross(w, tb_sub(s->x[i], xc)));
+    s->v[i] = tb_madd(s->v[i], c, tb_sub(rigid, s->v[i]));
+  }
+}
+
+int pbd_step(void *self, const tb_step *in, tb_error *err) {
+  pbd *s = self;
+  double h = in->dt;
+  if (!(h > 0) || !isfinite(h)) return tb_error_set(err, "pbd", 0, "dt must be > 0 (got %g)", h);
+  const tb_ground *gr = in->ground;
+  int nv = s->nv, iters = s->set.iterations;
+  if (s->set.damping > 0) damp(s, 1 - exp(-s->set.damping * h));
+  memcpy(s->w, s->invm, sizeof(double) * (size_t)nv);
+  for (int k = 0; k < in->nfixed; k++) s->w[in->fixed[k]] = 0;
+  double alpha = 1.0 / (h * h);
+  int same = s->have_prev && s->last_dt == h; /* a second-order step can use the history */
+  int second = same && s->set.integrator == PBD_BDF2;
+  int bdf2 = same && s->set.integrator != PBD_EULER;
+  tb_vec3 *x = s->x, *p = s->p, *v = s->v;
+#pragma omp parallel
+  {
+#pragma omp for schedule(static)
+    for (int i = 0; i < nv; i++) {
+      s->depth[i] = 0;
+      tb_vec3 vn = v[i];
+      if (s->w[i] > 0) {
+        tb_vec3 a = in->gravity;
+        if (in->force) a = tb_madd(a, s->invm[i], in->force[i]);
+        if (second) {
+          v[i] = tb_madd(tb_scale(tb_sub(tb_scale(vn, 4), s->vm1[i]), 1.0 / 3), 2.0 / 3 * h, a);
+          p[i] = tb_madd(tb_scale(tb_sub(tb_scale(x[i], 4), s->xm1[i]), 1.0 / 3), 2.0 / 3 * h, v[i]);
+        } else {
+          v[i] = tb_madd(vn, h, a);
+          p[i] = tb_madd(x[i], h, v[i]);
+        }
+      }
+      s->vm1[i] = vn;
+    }
+    if (s->xpbd) {
+#pragma omp for schedule(static)
+      for (int t = 0; t < s->nt; t++) s->lam[t] = 0;
+    }
+#pragma omp single
+    for (int k = 0; k < in->nfixed; k++) p[in->fixed[k]] = in->fixed_x[k];
+    for (int it = 0; it < iters; it++) {
+      for (int c = 0; c < s->ncolours; c++) {
+#pragma omp for schedule(static)
+        for (int t = s->colour_start[c]; t < s->colour_start[c + 1]; t++) project(s, t, alpha);
+      }
+      if (gr) {
+#pragma omp for schedule(static)
+        for (int i = 0; i < nv; i++) {
+          double d = tb_dot(tb_sub(p[i], gr->p), gr->n);
+          if (d < 0 && s->w[i] > 0) p[i] = tb_madd(p[i], -d, gr->n), s->depth[i] -= d;
+        }
+      }
+    }
+  }
+  /* friction on the contact, in node order (a fixed-order reduction) */
+  int nc = 0;
+  if (gr) {
+    for (int i = 0; i < nv; i++)
+      if (s->depth[i] > 0) {
+        s->cids[nc] = i, s->cp[nc] = p[i], s->cdepth[nc] = s->depth[i];
+        s->cvn[nc++] = tb_dot(v[i], gr->n); /* the predicted normal velocity */
+      }
+    tb_ground_friction(gr, nc, s->cids, s->cdepth, x, s->mass, s->cp, s->keep);
+    for (int k = 0; k < nc; k++) p[s->cids[k]] = s->cp[k];
+  }
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < nv; i++) {
+    if (s->w[i] == 0 || !bdf2)
+      v[i] = tb_scale(tb_sub(p[i], x[i]), 1 / h);
+    else
+      v[i] = tb_scale(tb_add(tb_sub(tb_scale(p[i], 3), tb_scale(x[i], 4)), s->xm1[i]), 0.5 / h);
+  }
+  for (int k = 0; k < nc; k++) { /* contacts: restitution, friction's share */
+    int i = s->cids[k];
+    tb_vec3 n = gr->n;
+    double vn = tb_dot(v[i], n);
+    tb_vec3 vt = s->keep[k] > 0 ? tb_madd(v[i], -vn, n) : tb_v3(0, 0, 0); /* stuck: at rest */
+    vn = s->cvn[k] < 0 ? -gr->restitution * s->cvn[k] : fmax(vn, 0);
+    v[i] = tb_madd(vt, vn, n);
+  }
+  memcpy(s->xm1, x, sizeof(tb_vec3) * (size_t)nv);
+  memcpy(x, p, sizeof(tb_vec3) * (size_t)nv);
+  s->have_prev = 1, s->last_dt = h;
+  return 0;
+}
