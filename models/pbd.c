@@ -26,6 +26,7 @@
  *
  * The ground is projected with the tets (own_ground): see pbd_solve.c. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -34,11 +35,17 @@
 static void destroy(void *self) {
   pbd *s = self;
   if (!s) return;
-  free(s->x), free(s->xm1), free(s->p), free(s->v), free(s->vm1), free(s->mass), free(s->invm), free(s->w);
+  free(s->x), free(s->xm1), free(s->p), free(s->v), free(s->vm1), free(s->mass), free(s->invm),
+      free(s->w);
   free(s->depth), free(s->cids), free(s->cp), free(s->cdepth), free(s->cvn), free(s->keep);
   free(s->tet), free(s->vol), free(s->dminv), free(s->lam), free(s->colour_start);
   tb_mesh_free(&s->rest);
   free(s);
+}
+
+static int by_key(const void *a, const void *b) {
+  uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+  return (x > y) - (x < y);
 }
 
 static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_error *err) {
@@ -69,8 +76,8 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
   s->tet = malloc(sizeof *s->tet * T), s->vol = malloc(sizeof(double) * T);
   s->dminv = malloc(sizeof *s->dminv * T), s->lam = calloc(T, sizeof(double));
   if (!s->x || !s->xm1 || !s->p || !s->v || !s->vm1 || !s->mass || !s->invm || !s->w || !s->depth ||
-      !s->cids || !s->cp || !s->cdepth || !s->cvn || !s->keep || !s->tet || !s->vol ||
-      !s->dminv || !s->lam || tb_mesh_copy(&s->rest, mesh)) {
+      !s->cids || !s->cp || !s->cdepth || !s->cvn || !s->keep || !s->tet || !s->vol || !s->dminv ||
+      !s->lam || tb_mesh_copy(&s->rest, mesh)) {
     tb_error_set(err, name, 0, "out of memory (%d nodes, %d tets)", nv, nt);
     goto fail;
   }
@@ -88,6 +95,26 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
   memcpy(s->p, mesh->x, sizeof(tb_vec3) * V);
   int *order = NULL;
   if (tb_tet_colours(mesh, &s->ncolours, &order, &s->colour_start, err)) goto fail;
+  /* within a colour, tets by their smallest node: the threads' shares of a
+   * colour then write disjoint ranges of node indices (no false sharing),
+   * and one thread walks the nodes in order */
+  uint64_t *key = malloc(sizeof(uint64_t) * T);
+  if (!key) {
+    tb_error_set(err, name, 0, "out of memory");
+    free(order);
+    goto fail;
+  }
+  for (int c = 0; c < s->ncolours; c++) {
+    int a = s->colour_start[c], n = s->colour_start[c + 1] - a;
+    for (int k = 0; k < n; k++) { /* (smallest node, tet): unique, so the order is total */
+      const int *e = mesh->tet + 4 * order[a + k];
+      int lo = e[0] < e[1] ? e[0] : e[1], lo2 = e[2] < e[3] ? e[2] : e[3];
+      key[k] = (uint64_t)(lo < lo2 ? lo : lo2) << 32 | (uint32_t)order[a + k];
+    }
+    qsort(key, (size_t)n, sizeof *key, by_key);
+    for (int k = 0; k < n; k++) order[a + k] = (int)(key[k] & 0xffffffffu);
+  }
+  free(key);
   for (int k = 0; k < nt; k++) { /* colour order: nodes, volume, D_m^-1 */
     const int *e = mesh->tet + 4 * order[k];
     memcpy(s->tet[k], e, sizeof s->tet[k]);
@@ -164,22 +191,27 @@ static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const t
 }
 
 #define S pbd_settings
-#define COMMON(integ)                                                                              \
-  TB_SETTINGS_MASS(S, 0.0), TB_SETTING_YOUNG(S, "Young's modulus (pbd-stvk: scales only the "  \
-                                                "stresses and energy reported)"),               \
-      TB_SETTING_R(S, nu, 0.4, -1.0, 0.5, TB_OPEN_LO | TB_OPEN_HI,                              \
-                   "Poisson ratio (the patent's 0.4)"),                                         \
-      TB_SETTING_R(S, damping, 2.0, 0.0, HUGE_VAL, 0,                                           \
-                   "per second: velocities relative to the body's rigid motion decay as "       \
-                   "exp(-damping t) (Muller et al. 2007, 3.5)"),                                 \
-      TB_SETTING_I(S, iterations, 5, 1, 10000,                                                  \
-                   "Gauss-Seidel sweeps per step (the patent: 3-8, 5)"),                        \
-      TB_SETTING_C(S, energy, PBD_STVK, 1, "stvk|neohookean",                                   \
-                   "strain energy: St. Venant-Kirchhoff (the patent) or compressible "          \
-                   "Neo-Hookean"),                                                              \
-      TB_SETTING_C(S, integrator, integ, 2, "bdf2|patent|euler",                                 \
-                   "bdf2: second-order backward differences for prediction and velocity; "      \
-                   "patent: its eqs 2-3 with the BDF2 velocity (falls at 2g); euler: "          \
+#define COMMON(integ)                                                                      \
+  TB_SETTINGS_MASS(S, 0.0),                                                                \
+      TB_SETTING_YOUNG(S,                                                                  \
+                       "Young's modulus (pbd-stvk: scales only the "                       \
+                       "stresses and energy reported)"),                                   \
+      TB_SETTING_R(S, nu, 0.4, -1.0, 0.5, TB_OPEN_LO | TB_OPEN_HI,                         \
+                   "Poisson ratio (the patent's 0.4)"),                                    \
+      TB_SETTING_R(S, rayleigh_stiffness, 0.02, 0.0, HUGE_VAL, 0,                          \
+                   "constraint damping b (Macklin 2016 eq. 26; fem's Rayleigh b): damps "  \
+                   "strain rates"),                                                        \
+      TB_SETTING_R(S, damping, 0.0, 0.0, HUGE_VAL, 0,                                      \
+                   "per second: velocities relative to the body's rigid motion decay as "  \
+                   "exp(-damping t) (Muller et al. 2007, 3.5)"),                           \
+      TB_SETTING_I(S, iterations, 5, 1, 10000,                                             \
+                   "Gauss-Seidel sweeps per step (the patent: 3-8, 5)"),                   \
+      TB_SETTING_C(S, energy, PBD_STVK, 1, "stvk|neohookean",                              \
+                   "strain energy: St. Venant-Kirchhoff (the patent) or compressible "     \
+                   "Neo-Hookean"),                                                         \
+      TB_SETTING_C(S, integrator, integ, 2, "bdf2|patent|euler",                           \
+                   "bdf2: second-order backward differences for prediction and velocity; " \
+                   "patent: its eqs 2-3 with the BDF2 velocity (falls at 2g); euler: "     \
                    "symplectic prediction, first-order velocity (XPBD's)")
 static const tb_setting pbd_table[] = {
     COMMON(PBD_BDF2),
@@ -192,8 +224,9 @@ static const tb_setting xpbd_table[] = {COMMON(PBD_EULER)};
 
 const tb_model_class tb_model_pbd_stvk = {
     .name = "pbd-stvk",
-    .summary = "position-based dynamics, per-tet StVK energy constraints, ground in the solve, "
-               "BDF2 velocity (2022 patent)",
+    .summary =
+        "position-based dynamics, per-tet StVK energy constraints, ground in the solve, "
+        "BDF2 velocity (2022 patent)",
     .settings = pbd_table,
     .nsettings = (int)(sizeof pbd_table / sizeof pbd_table[0]),
     .settings_size = sizeof(pbd_settings),
@@ -210,8 +243,9 @@ const tb_model_class tb_model_pbd_stvk = {
 
 const tb_model_class tb_model_xpbd_stvk = {
     .name = "xpbd-stvk",
-    .summary = "XPBD (Macklin et al. 2016): the same constraints with compliance from E, "
-               "converging to backward Euler",
+    .summary =
+        "XPBD (Macklin et al. 2016): the same constraints with compliance from E, "
+        "converging to backward Euler",
     .settings = xpbd_table,
     .nsettings = (int)(sizeof xpbd_table / sizeof xpbd_table[0]),
     .settings_size = sizeof(pbd_settings),

@@ -11,7 +11,7 @@ enum { PBD_BDF2, PBD_PATENT, PBD_EULER }; /* the integrator setting */
 
 /* The settings of pbd-stvk and xpbd-stvk (xpbd ignores k). */
 typedef struct pbd_settings {
-  double density, node_mass, E, nu, k, damping;
+  double density, node_mass, E, nu, k, damping, rayleigh_stiffness;
   int iterations, energy, integrator;
 } pbd_settings;
 
@@ -27,9 +27,9 @@ typedef struct pbd {
   /* per node, the ground contact of the step: normal correction, and the
    * contact list (ids, positions, keep) friction works on */
   double *depth;
-  int *cids;         /* contact k's node */
-  tb_vec3 *cp;       /* its position */
-  double *cdepth;    /* its summed normal correction */
+  int *cids;          /* contact k's node */
+  tb_vec3 *cp;        /* its position */
+  double *cdepth;     /* its summed normal correction */
   double *cvn, *keep; /* its predicted normal velocity; the tangential share friction kept */
   /* hot, per tet in colour order: nodes, rest volume, D_m^-1 (row-major),
    * XPBD's lambda */
@@ -44,10 +44,17 @@ typedef struct pbd {
   tb_mesh rest; /* rest mesh: positions and tets in mesh order (energy) */
 } pbd;
 
+/* The projection's inner function: inlined into it (GCC, Clang). */
+#if defined(__GNUC__)
+#define PBD_INLINE static inline __attribute__((always_inline))
+#else
+#define PBD_INLINE static inline
+#endif
+
 /* Energy density psi(F) and P = d psi / dF for F (row-major); returns 0 for
  * a Neo-Hookean tet with det F <= 0, where it is undefined. */
-static inline int pbd_energy(int kind, double mu, double lambda, const double F[9], double *psi,
-                             double P[9]) {
+PBD_INLINE int pbd_energy(int kind, double mu, double lambda, const double F[9], double *psi,
+                          double P[9]) {
   if (kind == PBD_STVK) {
     /* E = (F^T F - I) / 2, psi = mu E:E + lambda/2 tr(E)^2, P = F (2 mu E + lambda tr(E) I) */
     double E[9];

@@ -6,6 +6,12 @@
  *     from the angular momentum and inertia) is reduced by the share
  *     1 - exp(-damping dt), so rigid motion (a fall, a slide) is not slowed.
  *     Sums in node order: the same for any thread count.
+ *     Constraint damping (Macklin et al. 2016, eq. 26, stiffness-proportional
+ *     like fem's Rayleigh b = rayleigh_stiffness): with gamma = b / dt and
+ *     grad C . (p - x_n) the constraint's rate over the step, XPBD's update
+ *     becomes dlambda = (-C - a lambda - gamma grad C.(p - x_n)) /
+ *     ((1 + gamma) sum w |grad C|^2 + a); PBD's the same with a = 0, scaled
+ *     by k. It damps strain rates, not rigid motion.
  *  1. Prediction, by the integrator setting, with a = gravity + w f:
  *     euler (PBD's and XPBD's usual; patent eqs. 2-3): v <- v + dt a,
  *       p <- x + dt v;
@@ -47,8 +53,53 @@
 
 #include "pbd_priv.h"
 
-/* Projects tet t (colour order) on p; alpha: XPBD's compliance / dt^2. */
-static inline void project(pbd *s, int t, double alpha) {
+/* An inverted or flat tet (det F <= 0): the energy and stress of Irving,
+ * Teran & Fedkiw 2004 ("Invertible finite elements"), as Bender et al.
+ * 2014 use them for position-based FEM: F = U S V^T with rotations U, V
+ * and the smallest singular value negative, each singular value clamped to
+ * at least 0.577, psi and P evaluated on the clamped diagonal and P rotated
+ * back, P = U P(S^) V^T. The clamped state has energy, so the projection
+ * pushes the tet back through flat towards its rest shape instead of
+ * leaving it at StVK's zero-energy mirror image. */
+static void inverted_stress(const pbd *s, const double F[9], double *psi, double P[9]) {
+  tb_mat3 f, a, v;
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) f.m[r][c] = F[3 * r + c];
+  a = tb_m3_mul(tb_m3_transpose(f), f);
+  double w[3], sg[3];
+  tb_m3_sym_eigen(a, w, &v); /* ascending: column 0 is the smallest */
+  if (tb_m3_det(v) < 0)
+    for (int r = 0; r < 3; r++) v.m[r][0] = -v.m[r][0];
+  tb_vec3 u[3], vc[3];
+  for (int i = 0; i < 3; i++) {
+    sg[i] = sqrt(fmax(w[i], 0));
+    vc[i] = tb_v3(v.m[0][i], v.m[1][i], v.m[2][i]);
+  }
+  for (int i = 2; i >= 1; i--) { /* the two largest directions */
+    tb_vec3 fv = tb_m3_mulv(f, vc[i]);
+    u[i] = sg[i] > 1e-12 ? tb_scale(fv, 1 / sg[i]) : tb_v3(0, 0, 0);
+  }
+  if (!(sg[1] > 1e-12)) { /* F of rank <= 1: any frame around u2 */
+    tb_vec3 e = fabs(u[2].x) < 0.9 ? tb_v3(1, 0, 0) : tb_v3(0, 1, 0);
+    if (!(sg[2] > 1e-12)) u[2] = tb_v3(0, 0, 1);
+    u[1] = tb_normalize(tb_cross(u[2], e));
+  }
+  u[0] = tb_cross(u[1], u[2]);                /* det U = +1 */
+  sg[0] = tb_dot(u[0], tb_m3_mulv(f, vc[0])); /* negative when inverted */
+  double D[9] = {0}, Pd[9];
+  for (int i = 0; i < 3; i++) D[4 * i] = fmax(sg[i], 0.577);
+  pbd_energy(s->set.energy, s->mu, s->lambda, D, psi, Pd); /* det D > 0: always defined */
+  for (int r = 0; r < 3; r++) /* P = U diag(Pd) V^T (Pd is diagonal for a diagonal D) */
+    for (int c = 0; c < 3; c++) {
+      double sum = 0;
+      for (int i = 0; i < 3; i++) sum += tb_comp(u[i], r) * Pd[4 * i] * tb_comp(vc[i], c);
+      P[3 * r + c] = sum;
+    }
+}
+
+/* Projects tet t (colour order) on p; alpha: XPBD's compliance / dt^2;
+ * gamma: the damping factor rayleigh_stiffness / dt. */
+static inline void project(pbd *s, int t, double alpha, double gamma) {
   const int *n = s->tet[t];
   tb_vec3 *p = s->p;
   const double *w = s->w, *D = s->dminv[t];
@@ -60,13 +111,20 @@ static inline void project(pbd *s, int t, double alpha) {
     tb_vec3 e = tb_sub(p[n[j]], x3);
     ds[j] = e.x, ds[3 + j] = e.y, ds[6 + j] = e.z;
   }
-  double F[9], P[9], psi;
+  double F[9], P[9], psi = 0;
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++)
       F[3 * r + c] = ds[3 * r] * D[c] + ds[3 * r + 1] * D[3 + c] + ds[3 * r + 2] * D[6 + c];
-  if (!pbd_energy(s->set.energy, s->mu, s->lambda, F, &psi, P)) return;
+  double det = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+               F[2] * (F[3] * F[7] - F[4] * F[6]);
+  if (det > 0)
+    pbd_energy(s->set.energy, s->mu, s->lambda, F, &psi, P);
+  else
+    inverted_stress(s, F, &psi, P);
+  /* below a strain of about 1e-7 the energy is rounding noise (Neo-Hookean's
+   * terms cancel to O(eps)), and noise over its gradient is no direction */
+  if (!(psi > 1e-14 * (s->mu + s->lambda))) return;
   double V = s->vol[t], U = V * psi;
-  if (!(U > 1e-300)) return;
   tb_vec3 g[4]; /* g_j = V (P D_m^-T) column j */
   for (int j = 0; j < 3; j++)
     g[j] = tb_v3(V * (P[0] * D[3 * j] + P[1] * D[3 * j + 1] + P[2] * D[3 * j + 2]),
@@ -76,14 +134,16 @@ static inline void project(pbd *s, int t, double alpha) {
   double sum = w0 * tb_dot(g[0], g[0]) + w1 * tb_dot(g[1], g[1]) + w2 * tb_dot(g[2], g[2]) +
                w3 * tb_dot(g[3], g[3]);
   if (!(sum > 0)) return;
-  double f;
+  double gdx = 0, f; /* damping: grad U . (p - x_n), the constraint's change over the step */
+  if (gamma > 0)
+    for (int j = 0; j < 4; j++) gdx += tb_dot(g[j], tb_sub(p[n[j]], s->x[n[j]]));
   if (s->xpbd) {
     double C = sqrt(2 * U);
-    double dl = (-C - alpha * s->lam[t]) / (sum / (C * C) + alpha);
+    double dl = (-C - alpha * s->lam[t] - gamma * gdx / C) / ((1 + gamma) * sum / (C * C) + alpha);
     s->lam[t] += dl;
     f = dl / C;
   } else {
-    f = -s->set.k * U / sum;
+    f = -s->set.k * (U + gamma * gdx) / ((1 + gamma) * sum);
   }
   double wj[4] = {w0, w1, w2, w3};
   for (int j = 0; j < 4; j++) p[n[j]] = tb_madd(p[n[j]], f * wj[j], g[j]);
@@ -124,7 +184,7 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
   if (s->set.damping > 0) damp(s, 1 - exp(-s->set.damping * h));
   memcpy(s->w, s->invm, sizeof(double) * (size_t)nv);
   for (int k = 0; k < in->nfixed; k++) s->w[in->fixed[k]] = 0;
-  double alpha = 1.0 / (h * h);
+  double alpha = 1.0 / (h * h), gamma = s->set.rayleigh_stiffness / h;
   int same = s->have_prev && s->last_dt == h; /* a second-order step can use the history */
   int second = same && s->set.integrator == PBD_BDF2;
   int bdf2 = same && s->set.integrator != PBD_EULER;
@@ -140,7 +200,8 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
         if (in->force) a = tb_madd(a, s->invm[i], in->force[i]);
         if (second) {
           v[i] = tb_madd(tb_scale(tb_sub(tb_scale(vn, 4), s->vm1[i]), 1.0 / 3), 2.0 / 3 * h, a);
-          p[i] = tb_madd(tb_scale(tb_sub(tb_scale(x[i], 4), s->xm1[i]), 1.0 / 3), 2.0 / 3 * h, v[i]);
+          p[i] =
+              tb_madd(tb_scale(tb_sub(tb_scale(x[i], 4), s->xm1[i]), 1.0 / 3), 2.0 / 3 * h, v[i]);
         } else {
           v[i] = tb_madd(vn, h, a);
           p[i] = tb_madd(x[i], h, v[i]);
@@ -157,7 +218,8 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
     for (int it = 0; it < iters; it++) {
       for (int c = 0; c < s->ncolours; c++) {
 #pragma omp for schedule(static)
-        for (int t = s->colour_start[c]; t < s->colour_start[c + 1]; t++) project(s, t, alpha);
+        for (int t = s->colour_start[c]; t < s->colour_start[c + 1]; t++)
+          project(s, t, alpha, gamma);
       }
       if (gr) {
 #pragma omp for schedule(static)

@@ -32,8 +32,7 @@ int tb_tet_colours(const tb_mesh *mesh, int *ncolours, int **order, int **start,
     while (c < MAX_COLOURS && (busy[c / 64] >> (c % 64) & 1u)) c++;
     if (c == MAX_COLOURS) {
       free(used), free(colour), free(count), free(*order), *order = NULL;
-      return tb_error_set(err, "colouring", 0, "tet %d needs more than %d colours", t,
-                          MAX_COLOURS);
+      return tb_error_set(err, "colouring", 0, "tet %d needs more than %d colours", t, MAX_COLOURS);
     }
     for (int k = 0; k < 4; k++) used[(size_t)e[k] * WORDS + c / 64] |= (uint64_t)1 << (c % 64);
     colour[t] = c, count[c + 1]++;

@@ -143,6 +143,7 @@ static const struct {
     {"msm", tb_tests_msm},
     {"fem", tb_tests_fem},
     {"sm", tb_tests_sm},
+    {"pbd", tb_tests_pbd},
     {"reference", tb_tests_reference},
     {"fidelity", tb_tests_fidelity},
     {"stability", tb_tests_stability},
