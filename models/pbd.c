@@ -16,13 +16,16 @@
  * result converges to backward Euler of the material as iterations grow.
  *
  * Energies: St. Venant-Kirchhoff (the patent's) or compressible
- * Neo-Hookean (energy=neohookean). Inversion: StVK's energy is defined for
- * an inverted tet but vanishes on the mirror image of its rest shape, so a
- * tet pushed through itself can come to rest inverted with C = 0; the
- * scene's detector counts or stops on inverted tets (inversion=1).
- * Neo-Hookean's energy is undefined for det F <= 0: such a tet is left
- * alone by the projection (its neighbours may restore it) and counted by
- * the detector the same way. tests/test_pbd.c shows both.
+ * Neo-Hookean (energy=neohookean). Inversion: StVK's energy vanishes on
+ * the mirror image of a tet's rest shape, so a tet pushed through itself
+ * would come to rest inverted with C = 0, and Neo-Hookean's is undefined
+ * for det F <= 0. Both are handled: an inverted or flat tet gets the
+ * invertible stress of Irving et al. 2004 (pbd_solve.c), which pushes it
+ * back; the scene's detector still counts inverted tets (or stops on them
+ * with inversion=1). tests/test_pbd.c restores a mirrored tet with both.
+ *
+ * Damping: rayleigh_stiffness (constraint damping, like fem's Rayleigh b)
+ * and damping (Müller 2007: velocities relative to the rigid motion).
  *
  * The ground is projected with the tets (own_ground): see pbd_solve.c. */
 #include <math.h>
