@@ -42,6 +42,10 @@ static const tb_suite_entry suites[] = {
     {"stability", NULL, "stability",
      "stable/unstable over dt x stiffness per model (--model); large-deformation tests",
      tb_suite_stability},
+    {"pbd-stiffness", NULL, "pbd-stiffness",
+     "PBD and XPBD: the beam's static sag under gravity over the material's, against "
+     "iterations and dt",
+     tb_suite_pbd_stiffness},
     {"figures", NULL, "pictures",
      "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures},
 };
@@ -63,6 +67,7 @@ static const char *const report_order[] = {
     "calibration",
     "pareto",
     "stability",
+    "pbd-stiffness",
     "#Chapter 4: collision detection",
     "correctness",
     "table-4.1",

@@ -149,6 +149,7 @@ static const struct {
     {"stability", tb_tests_stability},
     {"scenes", tb_tests_scenes},
     {"render", tb_tests_render},
+    {"pbd_stiffness", tb_tests_pbd_stiffness},
 };
 
 static int selected(const char *id, int argc, char **argv) {
