@@ -148,6 +148,7 @@ static const struct {
     {"stability", tb_tests_stability},
     {"scenes", tb_tests_scenes},
     {"render", tb_tests_render},
+    {"softbody", tb_tests_softbody},
 };
 
 static int selected(const char *id, int argc, char **argv) {
