@@ -64,8 +64,10 @@ static const char *const beam_splits[] = {"kuhn", "symmetric", NULL};
 static const tb_generator generators[] = {
     {"liver",
      "synthetic CT volume -> marching cubes -> clean-up -> TetGen",
-     {{"surface_verts", 725, 1, "target surface vertices (within 5%)", NULL},
-      {"tet_verts", 1206, 1, "target tet-mesh vertices (within 10%)", NULL},
+     {{"surface_verts", 725, 1,
+       "target surface vertices (within 5%; 0: 725 (tets / 4230)^0.8, for tet_verts=0)", NULL},
+      {"tet_verts", 1206, 1, "target tet-mesh vertices (within 10%; 0: only tets, within 2%)",
+       NULL},
       {"tets", 4230, 1, "target tets (within 10%; 0: tet_verts * 4230 / 1206)", NULL},
       {"length", 10, 0, "extent along x", NULL},
       {"noise", 0.08, 0, "grey-value noise amplitude (relative to tissue)", NULL},

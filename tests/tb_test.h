@@ -80,5 +80,6 @@ extern const tb_test_case tb_tests_stability[];
 extern const tb_test_case tb_tests_scenes[];
 extern const tb_test_case tb_tests_render[];
 extern const tb_test_case tb_tests_pbd_stiffness[];
+extern const tb_test_case tb_tests_softbody[];
 
 #endif

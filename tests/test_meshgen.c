@@ -293,6 +293,39 @@ static void liver_tets_thesis(void) {
   tb_mesh_free(&s);
 }
 
+/* Tets only (tet_verts 0): the 2022 patent's two smaller livers, 596 and
+ * 5395 tets, within 2%, valid and closed, the same mesh twice. */
+static void liver_tets_count(void) {
+  static const int targets[] = {596, 5395};
+  for (int k = 0; k < 2; k++) {
+    tb_liver_def d = tb_liver_default_def();
+    d.surface_verts = 0, d.tet_verts = 0, d.tets = targets[k];
+    tb_mesh s, t, t2;
+    tb_error err;
+    TB_CHECK_MSG(tb_liver_surface(&d, &s, &err) == 0, "%s", err.msg);
+    TB_CHECK_MSG(abs(s.nv - tb_liver_surface_for(targets[k])) * 20 <= s.nv, "surface %d", s.nv);
+    TB_CHECK_MSG(tb_liver_tets(&d, &s, &t, &err) == 0, "%d tets: %s", targets[k], err.msg);
+    TB_CHECK_MSG(abs(t.ntet - targets[k]) <= TB_LIVER_TET_TOL * targets[k], "%d tets for %d",
+                 t.ntet, targets[k]);
+    TB_CHECK(tb_mesh_min_tet_volume(&t) > 0);
+    TB_CHECK_NEAR(tb_mesh_volume(&t), tb_mesh_volume(&s), 1e-9 * tb_mesh_volume(&s));
+    tb_mesh_topo topo = tb_mesh_topology(&t);
+    TB_CHECK(topo.closed && topo.manifold && topo.components == 1);
+    if (k == 0) TB_CHECK(tb_liver_tets(&d, &s, &t2, &err) == 0 && tb_mesh_equal(&t, &t2));
+    if (k == 0) tb_mesh_free(&t2);
+    tb_mesh_free(&t);
+    tb_mesh_free(&s);
+  }
+  /* tets only needs a tet target */
+  tb_liver_def d = tb_liver_default_def();
+  tb_mesh s, t;
+  tb_error err;
+  TB_CHECK(tb_liver_surface(&d, &s, &err) == 0);
+  d.tet_verts = 0, d.tets = 0;
+  TB_CHECK(tb_liver_tets(&d, &s, &t, &err) != 0 && strstr(err.msg, "tets"));
+  tb_mesh_free(&s);
+}
+
 static void generator_table(void) {
   const tb_generator *g = tb_generator_find("sphere");
   TB_CHECK(g && !tb_generator_find("nonsense"));
@@ -331,6 +364,7 @@ const tb_test_case tb_tests_meshgen[] = {
     {"instrument_counts", instrument_counts},
     {"tetgen_sphere", tetgen_sphere},
     {"liver_tets_thesis", liver_tets_thesis},
+    {"liver_tets_count", liver_tets_count},
     {"generator_table", generator_table},
     {0, 0},
 };

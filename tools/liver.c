@@ -200,10 +200,14 @@ oom:
   return tb_error_set(err, "liver", 0, "out of memory in the clean-up");
 }
 
+int tb_liver_surface_for(int tets) {
+  return tets > 0 ? (int)lround(725.0 * pow(tets / 4230.0, 0.8)) : 0;
+}
+
 int tb_liver_surface(const tb_liver_def *def, tb_mesh *surf, tb_error *err) {
   memset(surf, 0, sizeof *surf);
   if (lv_check_def(def, err)) return -1;
-  int target = def->surface_verts;
+  int target = def->surface_verts ? def->surface_verts : tb_liver_surface_for(def->tets);
   if (target < 100 || target > 50000)
     return tb_error_set(err, "liver", 0, "surface_verts must be in [100, 50000], not %d", target);
   /* The vertex count falls roughly like h^-2: power-law steps inside a

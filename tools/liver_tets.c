@@ -4,10 +4,17 @@
  * errors of the vertex and tet counts against the targets (thesis §2.5:
  * 1206 vertices, 4230 tets) balance: V/V* + T/T* = 2. Both must end within
  * 10%. With tets < 0 only the vertex count is targeted. (The thesis's QTetraMesher also remeshed
- * the boundary; with the surface kept, vertices and tets cannot both be matched exactly.) */
+ * the boundary; with the surface kept, vertices and tets cannot both be matched exactly.)
+ * With tet_verts 0 only the tet count is targeted (the 2022 patent's livers
+ * of 596 ... 12829 tets): the same bisection on T/T* - 1, stopped once
+ * within a quarter of the tolerance, the closest mesh kept; it must end
+ * within TB_LIVER_TET_TOL (2%). The tet count falls in steps as the bound
+ * grows (TetGen is deterministic, not strictly monotone), so the closest
+ * mesh met on the way is kept. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "tb_meshgen.h"
 
@@ -17,15 +24,64 @@ static int run(const tb_mesh *surf, double maxvol, tb_mesh *out, tb_error *err) 
   return tb_tetgen(surf, sw, out, err);
 }
 
-/* Signed balance V/V* + T/T* - 2: decreasing as the volume bound grows. */
+/* Signed balance V/V* + T/T* - 2 (tv <= 0: T/T* - 1): decreasing as the
+ * volume bound grows. */
 static double balance(const tb_mesh *m, double tv, double tt) {
+  if (tv <= 0) return m->ntet / tt - 1;
   return tt > 0 ? m->nv / tv + m->ntet / tt - 2 : m->nv / tv - 1;
+}
+
+/* Tets only (tet_verts 0): within TB_LIVER_TET_TOL of def->tets. */
+static int tets_only(const tb_liver_def *def, const tb_mesh *surf, double volume, tb_mesh *tets,
+                     tb_error *err) {
+  double tt = def->tets;
+  /* a bound of volume / (4 T*) forces at least 4 T* tets; the whole volume, none */
+  double lo = log(volume / (4.0 * tt)), hi = log(volume);
+  tb_mesh best = {0};
+  double best_b = INFINITY;
+  for (int it = 0; it < 40 && hi - lo > 1e-4 && fabs(best_b) > 0.25 * TB_LIVER_TET_TOL; it++) {
+    double mid = 0.5 * (lo + hi);
+    tb_mesh m;
+    if (run(surf, exp(mid), &m, err)) {
+      tb_mesh_free(&best);
+      return -1;
+    }
+    double b = balance(&m, 0, tt);
+    if (fabs(b) < fabs(best_b)) {
+      tb_mesh_free(&best);
+      best = m, best_b = b;
+    } else {
+      tb_mesh_free(&m);
+    }
+    if (b > 0)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  if (fabs(best_b) <= TB_LIVER_TET_TOL) {
+    *tets = best;
+    return 0;
+  }
+  int nt = best.ntet;
+  tb_mesh_free(&best);
+  return tb_error_set(err, "liver", 0,
+                      "TetGen gives no mesh within %g%% of %d tets from a surface of %d vertices "
+                      "(closest: %d)",
+                      100 * TB_LIVER_TET_TOL, def->tets, surf->nv, nt);
 }
 
 int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, tb_error *err) {
   double tv = def->tet_verts, tt = def->tets > 0 ? def->tets : def->tet_verts * 4230.0 / 1206.0;
   if (def->tets < 0) tt = -1; /* vertices only */
   double volume = tb_mesh_volume(surf);
+  memset(tets, 0, sizeof *tets);
+  if (def->tet_verts == 0) {
+    if (def->tets <= 0 || !(volume > 0))
+      return tb_error_set(err, "liver", 0,
+                          "with tet_verts 0 (tets only) tets must be > 0, not %d (volume %g)",
+                          def->tets, volume);
+    return tets_only(def, surf, volume, tets, err);
+  }
   if (def->tet_verts < surf->nv || !(volume > 0))
     return tb_error_set(err, "liver", 0,
                         "tet_verts %d must be at least the surface's %d vertices (volume %g)",

@@ -47,8 +47,8 @@ int tb_tetgen(const tb_mesh *surface, const char *switches, tb_mesh *out, tb_err
 
 /* ---- the synthetic liver ---- */
 typedef struct tb_liver_def {
-  int surface_verts; /* target surface vertices (thesis: 725) */
-  int tet_verts;     /* target tet-mesh vertices (thesis: 1206) */
+  int surface_verts; /* target surface vertices (thesis: 725; 0: tb_liver_surface_for(tets)) */
+  int tet_verts;     /* target tet-mesh vertices (thesis: 1206; 0: only the tet count) */
   int tets;          /* target tets (thesis: 4230; 0: tet_verts * 4230 / 1206; < 0: any) */
   double length;     /* extent along x (SOFA's liver is about 10) */
   double noise;      /* amplitude of the grey-value noise, relative */
@@ -59,11 +59,20 @@ tb_liver_def tb_liver_default_def(void);
  * blend of ellipsoids, intensity noise); the isovalue is returned. */
 int tb_liver_volume(const tb_liver_def *def, double h, tb_volume *v, double *iso, tb_error *err);
 /* Marching cubes + clean-up, with the grid spacing searched so the surface
- * has surface_verts vertices within 5%. */
+ * has surface_verts vertices within 5% (surface_verts 0: the count
+ * tb_liver_surface_for(tets) gives). */
 int tb_liver_surface(const tb_liver_def *def, tb_mesh *surf, tb_error *err);
+/* The surface vertices for a mesh of about `tets` tets: the thesis's 725
+ * for 4230 tets, scaled by (tets / 4230)^0.8, so that TetGen's coarsest
+ * quality mesh of that surface has about three quarters of the tets (a
+ * surface of 151 vertices for 596 tets, 1762 for 12829). */
+int tb_liver_surface_for(int tets);
 /* The surface tetrahedralised by TetGen (boundary kept), the maximum tet
  * volume searched to balance the relative errors of the vertex and tet
- * counts against tet_verts and tets; fails unless both are within 10%. */
+ * counts against tet_verts and tets; fails unless both are within 10%.
+ * With tet_verts 0 only the tet count is targeted (tets > 0), and it must
+ * end within 2% (TB_LIVER_TET_TOL). */
+#define TB_LIVER_TET_TOL 0.02
 int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, tb_error *err);
 
 /* ---- instrument, spheres, beams ---- */

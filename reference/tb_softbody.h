@@ -1,0 +1,44 @@
+/* A peer for the position-based models: Bullet's classic soft body
+ * (btSoftBody, libBulletSoftBody-float64 3.24: double precision through
+ * pkg-config bullet-float64) behind a C API, in a btSoftRigidDynamicsWorld
+ * with gravity and a static ground. Built from a tet mesh: one node per
+ * mesh node, one link (Bullet's distance constraint, its position solver)
+ * per tet edge; node masses from the density and a quarter of each tet's
+ * volume (total mass = density x volume). reference/ref_softbody.cpp says
+ * what Bullet does with them. */
+#ifndef TB_SOFTBODY_H
+#define TB_SOFTBODY_H
+
+#include "tb_error.h"
+#include "tb_mesh.h"
+
+typedef struct tb_softbody_def {
+  double density;     /* node masses: density x a quarter of each tet's volume */
+  double stiffness;   /* the links' linear stiffness, Material::m_kLST in (0, 1] */
+  int iterations;     /* position solver iterations, Config::piterations (>= 1) */
+  double friction;    /* Config::kDF in [0, 1] (the ground's own friction is 1) */
+  double damping;     /* Config::kDP in [0, 1] */
+  double margin;      /* collision margin: nodes come to rest this far above the ground */
+  tb_vec3 gravity;    /* acceleration */
+  int has_ground;     /* 1: a static ground through ground_p with normal ground_n */
+  tb_vec3 ground_p, ground_n;
+} tb_softbody_def;
+
+/* Bullet's defaults for the rest: stiffness 1, 1 iteration, friction 0.2,
+ * damping 0, margin 0.25; density 1, no gravity, no ground. */
+tb_softbody_def tb_softbody_default_def(void);
+
+typedef struct tb_softbody tb_softbody;
+
+/* NULL (err set) on a mesh without tets, a bad setting or no memory. */
+tb_softbody *tb_softbody_create(const tb_mesh *mesh, const tb_softbody_def *def, tb_error *err);
+/* One world step of dt (stepSimulation(dt, 0): exactly one step of dt). */
+int tb_softbody_step(tb_softbody *b, double dt, tb_error *err);
+/* The nodes' positions now, in the mesh's node order (nv entries). */
+void tb_softbody_positions(const tb_softbody *b, tb_vec3 *x);
+int tb_softbody_nodes(const tb_softbody *b);
+int tb_softbody_links(const tb_softbody *b);
+double tb_softbody_total_mass(const tb_softbody *b);
+void tb_softbody_destroy(tb_softbody *b);
+
+#endif
