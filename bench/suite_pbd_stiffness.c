@@ -70,6 +70,9 @@ static tb_sim_def scene_def(const tb_sag_def *d) {
 static int model_settings(const tb_sag_def *d, tb_settings *md, tb_error *err) {
   tb_settings_init(md);
   if (tb_settings_setd(md, "E", d->E, err) || tb_settings_setd(md, "nu", d->nu, err)) return -1;
+  /* the projection's own stiffness: constraint damping (which also softens
+   * an unconverged projection) off */
+  if (tb_settings_setd(md, "rayleigh_stiffness", 0, err)) return -1;
   if (d->iterations > 0 && tb_settings_setd(md, "iterations", d->iterations, err)) return -1;
   if (!isnan(d->k) && tb_settings_setd(md, "k", d->k, err)) return -1;
   return tb_model_check_settings(d->model, md, err);
