@@ -14,7 +14,10 @@ typedef struct tb_stab_model {
   const char *name, *key, *label; /* model, its settings key, axis label */
   double lo, hi;
   int logy;
-  double ref; /* stiffness at which the tip load is the beam's default (0: load fixed) */
+  double ref;      /* stiffness at which the tip load is the beam's default (0: load fixed) */
+  int integer;     /* the key is a whole number (iterations): the axis is rounded */
+  const char *tag; /* the map's file names, map_<tag>; NULL: the model's name. A model with
+                      two maps (two keys) has one entry each; part 2 runs it once. */
 } tb_stab_model;
 extern const tb_stab_model tb_stab_models[];
 extern const int tb_stab_nmodels;
@@ -40,7 +43,13 @@ typedef struct tb_stab_text {
 } tb_stab_text;
 void tb_stab_text_add(tb_stab_text *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* Part 2: every model (or only `only`) x stretch, twist, crush. */
-int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *only, tb_error *err);
+/* The entry's file tag (tag, or the model's name). */
+const char *tb_stab_tag(const tb_stab_model *m);
+/* Whether part 2 runs entry m: the first entry of its model, and the model
+ * is `only` (NULL: every model). */
+int tb_stab_deform_runs(const tb_stab_model *m, const char *only);
+
+/* Part 2: every model (or only the model named `only`) x stretch, twist, crush. */
+int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const char *only, tb_error *err);
 
 #endif

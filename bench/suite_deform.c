@@ -102,7 +102,7 @@ static int pick_unrecovered(const deform_result *r) {
   return r->c.code == ST_STABLE && !recovered(r);
 }
 
-int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *only, tb_error *err) {
+int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const char *only, tb_error *err) {
   static const char *cols[] = {"model",
                                "test",
                                "state",
@@ -121,9 +121,10 @@ int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *on
   sd.seed = 1;
   deform_result res[NMAPS][NTESTS];
   memset(res, 0, sizeof res);
-  long done = 0, total = (only ? 1 : NMAPS) * NTESTS; /* the maps run */
+  long done = 0, total = 0; /* the runs */
+  for (int m = 0; m < NMAPS; m++) total += tb_stab_deform_runs(&maps[m], only) ? NTESTS : 0;
   for (int m = 0; m < NMAPS; m++) {
-    if (only && only != &maps[m]) continue;
+    if (!tb_stab_deform_runs(&maps[m], only)) continue;
     for (int k = 0; k < NTESTS; k++) {
       tb_progress("stability deformations", done++, total);
       if (deform_run(maps[m].name, tests[k].scene, &sd, &res[m][k], err)) return -1;

@@ -3,24 +3,27 @@
  *
  * Part 1, stability maps: a grid of time step dt (log-spaced) x the model's
  * stiffness parameter (msm ks, fem and fem-corot E, log-spaced; sm alpha,
- * linear), per mesh size. Each tb_stab_cell runs the `beam` scene (cantilever
- * 10 x 1 x 1 held at x = 0) for a fixed simulated time under a tip load
- * applied suddenly at t = 0: the step load excites every mode of the loaded
- * end at once, so an integrator that cannot follow the stiffest modes at
- * that dt shows it within the run, and nothing else disturbs the beam. The
- * load scales with the stiffness (the beam scene's 0.075 at msm ks 180 and
- * fem E 3000), so every tb_stab_cell asks for the same small static deflection
- * (about 1% of L) and a failure is the integrator's, not a physically huge
- * deformation; sm's load is fixed. Unit node masses (node_mass = 1, as the
+ * linear; pbd-stvk k, linear, and in a second map its iterations; xpbd-stvk
+ * iterations; iterations log-spaced and rounded), per mesh size. Each cell
+ * runs the `beam` scene (cantilever 10 x 1 x 1 held at x = 0) for a fixed
+ * simulated time under a tip load applied suddenly at t = 0: the step load
+ * excites every mode of the loaded end at once, so an integrator that
+ * cannot follow the stiffest modes at that dt shows it within the run, and
+ * nothing else disturbs the beam. The load scales with the stiffness (the
+ * beam scene's 0.075 at msm ks 180 and fem E 3000), so every cell asks for
+ * the same small static deflection (about 1% of L) and a failure is the
+ * integrator's, not a physically huge deformation; sm's, pbd-stvk's and
+ * xpbd-stvk's load is fixed. Unit node masses (node_mass = 1, as the
  * thesis's mass-spring demo and table 3.5), the thesis's other parameters.
- * Every tb_stab_cell is judged by the simulation driver's own detector (tb_sim_step:
- * NaN/inf, velocity bound, energy growth, and inverted elements, which is
- * on here), checked every step. For msm the explicit bound of one spring,
- * dt < 2 sqrt(m / k) (symplectic Euler, m the smallest node mass, k = ks),
- * is drawn on the map; the largest stable dt per ks is bisected and set
- * beside it and beside linearised bounds of the whole mesh at rest (power
- * iteration on M^-1 K and M^-1 C: symplectic Euler on m x'' + c x' + k x = 0
- * is stable iff h^2 k / m + 2 h c / m < 4).
+ * Every cell is judged by the simulation driver's own detector
+ * (tb_sim_step: NaN/inf, velocity bound, energy growth, and inverted
+ * elements, which is on here), checked every step.
+ * For msm the explicit bound of one spring, dt < 2 sqrt(m / k) (symplectic
+ * Euler, m the smallest node mass, k = ks), is drawn on the map; the
+ * largest stable dt per ks is bisected and set beside it and beside
+ * linearised bounds of the whole mesh at rest (power iteration on M^-1 K
+ * and M^-1 C: symplectic Euler on m x'' + c x' + k x = 0 is stable iff
+ * h^2 k / m + 2 h c / m < 4).
  *
  * Part 2, large deformations (bench/suite_deform.c, scenes in bench/scene_deform.c): every model x
  * {stretch 100%, twist 180 deg, crush 50%} of a 4 x 1 x 1 beam, ramped, held, let go: inverted tets
@@ -40,12 +43,26 @@
 
 /* ---- the models and their stiffness axes ---- */
 const tb_stab_model tb_stab_models[] = {
-    {"msm", "ks", "spring stiffness ks (N/m)", 10, 1e6, 1, 180},
-    {"fem", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000},
-    {"fem-corot", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000},
-    {"sm", "alpha", "shape-matching stiffness alpha (dimensionless)", 0.05, 1, 0, 0},
+    {"msm", "ks", "spring stiffness ks (N/m)", 10, 1e6, 1, 180, 0, NULL},
+    {"fem", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000, 0, NULL},
+    {"fem-corot", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000, 0, NULL},
+    {"sm", "alpha", "shape-matching stiffness alpha (dimensionless)", 0.05, 1, 0, 0, 0, NULL},
+    /* PBD's stiffness is k, the iterations and dt (E does not enter): two maps */
+    {"pbd-stvk", "k", "PBD stiffness k (dimensionless)", 0.05, 1, 0, 0, 0, NULL},
+    {"pbd-stvk", "iterations", "Gauss-Seidel iterations per step", 1, 100, 1, 0, 1,
+     "pbd-stvk-iterations"},
+    /* XPBD's E is the material's (the fem maps' axis); its iterations are the solver's */
+    {"xpbd-stvk", "iterations", "Gauss-Seidel iterations per step", 1, 100, 1, 0, 1, NULL},
 };
 const int tb_stab_nmodels = (int)(sizeof tb_stab_models / sizeof tb_stab_models[0]);
+
+const char *tb_stab_tag(const tb_stab_model *m) { return m->tag ? m->tag : m->name; }
+
+int tb_stab_deform_runs(const tb_stab_model *m, const char *only) {
+  for (const tb_stab_model *e = tb_stab_models; e < m; e++)
+    if (!strcmp(e->name, m->name)) return 0; /* an earlier map of the same model */
+  return !only || !strcmp(only, m->name);
+}
 #define NMAPS tb_stab_nmodels
 #define maps tb_stab_models
 
@@ -53,7 +70,7 @@ const int tb_stab_nmodels = (int)(sizeof tb_stab_models / sizeof tb_stab_models[
 #define NODE_MASS TB_STAB_NODE_MASS
 #define DT_LO 1e-4
 #define DT_HI 0.1
-/* A tb_stab_cell runs the grid's simulated time or this many steps when that is
+/* A cell runs the grid's simulated time or this many steps when that is
  * longer: at dt 0.1, 0.5 s is 5 steps, too few for a growing mode to show
  * (msm at ks 10, dt 0.1 is caught after 11 steps). */
 #define MIN_STEPS 50
@@ -225,6 +242,8 @@ static void stiffness_axis(const grid *g, const tb_stab_model *mm, double *k) {
   for (int i = 0; i < g->nk; i++) {
     double u = (double)i / (g->nk - 1);
     k[i] = mm->logy ? mm->lo * pow(mm->hi / mm->lo, u) : mm->lo + (mm->hi - mm->lo) * u;
+    /* whole numbers, strictly increasing (1, 1.5, 2.3 -> 1, 2, 3) */
+    if (mm->integer) k[i] = i && round(k[i]) <= k[i - 1] ? k[i - 1] + 1 : round(k[i]);
   }
 }
 
@@ -358,11 +377,11 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
     cols[j + 1] = heads[j];
   }
   char name[48], title[200];
-  snprintf(name, sizeof name, "map_%s_n%d", mm->name, cells);
+  snprintf(name, sizeof name, "map_%s_n%d", tb_stab_tag(mm), cells);
   snprintf(title, sizeof title,
-           "%s, beam with %d cells along x (%d nodes): stable or unstable (reason, time) over "
-           "%g s or %d steps",
-           mm->name, cells, mesh->nv, g->duration, MIN_STEPS);
+           "%s over %s, beam with %d cells along x (%d nodes): stable or unstable (reason, time) "
+           "over %g s or %d steps",
+           mm->name, mm->key, cells, mesh->nv, g->duration, MIN_STEPS);
   tb_table *t = tb_table_new(name, title, g->ndt + 1, cols);
   int rc = 0;
   for (int r = 0; r < g->nk && !rc; r++) {
@@ -400,13 +419,13 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
   return rc;
 }
 
-static int maps_part(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *only,
-                     tb_error *err) {
+static int maps_part(tb_suite *su, const tb_suite_opts *o, const char *only, tb_error *err) {
   grid g = make_grid(o);
-  long done = 0, total = (long)(only ? 1 : NMAPS) * g.nmesh; /* the maps run, one item a mesh */
+  long done = 0, total = 0; /* the maps run, one item a mesh */
+  for (int m = 0; m < NMAPS; m++) total += !only || !strcmp(only, maps[m].name) ? g.nmesh : 0;
   for (int m = 0; m < NMAPS; m++) {
     const tb_stab_model *mm = &maps[m];
-    if (only && only != mm) continue;
+    if (only && strcmp(only, mm->name)) continue;
     tb_stab_text csv = {0}, bcsv = {0};
     int counts[ST_COUNT] = {0}, rc = 0;
     uint64_t t0 = tb_time_ns();
@@ -429,13 +448,14 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *
     }
     double secs = (double)(tb_time_ns() - t0) * 1e-9;
     tb_suite_note(su,
-                  "%s: %d cells stable, %d NaN or inf, %d energy growth, %d inverted elements, "
-                  "%d velocity beyond bound, %d failed steps (%.1f s of wall time for the map%s).",
-                  mm->name, counts[ST_STABLE], counts[ST_NAN], counts[ST_ENERGY],
+                  "%s over %s: %d cells stable, %d NaN or inf, %d energy growth, %d inverted "
+                  "elements, %d velocity beyond bound, %d failed steps (%.1f s of wall time for "
+                  "the map%s).",
+                  mm->name, mm->key, counts[ST_STABLE], counts[ST_NAN], counts[ST_ENERGY],
                   counts[ST_INVERTED], counts[ST_VELOCITY], counts[ST_FAILED], secs,
                   mm == &maps[0] ? " and its bisections" : "");
     char csvname[48];
-    snprintf(csvname, sizeof csvname, "map_%s.csv", mm->name);
+    snprintf(csvname, sizeof csvname, "map_%s.csv", tb_stab_tag(mm));
     rc = tb_suite_write_data(su, csvname, "dt,stiffness,status,cells,t,reason", csv.s, err);
     if (!rc && bcsv.s)
       rc = tb_suite_write_data(su, "msm_bound.csv",
@@ -451,13 +471,13 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *
     if (strchr(bfile, '\'')) bfile[0] = 0;
     for (int q = 0; q < g.nmesh && !rc; q++) {
       char base[48], vars[1600];
-      snprintf(base, sizeof base, "map_%s_n%d", mm->name, g.cells[q]);
+      snprintf(base, sizeof base, "map_%s_n%d", tb_stab_tag(mm), g.cells[q]);
       snprintf(vars, sizeof vars,
-               "title='%s: stability over %g s (at least %d steps), beam with %d cells along x'; "
-               "ylabel='%s'; logy=%d; cells=%d; psize=%g; bound=%d; mass=%g%s%s%s",
-               mm->name, g.duration, MIN_STEPS, g.cells[q], mm->label, mm->logy, g.cells[q],
-               g.ndt > 8 ? 1.8 : 3.0, mm == &maps[0], NODE_MASS, bfile[0] ? "; boundfile='" : "",
-               bfile, bfile[0] ? "'" : "");
+               "title='%s, %s x dt: stability over %g s (at least %d steps), beam with %d cells "
+               "along x'; ylabel='%s'; logy=%d; cells=%d; psize=%g; bound=%d; mass=%g%s%s%s",
+               mm->name, mm->key, g.duration, MIN_STEPS, g.cells[q], mm->label, mm->logy,
+               g.cells[q], g.ndt > 8 ? 1.8 : 3.0, mm == &maps[0], NODE_MASS,
+               bfile[0] ? "; boundfile='" : "", bfile, bfile[0] ? "'" : "");
       rc = tb_suite_chart_vars(su, "chart_map.gp", csvname, base, vars, err);
       if (!rc)
         tb_suite_caption(su, base,
@@ -473,12 +493,18 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const tb_stab_model *
 }
 
 int tb_suite_stability(const tb_suite_opts *o) {
-  const tb_stab_model *only = NULL;
-  if (o->model) {
-    for (int m = 0; m < NMAPS; m++)
-      if (!strcmp(o->model, maps[m].name)) only = &maps[m];
-    if (!only) {
-      fprintf(stderr, "stability: unknown model '%s' (msm, fem, fem-corot, sm)\n", o->model);
+  const char *only = o->model; /* every map of that model */
+  if (only) {
+    int found = 0;
+    char names[200] = "";
+    for (int m = 0; m < NMAPS; m++) {
+      found |= !strcmp(only, maps[m].name);
+      if (tb_stab_deform_runs(&maps[m], NULL))
+        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", m ? ", " : "",
+                 maps[m].name);
+    }
+    if (!found) {
+      fprintf(stderr, "stability: unknown model '%s' (%s)\n", only, names);
       return 1;
     }
   }
@@ -493,18 +519,22 @@ int tb_suite_stability(const tb_suite_opts *o) {
       s,
       "Stability maps: the `beam` scene (cantilever 10 x 1 x 1 held at x = 0) under a "
       "tip load applied suddenly at t = 0, run for %g s (or %d steps when that is longer) per "
-      "tb_stab_cell on a %d x %d grid "
+      "cell on a %d x %d grid "
       "(dt log-spaced %.3g..%.3g s; msm ks and fem/fem-corot E log-spaced 10..1e6, "
-      "sm alpha linear 0.05..1). The load is 0.075 x stiffness / (180 for msm ks, "
+      "sm alpha linear 0.05..1; pbd-stvk k linear 0.05..1 and, in a second map, its "
+      "iterations; xpbd-stvk iterations; iterations log-spaced 1..100, rounded). The load is "
+      "0.075 x stiffness / (180 for msm ks, "
       "3000 for E): the same static deflection (about 1%% of L) in every cell, so a "
-      "failure is the integrator's; sm's load is 0.075. Unit node masses, the "
-      "thesis's other parameters (kd 5, nu 0.3, Rayleigh b 0.02, sm quadratic, 50 "
-      "regions of radius 1, beta 0.63). Each tb_stab_cell is judged by the simulation "
-      "driver's detector, every step: NaN or inf, velocity beyond 100 x size / "
+      "failure is the integrator's; sm's, pbd-stvk's and xpbd-stvk's load is 0.075 (xpbd-stvk "
+      "at E 3000; pbd-stvk's stiffness is set by k, the iterations and dt, not E). Unit node "
+      "masses, the thesis's other parameters (kd 5, nu 0.3, Rayleigh b 0.02, sm quadratic, 50 "
+      "regions of radius 1, beta 0.63), the position-based models' defaults (nu 0.4, damping "
+      "2, 5 iterations, k 0.4, StVK; pbd-stvk BDF2, xpbd-stvk Euler). Each cell is judged by "
+      "the simulation driver's detector, every step: NaN or inf, velocity beyond 100 x size / "
       "duration, energy growth beyond 100 x the scene's reference energy, and "
-      "inverted elements (inversion checking ON for the maps). A tb_stab_cell reads `stable` "
-      "or `unstable (reason, t at which it was detected)`; map_<model>.csv has the "
-      "detector's full words.",
+      "inverted elements (inversion checking ON for the maps). A cell reads `stable` "
+      "or `unstable (reason, t at which it was detected)`; map_<model>.csv (and "
+      "map_pbd-stvk-iterations.csv) has the detector's full words.",
       g.duration, MIN_STEPS, g.nk, g.ndt, g.dt[0], g.dt[g.ndt - 1]);
   int failed = maps_part(s, o, only, &err) || tb_stab_deform(s, o, only, &err);
   if (failed) fprintf(stderr, "stability: %s\n", err.msg);

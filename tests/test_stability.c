@@ -225,12 +225,22 @@ static void suite_smoke(void) {
   snprintf(args, sizeof args, "figure stability --scale 0.01 --results %s/all", tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   snprintf(dir, sizeof dir, "%s/all/stability", tb_test_tmpdir());
-  static const char *const files[] = {"table.md",          "table-deform.csv",
-                                      "map_msm.csv",       "map_fem.csv",
-                                      "map_fem-corot.csv", "map_sm.csv",
-                                      "map_msm_n10.png",   "map_msm_n10.svg",
-                                      "map_sm_n10.svg",    "map_fem-corot_n10.svg",
-                                      "msm_bound.csv"};
+  static const char *const files[] = {"table.md",
+                                      "table-deform.csv",
+                                      "map_msm.csv",
+                                      "map_fem.csv",
+                                      "map_fem-corot.csv",
+                                      "map_sm.csv",
+                                      "map_msm_n10.png",
+                                      "map_msm_n10.svg",
+                                      "map_sm_n10.svg",
+                                      "map_fem-corot_n10.svg",
+                                      "msm_bound.csv",
+                                      "map_pbd-stvk.csv",
+                                      "map_pbd-stvk-iterations.csv",
+                                      "map_pbd-stvk-iterations_n10.svg",
+                                      "map_xpbd-stvk.csv",
+                                      "map_xpbd-stvk_n10.svg"};
   for (size_t i = 0; i < sizeof files / sizeof files[0]; i++)
     TB_CHECK_MSG(has_file(dir, files[i]), "no %s", files[i]);
   char cmd[1200];
@@ -254,6 +264,24 @@ static void suite_smoke(void) {
   TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
   TB_CHECK(strstr(tb_test_out, "| msm | crush 50% |") && !strstr(tb_test_out, "| fem |") &&
            !strstr(tb_test_out, "| sm |"));
+
+  /* a model with two maps (k, iterations): both, and its deformations once */
+  snprintf(args, sizeof args, "figure stability --scale 0.01 --model pbd-stvk --results %s/pbd",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  snprintf(dir, sizeof dir, "%s/pbd/stability", tb_test_tmpdir());
+  TB_CHECK(has_file(dir, "map_pbd-stvk.csv") && has_file(dir, "map_pbd-stvk-iterations.csv"));
+  TB_CHECK(!has_file(dir, "map_xpbd-stvk.csv") && !has_file(dir, "map_msm.csv"));
+  snprintf(cmd, sizeof cmd, "cat %s/table.md", dir);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  const char *twist = strstr(tb_test_out, "| pbd-stvk | twist 180 deg |");
+  TB_CHECK_MSG(twist && !strstr(twist + 1, "| pbd-stvk | twist 180 deg |") &&
+                   strstr(tb_test_out, "| iterations |") && strstr(tb_test_out, "| k |"),
+               "%s", tb_test_out);
+  snprintf(cmd, sizeof cmd, "cut -d, -f2 %s/map_pbd-stvk-iterations.csv | sort -un | tr '\\n' ' '",
+           dir);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK_MSG(strstr(tb_test_out, "1 10 100"), "iterations axis: %s", tb_test_out);
 
   snprintf(args, sizeof args, "figure stability --scale 0.01 --model nope --results %s/bad",
            tb_test_tmpdir());
