@@ -79,7 +79,7 @@ int tb_fid_pareto(const double *speed, const double *error, const char *valid, i
 /* ---- the reference ---- */
 
 static int has_static_problem(const char *scene) {
-  return !strcmp(scene, "beam") || !strcmp(scene, "liver-stretch");
+  return !strcmp(scene, "beam") || !strcmp(scene, "liver-stretch") || !strcmp(scene, "liver-hang");
 }
 
 static double volume_of(const tb_mesh *m, const tb_vec3 *x) {
@@ -95,7 +95,8 @@ int tb_fid_reference(const char *scene, const tb_sim_def *def, double t_eq, cons
                      tb_fid_ref *out, tb_error *err) {
   memset(out, 0, sizeof *out);
   if (!has_static_problem(scene))
-    return tb_error_set(err, scene, 0, "no static problem to compare (beam, liver-stretch)");
+    return tb_error_set(err, scene, 0,
+                        "no static problem to compare (beam, liver-stretch, liver-hang)");
   snprintf(out->scene, sizeof out->scene, "%s", scene);
   double density, E, nu;
   if (tb_model_check_settings("fem", mset, err)) return -1;
@@ -377,11 +378,18 @@ int tb_fid_equal_masses(const tb_mesh *m, const char *model, tb_settings *mset, 
   return tb_settings_setd(mset, "node_mass", density * v / m->nv, err);
 }
 
+int tb_fid_masses(const tb_fid_plan *p, const tb_mesh *m, const char *model, tb_settings *mset,
+                  tb_error *err) {
+  if (p->density_masses) return tb_settings_set(mset, "node_mass=0", err);
+  return tb_fid_equal_masses(m, model, mset, err);
+}
+
 int tb_fid_plan_for(const char *scene, int level, uint64_t seed, tb_fid_plan *p, tb_error *err) {
   memset(p, 0, sizeof *p);
   tb_sim_def_init(&p->def);
   if (!has_static_problem(scene))
-    return tb_error_set(err, scene, 0, "no static problem to compare (beam, liver-stretch)");
+    return tb_error_set(err, scene, 0,
+                        "no static problem to compare (beam, liver-stretch, liver-hang)");
   level = level < 0 ? 0 : (level > 2 ? 2 : level);
   p->def.seed = seed ? seed : 1;
   p->def.dt = 0.01;
@@ -400,6 +408,19 @@ int tb_fid_plan_for(const char *scene, int level, uint64_t seed, tb_fid_plan *p,
     p->opts.window = level ? 2.0 : 1.0;
     p->opts.recovery = 0; /* the load is never taken off */
     p->load = "tip load 0.075 along -z (Euler-Bernoulli deflection 0.1 = 1% of the length)";
+  } else if (!strcmp(scene, "liver-hang")) {
+    static const int res[3][4] = {{200, 250, 300, 0}, {400, 800, 1206, 0}, {400, 800, 1206, 2400}};
+    static const int ref[3] = {400, 2400, 4800};
+    static const double tmax[3] = {3, 10, 20};
+    memcpy(p->res, res[level], sizeof p->res);
+    p->nres = level == 2 ? 4 : 3, p->ref_res = ref[level];
+    p->def.drag = 5.0; /* the scene's: near critical for the lowest mode */
+    p->t_eq = 1.0;     /* gravity acts from the start */
+    p->opts.max_time = tmax[level];
+    p->opts.window = 0.5;
+    p->opts.recovery = 0; /* gravity is never taken off */
+    p->density_masses = 1;
+    p->load = "gravity 9.81 along -z, the liver held by a patch of its top surface";
   } else {
     static const int res[3][4] = {{200, 250, 300, 0}, {400, 800, 1206, 0}, {400, 800, 1206, 2400}};
     static const int ref[3] = {400, 2400, 4800};

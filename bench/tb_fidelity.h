@@ -44,7 +44,7 @@ typedef struct tb_fid_ref {
   int iterations, load_steps;
 } tb_fid_ref;
 
-/* Poses scene (beam or liver-stretch; others have no static problem here)
+/* Poses scene (beam, liver-stretch or liver-hang; others have no static problem here)
  * with settings def at time t_eq to the reference solver with the material
  * (E, nu, density) model fem reads from mset (NULL: its defaults): the
  * same loads, supports and prescribed positions the scene gives its models
@@ -107,12 +107,21 @@ typedef struct tb_fid_plan {
   double t_eq;      /* the scene time whose loads the reference gets */
   tb_fid_opts opts; /* settle_speed relative to the reference: times its umax per s */
   const char *load; /* the load in words, for notes */
+  /* 1: gravity loads the scene; the models' masses come from the density
+   * (lumped: on linear tets the reference's consistent body force) */
+  int density_masses;
 } tb_fid_plan;
 /* Equal node masses of the body's mass at model's density in mset (sets
- * node_mass = density * volume / nodes): the static answer does not depend
- * on masses, and no sliver node's tiny mass limits the explicit models' step. */
+ * node_mass = density * volume / nodes): without gravity the static answer
+ * does not depend on masses, and no sliver node's tiny mass limits the
+ * explicit models' step. */
 int tb_fid_equal_masses(const tb_mesh *m, const char *model, tb_settings *mset, tb_error *err);
-/* level 0: smoke (tiny meshes), 1: quick, 2: full. Scenes: beam, liver-stretch. */
+/* The masses a plan gives model: equal masses (tb_fid_equal_masses), or for
+ * a gravity-loaded scene (density_masses) node_mass = 0, so that every node
+ * carries the weight of its share of the volume, as the reference's load. */
+int tb_fid_masses(const tb_fid_plan *p, const tb_mesh *m, const char *model, tb_settings *mset,
+                  tb_error *err);
+/* level 0: smoke (tiny meshes), 1: quick, 2: full. Scenes: beam, liver-stretch, liver-hang. */
 int tb_fid_plan_for(const char *scene, int level, uint64_t seed, tb_fid_plan *p, tb_error *err);
 
 /* ---- points.csv: what pareto writes and advise reads ---- */

@@ -277,8 +277,8 @@ static void pareto_cli(void) {
   tb_error err;
   TB_CHECK_MSG(tb_points_read(path, &p, &n, &err) == 0, "%s", err.msg);
   /* every model at 3 resolutions, at least */
-  const char *models[4] = {"msm", "fem", "fem-corot", "sm"};
-  for (int m = 0; m < 4; m++) {
+  const char *models[6] = {"msm", "fem", "fem-corot", "sm", "pbd-stvk", "xpbd-stvk"};
+  for (int m = 0; m < 6; m++) {
     int res[3] = {0, 0, 0}, nr = 0;
     for (int k = 0; k < n; k++) {
       if (strcmp(p[k].model, models[m])) continue;
@@ -308,6 +308,32 @@ static void pareto_cli(void) {
   /* a scene with no static problem */
   snprintf(args, sizeof args, "figure pareto --scale 0.01 --scene drop --results %s/res", dir);
   TB_CHECK(tb_test_cli_run(args) == 1 && strstr(tb_test_out, "no static problem"));
+}
+
+/* liver-hang: gravity against the reference, every model's masses from the
+ * density (each node carries its share of the weight) */
+static void pareto_liver_hang(void) {
+  char args[1024], path[1024];
+  const char *dir = tb_test_tmpdir();
+  snprintf(args, sizeof args, "figure pareto --scale 0.01 --scene liver-hang --results %s/res",
+           dir);
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  snprintf(path, sizeof path, "%s/res/pareto/liver-hang/points.csv", dir);
+  tb_point *p;
+  int n, settled = 0, pbd = 0;
+  tb_error err;
+  TB_CHECK_MSG(tb_points_read(path, &p, &n, &err) == 0, "%s", err.msg);
+  for (int k = 0; k < n; k++) {
+    settled += !strcmp(p[k].state, "settled");
+    pbd += !strncmp(p[k].model, "pbd-stvk", 8) || !strncmp(p[k].model, "xpbd-stvk", 9);
+  }
+  TB_CHECK_MSG(n >= 18 && settled >= 3 && pbd >= 6, "%d points, %d settled, %d position-based", n,
+               settled, pbd);
+  free(p);
+  snprintf(path, sizeof path, "cat %s/res/pareto/liver-hang/table.md", dir);
+  TB_CHECK(tb_test_run(path, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK_MSG(strstr(tb_test_out, "gravity 9.81") && strstr(tb_test_out, "from the density"), "%s",
+               tb_test_out);
 }
 
 static void advise_cli(void) {
@@ -358,6 +384,7 @@ const tb_test_case tb_tests_fidelity[] = {
     {"run_settles", run_settles},
     {"run_reaction", run_reaction},
     {"pareto_cli", pareto_cli},
+    {"pareto_liver_hang", pareto_liver_hang},
     {"advise_cli", advise_cli},
     {"calibration_cli", calibration_cli},
     {0, 0},
