@@ -23,6 +23,8 @@ typedef struct tb_sag_def {
   int iterations;  /* <= 0: the model's default */
   double k;        /* pbd-stvk's k; NAN: the default */
   double E, nu;    /* the material, also the reference's */
+  double rayleigh; /* constraint damping b (rayleigh_stiffness); 0: off, the projection's own
+                      stiffness (b scales PBD's corrections by 1 / (1 + b / dt), softening it) */
   double max_time; /* simulated s before giving up ("not settled") */
   double window;   /* settled: over this many simulated s ... */
   double tol;      /* ... the tip sag varied by at most tol x the sag */
@@ -30,8 +32,8 @@ typedef struct tb_sag_def {
 
 /* The suite's settings: pbd-stvk, 10 cells, gravity 0.02 (the continuum's
  * static tip sag about 0.1, 1% of L), drag 1.5, dt 0.01, default iterations
- * and k, E 3000, nu 0.3 (the reference's and fem's), 60 s, window 1 s,
- * tol 1e-4. */
+ * and k, E 3000, nu 0.3 (the reference's and fem's), constraint damping
+ * off, 60 s, window 1 s, tol 1e-4. */
 void tb_sag_def_init(tb_sag_def *d);
 
 typedef struct tb_sag_result {

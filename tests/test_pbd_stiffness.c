@@ -79,8 +79,9 @@ static void suite_smoke(void) {
            tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   static const char *const files[] = {
-      "table.md",  "table-sag.csv", "table-k.csv",   "table-reference.csv",
-      "chart.csv", "stiffness.png", "stiffness.svg", "data.json"};
+      "table.md",          "table-sag.csv", "table-k.csv",   "table-reference.csv",
+      "table-damping.csv", "chart.csv",     "stiffness.png", "stiffness.svg",
+      "data.json"};
   for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
     snprintf(cmd, sizeof cmd, "test -s %s/ps/pbd-stiffness/%s", tb_test_tmpdir(), files[i]);
     TB_CHECK_MSG(tb_test_run(cmd, NULL, 0) == 0, "no %s", files[i]);
@@ -91,6 +92,7 @@ static void suite_smoke(void) {
   TB_CHECK_MSG(strstr(tb_test_out, "| pbd-stvk | 0.01 | 5 |") &&
                    strstr(tb_test_out, "| xpbd-stvk | 0.02 | 20 |") &&
                    strstr(tb_test_out, "Reading the chart") &&
+                   strstr(tb_test_out, "| pbd-stvk | 5 | 0.02 |") &&
                    strstr(tb_test_out, "\"sag_ratio\"") &&
                    strstr(tb_test_out, "\"name\": \"xpbd-stvk/dt:0.01/iterations:1\""),
                "%s", tb_test_out);
