@@ -60,6 +60,11 @@ static inline int tb_isfinite3(tb_vec3 a) {
 static inline double tb_tet_volume(tb_vec3 a, tb_vec3 b, tb_vec3 c, tb_vec3 d) {
   return tb_dot(tb_sub(b, a), tb_cross(tb_sub(c, a), tb_sub(d, a))) / 6.0;
 }
+/* Lame parameters of Young's modulus E and Poisson ratio nu (nu < 1/2). */
+static inline void tb_lame(double E, double nu, double *lambda, double *mu) {
+  *lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  *mu = E / (2 * (1 + nu));
+}
 static inline double tb_tri_area(tb_vec3 a, tb_vec3 b, tb_vec3 c) {
   return 0.5 * tb_len(tb_cross(tb_sub(b, a), tb_sub(c, a)));
 }

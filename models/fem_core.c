@@ -262,8 +262,8 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
       tb_error_set(err, name, 0, "node %d has a non-finite position", (int)i);
       goto fail;
     }
-  double lambda = def->E * def->nu / ((1 + def->nu) * (1 - 2 * def->nu));
-  double mu = def->E / (2 * (1 + def->nu));
+  double lambda, mu;
+  tb_lame(def->E, def->nu, &lambda, &mu);
   for (int t = 0; t < f->ntet; t++) {
     const int *e = f->tet + 4 * t;
     tb_vec3 d1 = tb_sub(f->X[e[1]], f->X[e[0]]), d2 = tb_sub(f->X[e[2]], f->X[e[0]]),

@@ -64,8 +64,7 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
     return NULL;
   }
   s->xpbd = xpbd, s->set = *set;
-  s->mu = set->E / (2 * (1 + set->nu));
-  s->lambda = set->E * set->nu / ((1 + set->nu) * (1 - 2 * set->nu));
+  tb_lame(set->E, set->nu, &s->lambda, &s->mu);
   int nv = s->nv = mesh->nv, nt = s->nt = mesh->ntet;
   size_t V = (size_t)nv, T = (size_t)nt;
   s->x = malloc(sizeof(tb_vec3) * V), s->xm1 = malloc(sizeof(tb_vec3) * V);

@@ -454,8 +454,7 @@ tb_ref_solution *tb_ref_solve(const tb_ref_problem *p, const tb_ref_def *def, tb
   if (setup(&S, err)) goto done;
   tb_ref_sys *sys = &S.sys;
   sys->mat.kind = def->material;
-  sys->mat.lambda = def->E * def->nu / ((1 + def->nu) * (1 - 2 * def->nu));
-  sys->mat.mu = def->E / (2 * (1 + def->nu));
+  tb_lame(def->E, def->nu, &sys->mat.lambda, &sys->mat.mu);
   sys->nn = S.nn, sys->ntet = S.ntet, sys->npe = S.npe;
   sys->elem = S.elem, sys->gl = S.gl, sys->vol = S.vol, sys->free_of = S.free_of;
   if (tb_ref_sys_init(sys, err)) goto done;

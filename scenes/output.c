@@ -58,7 +58,8 @@ int tb_sim_tet_fields(const tb_sim *s, double *strain, double *vm, unsigned char
     tb_model_setting(name, &s->settings, "E", &E);
     tb_model_setting(name, &s->settings, "nu", &nu);
   }
-  double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  double lam, mu;
+  tb_lame(E, nu, &lam, &mu);
   for (size_t t = 0; t < nt; t++) {
     const int *e = m->tet + 4 * t;
     int ok;
