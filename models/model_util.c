@@ -8,6 +8,19 @@
 
 #include "tb_model.h"
 
+int tb_check_tets(const tb_mesh *mesh, tb_error *err) {
+  for (int t = 0; t < mesh->ntet; t++) {
+    const int *n = mesh->tet + 4 * t;
+    for (int k = 0; k < 4; k++)
+      if (n[k] < 0 || n[k] >= mesh->nv)
+        return tb_error_set(err, "mesh", 0, "tet %d refers to node %d (nv = %d)", t, n[k],
+                            mesh->nv);
+    double vol = tb_tet_volume(mesh->x[n[0]], mesh->x[n[1]], mesh->x[n[2]], mesh->x[n[3]]);
+    if (!(vol > 0)) return tb_error_set(err, "mesh", 0, "tet %d has volume %g <= 0", t, vol);
+  }
+  return 0;
+}
+
 int tb_lumped_masses(const tb_mesh *mesh, double density, double node_mass, double *mass,
                      tb_error *err) {
   if (node_mass > 0) {

@@ -98,19 +98,7 @@ static int calibrate(msm *s, const tb_mesh *mesh, double E, tb_error *err) {
 
 static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   const msm_settings *def = settings;
-  for (int t = 0; t < mesh->ntet; t++) { /* also with node_mass, which skips the volumes */
-    const int *n = mesh->tet + 4 * t;
-    for (int k = 0; k < 4; k++)
-      if (n[k] < 0 || n[k] >= mesh->nv) {
-        tb_error_set(err, "mesh", 0, "tet %d refers to node %d (nv = %d)", t, n[k], mesh->nv);
-        return NULL;
-      }
-    double vol = tb_tet_volume(mesh->x[n[0]], mesh->x[n[1]], mesh->x[n[2]], mesh->x[n[3]]);
-    if (!(vol > 0)) {
-      tb_error_set(err, "mesh", 0, "tet %d has volume %g <= 0", t, vol);
-      return NULL;
-    }
-  }
+  if (tb_check_tets(mesh, err)) return NULL;
   msm *s = calloc(1, sizeof *s);
   if (!s) {
     tb_error_set(err, "msm", 0, "out of memory");

@@ -83,14 +83,9 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
     tb_error_set(err, name, 0, "out of memory (%d nodes, %d tets)", nv, nt);
     goto fail;
   }
-  for (int t = 0; t < nt; t++)
-    for (int k = 0; k < 4; k++)
-      if (mesh->tet[4 * t + k] < 0 || mesh->tet[4 * t + k] >= nv) {
-        tb_error_set(err, "mesh", 0, "tet %d refers to node %d (nv = %d)", t, mesh->tet[4 * t + k],
-                     nv);
-        goto fail;
-      }
-  if (tb_lumped_masses(mesh, set->density, set->node_mass, s->mass, err)) goto fail;
+  if (tb_check_tets(mesh, err) ||
+      tb_lumped_masses(mesh, set->density, set->node_mass, s->mass, err))
+    goto fail;
   for (int i = 0; i < nv; i++) s->invm[i] = 1 / s->mass[i];
   memcpy(s->x, mesh->x, sizeof(tb_vec3) * V);
   memcpy(s->xm1, mesh->x, sizeof(tb_vec3) * V);
@@ -128,9 +123,8 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
     }
     s->vol[k] = tb_tet_volume(mesh->x[e[0]], mesh->x[e[1]], mesh->x[e[2]], x3);
     tb_mat3 inv;
-    if (!(s->vol[k] > 0) || !tb_m3_inverse(dm, &inv)) {
-      tb_error_set(err, "mesh", 0, "tet %d has volume %g <= 0 (or is degenerate)", order[k],
-                   s->vol[k]);
+    if (!tb_m3_inverse(dm, &inv)) { /* volume > 0 (tb_check_tets) but numerically flat */
+      tb_error_set(err, "mesh", 0, "tet %d is degenerate (volume %g)", order[k], s->vol[k]);
       free(order);
       goto fail;
     }
@@ -165,14 +159,8 @@ static double energy(const void *self) {
   for (int t = 0; t < s->nt; t++) {
     const int *n = s->tet[t];
     const double *D = s->dminv[t];
-    double ds[9], F[9], P[9], psi;
-    for (int j = 0; j < 3; j++) {
-      tb_vec3 d = tb_sub(s->x[n[j]], s->x[n[3]]);
-      ds[j] = d.x, ds[3 + j] = d.y, ds[6 + j] = d.z;
-    }
-    for (int r = 0; r < 3; r++)
-      for (int c = 0; c < 3; c++)
-        F[3 * r + c] = ds[3 * r] * D[c] + ds[3 * r + 1] * D[3 + c] + ds[3 * r + 2] * D[6 + c];
+    double F[9], P[9], psi;
+    pbd_deformation(s->x, n, D, F);
     if (!pbd_energy(s->set.energy, s->mu, s->lambda, F, &psi, P)) return INFINITY;
     e += s->vol[t] * psi;
   }

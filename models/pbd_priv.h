@@ -51,6 +51,19 @@ typedef struct pbd {
 #define PBD_INLINE static inline
 #endif
 
+/* F = D_s D_m^-1 (row-major) of the tet with nodes n at positions x, D its
+ * D_m^-1 (row-major); D_s's columns are x_j - x_3 (the patent's eq. 11). */
+PBD_INLINE void pbd_deformation(const tb_vec3 *x, const int n[4], const double D[9], double F[9]) {
+  double ds[9];
+  for (int j = 0; j < 3; j++) {
+    tb_vec3 e = tb_sub(x[n[j]], x[n[3]]);
+    ds[j] = e.x, ds[3 + j] = e.y, ds[6 + j] = e.z;
+  }
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++)
+      F[3 * r + c] = ds[3 * r] * D[c] + ds[3 * r + 1] * D[3 + c] + ds[3 * r + 2] * D[6 + c];
+}
+
 /* Energy density psi(F) and P = d psi / dF for F (row-major); returns 0 for
  * a Neo-Hookean tet with det F <= 0, where it is undefined. */
 PBD_INLINE int pbd_energy(int kind, double mu, double lambda, const double F[9], double *psi,

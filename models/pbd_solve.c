@@ -105,16 +105,8 @@ static inline void project(pbd *s, int t, double alpha, double gamma) {
   const double *w = s->w, *D = s->dminv[t];
   double w0 = w[n[0]], w1 = w[n[1]], w2 = w[n[2]], w3 = w[n[3]];
   if (w0 + w1 + w2 + w3 == 0) return;
-  tb_vec3 x3 = p[n[3]];
-  double ds[9]; /* D_s, columns x_j - x_3 */
-  for (int j = 0; j < 3; j++) {
-    tb_vec3 e = tb_sub(p[n[j]], x3);
-    ds[j] = e.x, ds[3 + j] = e.y, ds[6 + j] = e.z;
-  }
   double F[9], P[9], psi = 0;
-  for (int r = 0; r < 3; r++)
-    for (int c = 0; c < 3; c++)
-      F[3 * r + c] = ds[3 * r] * D[c] + ds[3 * r + 1] * D[3 + c] + ds[3 * r + 2] * D[6 + c];
+  pbd_deformation(p, n, D, F);
   double det = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
                F[2] * (F[3] * F[7] - F[4] * F[6]);
   if (det > 0)

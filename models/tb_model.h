@@ -191,6 +191,9 @@ void tb_model_correct(tb_model *m, int n, const int *ids, const tb_vec3 *x, cons
 void tb_model_destroy(tb_model *m);
 
 /* ---- helpers the models share (models/model_util.c) ---- */
+/* Every tet's nodes in range and its volume positive (also with node_mass,
+ * which skips the volumes); the error names the first bad tet. */
+int tb_check_tets(const tb_mesh *mesh, tb_error *err);
 /* Lumped node masses into mass[nv]: node_mass > 0 for every node, else
  * density * (sum of its tets' volumes) / 4; tets with non-positive volume
  * are an error naming the tet. */
