@@ -42,7 +42,6 @@ static void destroy(void *self) {
       free(s->w);
   free(s->depth), free(s->cids), free(s->cp), free(s->cdepth), free(s->cvn), free(s->keep);
   free(s->tet), free(s->vol), free(s->dminv), free(s->lam), free(s->colour_start);
-  tb_mesh_free(&s->rest);
   free(s);
 }
 
@@ -79,7 +78,7 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
   s->dminv = malloc(sizeof *s->dminv * T), s->lam = calloc(T, sizeof(double));
   if (!s->x || !s->xm1 || !s->p || !s->v || !s->vm1 || !s->mass || !s->invm || !s->w || !s->depth ||
       !s->cids || !s->cp || !s->cdepth || !s->cvn || !s->keep || !s->tet || !s->vol || !s->dminv ||
-      !s->lam || tb_mesh_copy(&s->rest, mesh)) {
+      !s->lam) {
     tb_error_set(err, name, 0, "out of memory (%d nodes, %d tets)", nv, nt);
     goto fail;
   }

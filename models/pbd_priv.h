@@ -41,7 +41,6 @@ typedef struct pbd {
   /* BDF2 needs the previous step (and its dt) */
   int have_prev;
   double last_dt;
-  tb_mesh rest; /* rest mesh: positions and tets in mesh order (energy) */
 } pbd;
 
 /* The projection's inner function: inlined into it (GCC, Clang). */

@@ -436,7 +436,7 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
   if (s->def.drag > 0)
     for (int i = 0; i < s->mesh.nv; i++)
       s->force[i] = tb_madd(s->force[i], -s->def.drag * s->mass[i], v[i]);
-  if (s->has_ground || s->has_tool)
+  if (s->has_ground && !s->model.cls->own_ground) /* the ground's friction (contact.c) */
     memcpy(s->x_prev, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
   tb_step in = {0};
   in.dt = s->def.dt;
