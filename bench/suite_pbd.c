@@ -235,7 +235,7 @@ static int run_bullet(const tb_mesh *mesh, const scene_info *si, const plan *p, 
 
 /* Everything measured on one liver. */
 typedef struct row {
-  int ok, nv, ntet, links;
+  int ok, nv, ntet, links, colours;
   char source[32], why[160];
   double one, all, bullet; /* median ms/step */
   double deepest, lowest_end, size, bt_deepest, bt_lowest_end;
@@ -360,6 +360,7 @@ static void solve_table(tb_suite *su, const row *rows) {
 static void thread_table(tb_suite *su, const row *rows, int cores) {
   static const char *cols[] = {"model (patent)",
                                "tets",
+                               "tet colours",
                                "threads",
                                "ms/step, 1 thread",
                                "ms/step, all threads",
@@ -373,15 +374,15 @@ static void thread_table(tb_suite *su, const row *rows, int cores) {
            "Patent table 2: one thread against all %d cores; positions after the run "
            "bit-identical?",
            cores);
-  tb_table *t = tb_table_new("threads", title, 10, cols);
+  tb_table *t = tb_table_new("threads", title, 11, cols);
   for (int r = 0; r < NROWS; r++) {
     const row *w = &rows[r];
     tb_table_row(t);
     tb_table_cell(t, "%s", patent[r].name);
     if (w->ntet)
-      tb_table_num(t, w->ntet, "%.0f");
+      tb_table_num(t, w->ntet, "%.0f"), tb_table_num(t, w->colours, "%.0f");
     else
-      tb_table_cell(t, "-");
+      tb_table_cell(t, "-"), tb_table_cell(t, "-");
     tb_table_num(t, cores, "%.0f");
     if (w->ok) {
       tb_table_num(t, w->one, "%.3f");
@@ -485,8 +486,8 @@ int tb_suite_pbd(const tb_suite_opts *o) {
                                 o->seed, &err);
   if (!su) return fprintf(stderr, "pbd: %s\n", err.msg), 1;
   int threads_before = tb_threads(), cores = tb_threads_cores(), failed = 0;
-  plan p = {20, 20, 12};     /* quick: 260 steps (1.3 s), the landing at about 0.45 s */
-  if (o->full) p.block = 40; /* 500 steps: the scene's 2.5 s */
+  plan p = {10, 10, 12}; /* quick: 130 steps (0.65 s), the landing at about 0.45 s */
+  if (o->full) p.warm = 20, p.block = 40; /* 500 steps: the scene's 2.5 s */
   if (o->scale < 1) p.warm = 2, p.block = 3, p.nblocks = 3;
   /* the scene's own mesh: SOFA's liver when present (its placement for all) */
   tb_sim_def sd;
@@ -519,6 +520,9 @@ int tb_suite_pbd(const tb_suite_opts *o) {
       continue;
     }
     w->nv = m.nv, w->ntet = m.ntet;
+    int *order = NULL, *start = NULL;
+    if (tb_tet_colours(&m, &w->colours, &order, &start, &err)) w->colours = 0;
+    free(order), free(start);
     measure(su, r, &m, &si, &p, cores, w);
     if (!w->ok) fprintf(stderr, "pbd: %d tets: %s\n", m.ntet, w->why), failed = 1;
     if (w->ok && !w->identical) failed = 1; /* a bug: the count must not change the answer */
@@ -562,13 +566,21 @@ int tb_suite_pbd(const tb_suite_opts *o) {
                   1e3 * big->one / big->ntet <= GOAL_US ? "met" : "NOT met",
                   1e3 * patent[NROWS - 1].ms_elem, DEPTH_GOAL);
   thread_table(su, rows, cores);
+  tb_context now;
+  tb_context_collect(&now, o->seed);
   tb_suite_note(su,
                 "All threads: tb_threads_cores() = %d on this machine. Tets of one colour share "
                 "no node and are projected in parallel; the ground, damping and friction run "
                 "in node order, so the thread count must not change a single bit: `identical` "
-                "compares every position after the run of 1 and of %d threads (memcmp).%s",
+                "compares every position after the run of 1 and of %d threads (memcmp).%s Each "
+                "colour is one parallel loop ending in a barrier, and the ground's another, so "
+                "a step passes about %d x (colours + 1) barriers: when the machine has more "
+                "runnable work than cores, a thread descheduled before a barrier holds the "
+                "others up, and the all-core times grow far beyond the one-thread ones. Load "
+                "average at the start %.2f, at the end %.2f (%d cores).",
                 cores, cores,
-                cores < 2 ? " With one core both runs use one thread, so this shows nothing." : "");
+                cores < 2 ? " With one core both runs use one thread, so this shows nothing." : "",
+                ITERS, load[0], now.have_load ? now.load[0] : NAN, cores);
   bullet_table(su, rows);
   tb_suite_note(su,
                 "btSoftBody (Bullet 3.24, double precision, reference/ref_softbody.cpp): one "
