@@ -9,8 +9,11 @@
 // m_kLST is the stiffness. No tetras, faces or clusters: Bullet's tetras
 // are not used by its classic solver, and setVolumeMass/setVolumeDensity
 // would redistribute our masses. Config: piterations = iterations, kDF =
-// friction, kDP = damping, viterations 0 and collisions SDF_RS (Bullet's
-// defaults); the collision margin is set on the body's shape.
+// friction, kDP = damping, kKHR = hardness (Bullet's hardness of contacts
+// with static and kinematic bodies; its default 0.1 corrects a tenth of a
+// contact's depth per iteration, so a resting body sinks in), viterations 0
+// and collisions SDF_RS (Bullet's defaults); the collision margin is set on
+// the body's shape.
 //
 // World: btSoftRigidDynamicsWorld over btSoftBodyRigidBodyCollisionConfiguration,
 // btCollisionDispatcher, btDbvtBroadphase, btSequentialImpulseConstraintSolver;
@@ -26,7 +29,8 @@
 // btBoxShape (mass 0, friction 1) whose top face lies in the ground plane:
 // half-extents 10 body diagonals + 10 in the plane, one diagonal thick. A
 // node closer than the margin to it is a contact (Bullet's PSolve_RContacts
-// projects it to the margin, with friction kDF x 1).
+// moves it the hardness's share of the way to the margin each iteration,
+// with friction kDF x 1).
 //
 // Threads: Bullet's default soft-body solver (btDefaultSoftBodySolver) runs
 // on the calling thread.
@@ -61,8 +65,7 @@ struct tb_softbody {
   btSoftBody *body = nullptr;
   double total_mass = 0;
 
-  tb_softbody()
-      : dispatcher(&config), world(&dispatcher, &broadphase, &solver, &config, nullptr) {}
+  tb_softbody() : dispatcher(&config), world(&dispatcher, &broadphase, &solver, &config, nullptr) {}
   ~tb_softbody() {
     if (body) {
       world.removeSoftBody(body);
@@ -80,6 +83,7 @@ struct tb_softbody {
 extern "C" tb_softbody_def tb_softbody_default_def(void) {
   tb_softbody_def d;
   d.density = 1, d.stiffness = 1, d.iterations = 1, d.friction = 0.2, d.damping = 0;
+  d.hardness = 0.1;
   d.margin = 0.25;
   d.gravity = tb_v3(0, 0, 0);
   d.has_ground = 0;
@@ -95,15 +99,16 @@ extern "C" tb_softbody *tb_softbody_create(const tb_mesh *mesh, const tb_softbod
     tb_error_set(err, "btSoftBody", 0, "needs a tet mesh (the mesh has no tets)");
     return nullptr;
   }
-  if (!(def->density > 0) || !(def->stiffness > 0 && def->stiffness <= 1) ||
-      def->iterations < 1 || !(def->friction >= 0 && def->friction <= 1) ||
-      !(def->damping >= 0 && def->damping <= 1) || !(def->margin > 0) ||
+  if (!(def->density > 0) || !(def->stiffness > 0 && def->stiffness <= 1) || def->iterations < 1 ||
+      !(def->friction >= 0 && def->friction <= 1) || !(def->damping >= 0 && def->damping <= 1) ||
+      !(def->hardness > 0 && def->hardness <= 1) || !(def->margin > 0) ||
       (def->has_ground && !(tb_len(def->ground_n) > 0))) {
     tb_error_set(err, "btSoftBody", 0,
                  "bad settings: density %g > 0, stiffness %g in (0, 1], iterations %d >= 1, "
-                 "friction %g and damping %g in [0, 1], margin %g > 0, ground normal not zero",
+                 "friction %g and damping %g in [0, 1], hardness %g in (0, 1], margin %g > 0, "
+                 "ground normal not zero",
                  def->density, def->stiffness, def->iterations, def->friction, def->damping,
-                 def->margin);
+                 def->hardness, def->margin);
     return nullptr;
   }
   int *edges = nullptr;
@@ -141,6 +146,7 @@ extern "C" tb_softbody *tb_softbody_create(const tb_mesh *mesh, const tb_softbod
     sb->m_cfg.piterations = def->iterations;
     sb->m_cfg.kDF = def->friction;
     sb->m_cfg.kDP = def->damping;
+    sb->m_cfg.kKHR = def->hardness;
     sb->getCollisionShape()->setMargin(def->margin);
     b->total_mass = sb->getTotalMass();
     b->world.addSoftBody(sb);

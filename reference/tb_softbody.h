@@ -13,19 +13,21 @@
 #include "tb_mesh.h"
 
 typedef struct tb_softbody_def {
-  double density;     /* node masses: density x a quarter of each tet's volume */
-  double stiffness;   /* the links' linear stiffness, Material::m_kLST in (0, 1] */
-  int iterations;     /* position solver iterations, Config::piterations (>= 1) */
-  double friction;    /* Config::kDF in [0, 1] (the ground's own friction is 1) */
-  double damping;     /* Config::kDP in [0, 1] */
-  double margin;      /* collision margin: nodes come to rest this far above the ground */
-  tb_vec3 gravity;    /* acceleration */
-  int has_ground;     /* 1: a static ground through ground_p with normal ground_n */
+  double density;   /* node masses: density x a quarter of each tet's volume */
+  double stiffness; /* the links' linear stiffness, Material::m_kLST in (0, 1] */
+  int iterations;   /* position solver iterations, Config::piterations (>= 1) */
+  double friction;  /* Config::kDF in [0, 1] (the ground's own friction is 1) */
+  double damping;   /* Config::kDP in [0, 1] */
+  double hardness;  /* contact hardness against the static ground, Config::kKHR in (0, 1]:
+                       the share of a contact's depth corrected per iteration */
+  double margin;    /* collision margin: a node nearer the ground is a contact, pushed back to it */
+  tb_vec3 gravity;  /* acceleration */
+  int has_ground;   /* 1: a static ground through ground_p with normal ground_n */
   tb_vec3 ground_p, ground_n;
 } tb_softbody_def;
 
 /* Bullet's defaults for the rest: stiffness 1, 1 iteration, friction 0.2,
- * damping 0, margin 0.25; density 1, no gravity, no ground. */
+ * damping 0, hardness 0.1, margin 0.25; density 1, no gravity, no ground. */
 tb_softbody_def tb_softbody_default_def(void);
 
 typedef struct tb_softbody tb_softbody;

@@ -523,6 +523,36 @@ static void suites_smoke(void) {
                "%s", tb_test_out);
 }
 
+/* The pbd suite at a tiny scale: the patent's figures beside ours, every
+ * liver's tet count within 2% of the patent's, the runs on one and on all
+ * threads bit-identical, btSoftBody timed, a chart. */
+static void pbd_suite_smoke(void) {
+  char args[512], cmd[600];
+  snprintf(args, sizeof args, "table pbd --scale 0.01 --results %s/r", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  snprintf(cmd, sizeof cmd, "cat %s/r/pbd/table.md", tb_test_tmpdir());
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK_MSG(strstr(tb_test_out, "| 12.96 |") && strstr(tb_test_out, "| 3.44x |") &&
+                   strstr(tb_test_out, "btSoftBody / pbd-stvk") && strstr(tb_test_out, "cores"),
+               "%s", tb_test_out);
+  snprintf(cmd, sizeof cmd, "tail -n +2 %s/r/pbd/table-threads.csv", tb_test_tmpdir());
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  static const int tets[] = {596, 5395, 7325, 12829};
+  int rows = 0;
+  for (char *line = strtok(tb_test_out, "\n"); line && rows < 4;
+       line = strtok(NULL, "\n"), rows++) {
+    const char *c = strchr(line, ',');
+    int n = c ? atoi(c + 1) : 0;
+    TB_CHECK_MSG(abs(n - tets[rows]) <= 0.02 * tets[rows], "%s", line);
+    size_t len = strlen(line);
+    TB_CHECK_MSG(len > 4 && !strcmp(line + len - 4, ",yes"), "not identical: %s", line);
+  }
+  TB_CHECK(rows == 4);
+  snprintf(cmd, sizeof cmd, "test -s %s/r/pbd/solve.svg && test -s %s/r/pbd/table-peer.csv",
+           tb_test_tmpdir(), tb_test_tmpdir());
+  TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
+}
+
 const tb_test_case tb_tests_models[] = {
     {"polar_recovers_rotation", polar_recovers_rotation},
     {"eigen_and_inverse", eigen_and_inverse},
@@ -537,5 +567,6 @@ const tb_test_case tb_tests_models[] = {
     {"press_contacts", press_contacts},
     {"simulate_cli", simulate_cli},
     {"suites_smoke", suites_smoke},
+    {"pbd_suite_smoke", pbd_suite_smoke},
     {0, 0},
 };
