@@ -23,8 +23,8 @@ typedef struct tb_sag_def {
   int iterations;  /* <= 0: the model's default */
   double k;        /* pbd-stvk's k; NAN: the default */
   double E, nu;    /* the material, also the reference's */
-  double rayleigh; /* constraint damping b (rayleigh_stiffness); 0: off, the projection's own
-                      stiffness (b scales PBD's corrections by 1 / (1 + b / dt), softening it) */
+  double rayleigh; /* constraint damping b (rayleigh_stiffness); 0: off. It damps strain rates
+                      and leaves the rest state (PBD's exactly, XPBD's once converged) */
   double max_time; /* simulated s before giving up ("not settled") */
   double window;   /* settled: over this many simulated s ... */
   double tol;      /* ... the tip sag varied by at most tol x the sag */

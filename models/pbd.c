@@ -24,7 +24,8 @@
  * back; the scene's detector still counts inverted tets (or stops on them
  * with inversion=1). tests/test_pbd.c restores a mirrored tet with both.
  *
- * Damping: rayleigh_stiffness (constraint damping, like fem's Rayleigh b)
+ * Damping: rayleigh_stiffness (constraint damping of strain rates, like
+ * fem's Rayleigh b; pbd_solve.c says how each model applies it)
  * and damping (Müller 2007: velocities relative to the rigid motion).
  *
  * The ground is projected with the tets (own_ground): see pbd_solve.c. */
@@ -40,7 +41,8 @@ static void destroy(void *self) {
   if (!s) return;
   free(s->x), free(s->xm1), free(s->p), free(s->v), free(s->vm1), free(s->mass), free(s->invm),
       free(s->w);
-  free(s->depth), free(s->cids), free(s->cp), free(s->cdepth), free(s->cvn), free(s->keep);
+  free(s->depth), free(s->cids), free(s->cp), free(s->cdepth), free(s->cvn), free(s->keep),
+      free(s->fric);
   free(s->tet), free(s->vol), free(s->dminv), free(s->lam), free(s->colour_start);
   free(s);
 }
@@ -73,12 +75,12 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
   s->w = malloc(sizeof(double) * V), s->depth = calloc(V, sizeof(double));
   s->cids = malloc(sizeof(int) * V), s->cp = malloc(sizeof(tb_vec3) * V);
   s->cdepth = malloc(sizeof(double) * V), s->cvn = malloc(sizeof(double) * V);
-  s->keep = malloc(sizeof(double) * V);
+  s->keep = malloc(sizeof(double) * V), s->fric = calloc(V, sizeof(tb_vec3));
   s->tet = malloc(sizeof *s->tet * T), s->vol = malloc(sizeof(double) * T);
   s->dminv = malloc(sizeof *s->dminv * T), s->lam = calloc(T, sizeof(double));
   if (!s->x || !s->xm1 || !s->p || !s->v || !s->vm1 || !s->mass || !s->invm || !s->w || !s->depth ||
-      !s->cids || !s->cp || !s->cdepth || !s->cvn || !s->keep || !s->tet || !s->vol || !s->dminv ||
-      !s->lam) {
+      !s->cids || !s->cp || !s->cdepth || !s->cvn || !s->keep || !s->fric || !s->tet || !s->vol ||
+      !s->dminv || !s->lam) {
     tb_error_set(err, name, 0, "out of memory (%d nodes, %d tets)", nv, nt);
     goto fail;
   }
@@ -188,8 +190,8 @@ static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const t
       TB_SETTING_R(S, nu, 0.4, -1.0, 0.5, TB_OPEN_LO | TB_OPEN_HI,                         \
                    "Poisson ratio (the patent's 0.4)"),                                    \
       TB_SETTING_R(S, rayleigh_stiffness, 0.02, 0.0, HUGE_VAL, 0,                          \
-                   "constraint damping b (Macklin 2016 eq. 26; fem's Rayleigh b): damps "  \
-                   "strain rates"),                                                        \
+                   "constraint damping b (fem's Rayleigh b): damps strain rates, not the " \
+                   "rest (xpbd: Macklin 2016 eq. 26; pbd: on the velocities)"),            \
       TB_SETTING_R(S, damping, 0.0, 0.0, HUGE_VAL, 0,                                      \
                    "per second: velocities relative to the body's rigid motion decay as "  \
                    "exp(-damping t) (Muller et al. 2007, 3.5)"),                           \

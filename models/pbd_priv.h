@@ -31,6 +31,7 @@ typedef struct pbd {
   tb_vec3 *cp;        /* its position */
   double *cdepth;     /* its summed normal correction */
   double *cvn, *keep; /* its predicted normal velocity; the tangential share friction kept */
+  tb_vec3 *fric;      /* per node: friction's tangential correction so far in the step */
   /* hot, per tet in colour order: nodes, rest volume, D_m^-1 (row-major),
    * XPBD's lambda */
   int (*tet)[4];

@@ -6,12 +6,18 @@
  *     from the angular momentum and inertia) is reduced by the share
  *     1 - exp(-damping dt), so rigid motion (a fall, a slide) is not slowed.
  *     Sums in node order: the same for any thread count.
- *     Constraint damping (Macklin et al. 2016, eq. 26, stiffness-proportional
- *     like fem's Rayleigh b = rayleigh_stiffness): with gamma = b / dt and
- *     grad C . (p - x_n) the constraint's rate over the step, XPBD's update
- *     becomes dlambda = (-C - a lambda - gamma grad C.(p - x_n)) /
- *     ((1 + gamma) sum w |grad C|^2 + a); PBD's the same with a = 0, scaled
- *     by k. It damps strain rates, not rigid motion.
+ *     Constraint damping (stiffness-proportional, like fem's Rayleigh b =
+ *     rayleigh_stiffness; gamma = b / dt): XPBD uses Macklin et al. 2016,
+ *     eq. 26, with grad C . (p - x_n) the constraint's change over the step:
+ *     dlambda = (-C - a lambda - gamma grad C.(p - x_n)) / ((1 + gamma) sum
+ *     w |grad C|^2 + a); its fixed point is the undamped one. PBD has no
+ *     compliance (a -> 0 makes eq. 26's gamma = a b / dt vanish), and eq. 26
+ *     with a = 0 divides every correction by 1 + gamma, which changes PBD's
+ *     stiffness and so where it comes to rest. PBD instead damps velocities
+ *     after the step (4.): each tet's strain rate dC/dt = sum_j g_j . v_j
+ *     loses the share gamma / (1 + gamma) (what eq. 26 removes from a stiff
+ *     constraint's rate), v_j -= w_j g_j share dC/dt / sum w |g|^2, colour
+ *     by colour. A body at rest has v = 0: the damping cannot move it.
  *  1. Prediction, by the integrator setting, with a = gravity + w f:
  *     euler (PBD's and XPBD's usual; patent eqs. 2-3): v <- v + dt a,
  *       p <- x + dt v;
@@ -38,15 +44,15 @@
  *     the result does not depend on the thread count. After the tets of
  *     each sweep the ground constraint (p - q).n >= 0 (patent eq. 4) is
  *     projected for every free node, so the sweep ends with nothing below
- *     the ground; each node's normal corrections are summed.
- *  3. Friction (models/ground.c) on the nodes the ground touched, their
- *     summed correction standing for the normal impulse.
- *  4. Velocity: bdf2 and patent v = (3 x_{n+1} - 4 x_n + x_{n-1}) / (2 dt)
+ *     the ground, and friction acts on the nodes the ground touched
+ *     (ground_sweep).
+ *  3. Velocity: bdf2 and patent v = (3 x_{n+1} - 4 x_n + x_{n-1}) / (2 dt)
  *     (patent §[0171]); euler (and every first step) (x_{n+1} - x_n) / dt. A
  *     ground contact's normal velocity is the restitution times its
  *     approaching speed (friction is already in the positions; a node that
  *     sticks gets no tangential velocity). Prescribed nodes get the velocity that moved them,
  *     (x_fixed - x_n) / dt.
+ *  4. PBD's constraint damping (see 0.) on the new positions and velocities.
  * Nothing is allocated here. */
 #include <math.h>
 #include <string.h>
@@ -97,14 +103,14 @@ static void inverted_stress(const pbd *s, const double F[9], double *psi, double
     }
 }
 
-/* Projects tet t (colour order) on p; alpha: XPBD's compliance / dt^2;
- * gamma: the damping factor rayleigh_stiffness / dt. */
-static inline void project(pbd *s, int t, double alpha, double gamma) {
+/* The gradients g_j = dU/dx_j of tet t's strain energy U = V psi at the
+ * positions p (g_j = V P D_m^-T column j, g_3 = -g_0 - g_1 - g_2); returns
+ * U, or 0 when the energy is rounding noise (below a strain of about 1e-7
+ * Neo-Hookean's terms cancel to O(eps), and noise over its gradient is no
+ * direction). */
+static inline double gradients(const pbd *s, const tb_vec3 *p, int t, tb_vec3 g[4]) {
   const int *n = s->tet[t];
-  tb_vec3 *p = s->p;
-  const double *w = s->w, *D = s->dminv[t];
-  double w0 = w[n[0]], w1 = w[n[1]], w2 = w[n[2]], w3 = w[n[3]];
-  if (w0 + w1 + w2 + w3 == 0) return;
+  const double *D = s->dminv[t];
   double F[9], P[9], psi = 0;
   pbd_deformation(p, n, D, F);
   double det = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
@@ -113,32 +119,59 @@ static inline void project(pbd *s, int t, double alpha, double gamma) {
     pbd_energy(s->set.energy, s->mu, s->lambda, F, &psi, P);
   else
     inverted_stress(s, F, &psi, P);
-  /* below a strain of about 1e-7 the energy is rounding noise (Neo-Hookean's
-   * terms cancel to O(eps)), and noise over its gradient is no direction */
-  if (!(psi > 1e-14 * (s->mu + s->lambda))) return;
-  double V = s->vol[t], U = V * psi;
-  tb_vec3 g[4]; /* g_j = V (P D_m^-T) column j */
+  if (!(psi > 1e-14 * (s->mu + s->lambda))) return 0;
+  double V = s->vol[t];
   for (int j = 0; j < 3; j++)
     g[j] = tb_v3(V * (P[0] * D[3 * j] + P[1] * D[3 * j + 1] + P[2] * D[3 * j + 2]),
                  V * (P[3] * D[3 * j] + P[4] * D[3 * j + 1] + P[5] * D[3 * j + 2]),
                  V * (P[6] * D[3 * j] + P[7] * D[3 * j + 1] + P[8] * D[3 * j + 2]));
   g[3] = tb_scale(tb_add(tb_add(g[0], g[1]), g[2]), -1);
-  double sum = w0 * tb_dot(g[0], g[0]) + w1 * tb_dot(g[1], g[1]) + w2 * tb_dot(g[2], g[2]) +
-               w3 * tb_dot(g[3], g[3]);
+  return V * psi;
+}
+
+/* Projects tet t (colour order) on p; alpha: XPBD's compliance / dt^2;
+ * gamma: XPBD's damping factor rayleigh_stiffness / dt. */
+static inline void project(pbd *s, int t, double alpha, double gamma) {
+  const int *n = s->tet[t];
+  tb_vec3 *p = s->p;
+  const double *w = s->w;
+  double wj[4] = {w[n[0]], w[n[1]], w[n[2]], w[n[3]]};
+  if (wj[0] + wj[1] + wj[2] + wj[3] == 0) return;
+  tb_vec3 g[4];
+  double U = gradients(s, p, t, g);
+  if (U == 0) return;
+  double sum = 0;
+  for (int j = 0; j < 4; j++) sum += wj[j] * tb_dot(g[j], g[j]);
   if (!(sum > 0)) return;
-  double gdx = 0, f; /* damping: grad U . (p - x_n), the constraint's change over the step */
-  if (gamma > 0)
-    for (int j = 0; j < 4; j++) gdx += tb_dot(g[j], tb_sub(p[n[j]], s->x[n[j]]));
+  double f;
   if (s->xpbd) {
+    double gdx = 0; /* grad U . (p - x_n), the constraint's change over the step */
+    if (gamma > 0)
+      for (int j = 0; j < 4; j++) gdx += tb_dot(g[j], tb_sub(p[n[j]], s->x[n[j]]));
     double C = sqrt(2 * U);
     double dl = (-C - alpha * s->lam[t] - gamma * gdx / C) / ((1 + gamma) * sum / (C * C) + alpha);
     s->lam[t] += dl;
     f = dl / C;
   } else {
-    f = -s->set.k * (U + gamma * gdx) / ((1 + gamma) * sum);
+    f = -s->set.k * U / sum;
   }
-  double wj[4] = {w0, w1, w2, w3};
   for (int j = 0; j < 4; j++) p[n[j]] = tb_madd(p[n[j]], f * wj[j], g[j]);
+}
+
+/* Step 5 (PBD): tet t's strain rate at the new positions p reduced by the
+ * share c in the velocities v. */
+static inline void damp_rate(pbd *s, int t, double c) {
+  const int *n = s->tet[t];
+  const double *w = s->w;
+  double wj[4] = {w[n[0]], w[n[1]], w[n[2]], w[n[3]]};
+  if (wj[0] + wj[1] + wj[2] + wj[3] == 0) return;
+  tb_vec3 g[4], *v = s->v;
+  if (gradients(s, s->p, t, g) == 0) return;
+  double sum = 0, rate = 0;
+  for (int j = 0; j < 4; j++) sum += wj[j] * tb_dot(g[j], g[j]), rate += tb_dot(g[j], v[n[j]]);
+  if (!(sum > 0)) return;
+  double f = -c * rate / sum;
+  for (int j = 0; j < 4; j++) v[n[j]] = tb_madd(v[n[j]], f * wj[j], g[j]);
 }
 
 /* Step 0: velocities relative to the rigid motion damped by the share c. */
@@ -167,6 +200,39 @@ static void damp(pbd *s, double c) {
   }
 }
 
+/* After each sweep's tets (one thread; node order): the ground constraint
+ * (p - q).n >= 0 (patent eq. 4) for every free node, its normal
+ * corrections over the step summed in depth, then Coulomb friction
+ * (models/ground.c) on the nodes the ground has touched in the step,
+ * measured from the step's start x. Friction is solved with the tets, not
+ * after them, so the final positions do not leave the tets strained by a
+ * correction they never saw (applied once after the sweeps, it fed energy
+ * into a body resting on the ground). fric[i] holds the tangential
+ * correction friction has made so far in the step: each sweep asks friction
+ * about p - fric (the motion without it), so its kinetic share is taken
+ * once per step, not once per sweep. Returns the number of contacts; their
+ * ids, summed depths, predicted normal velocities and kept tangential
+ * shares are in cids, cdepth, cvn and keep. */
+static int ground_sweep(pbd *s, const tb_ground *gr) {
+  tb_vec3 *p = s->p;
+  int nc = 0;
+  for (int i = 0; i < s->nv; i++) {
+    double d = tb_dot(tb_sub(p[i], gr->p), gr->n);
+    if (d < 0 && s->w[i] > 0) p[i] = tb_madd(p[i], -d, gr->n), s->depth[i] -= d;
+    if (s->depth[i] > 0) {
+      s->cids[nc] = i, s->cp[nc] = tb_sub(p[i], s->fric[i]), s->cdepth[nc] = s->depth[i];
+      s->cvn[nc++] = tb_dot(s->v[i], gr->n); /* the predicted normal velocity */
+    }
+  }
+  tb_ground_friction(gr, nc, s->cids, s->cdepth, s->x, s->mass, s->cp, s->keep);
+  for (int k = 0; k < nc; k++) {
+    int i = s->cids[k];
+    tb_vec3 free = tb_sub(p[i], s->fric[i]);
+    s->fric[i] = tb_sub(s->cp[k], free), p[i] = s->cp[k];
+  }
+  return nc;
+}
+
 int pbd_step(void *self, const tb_step *in, tb_error *err) {
   pbd *s = self;
   double h = in->dt;
@@ -181,11 +247,12 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
   int second = same && s->set.integrator == PBD_BDF2;
   int bdf2 = same && s->set.integrator != PBD_EULER;
   tb_vec3 *x = s->x, *p = s->p, *v = s->v;
+  int nc = 0; /* ground contacts of the last sweep */
 #pragma omp parallel
   {
 #pragma omp for schedule(static)
     for (int i = 0; i < nv; i++) {
-      s->depth[i] = 0;
+      s->depth[i] = 0, s->fric[i] = tb_v3(0, 0, 0);
       tb_vec3 vn = v[i];
       if (s->w[i] > 0) {
         tb_vec3 a = in->gravity;
@@ -214,24 +281,10 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
           project(s, t, alpha, gamma);
       }
       if (gr) {
-#pragma omp for schedule(static)
-        for (int i = 0; i < nv; i++) {
-          double d = tb_dot(tb_sub(p[i], gr->p), gr->n);
-          if (d < 0 && s->w[i] > 0) p[i] = tb_madd(p[i], -d, gr->n), s->depth[i] -= d;
-        }
+#pragma omp single
+        nc = ground_sweep(s, gr);
       }
     }
-  }
-  /* friction on the contact, in node order (a fixed-order reduction) */
-  int nc = 0;
-  if (gr) {
-    for (int i = 0; i < nv; i++)
-      if (s->depth[i] > 0) {
-        s->cids[nc] = i, s->cp[nc] = p[i], s->cdepth[nc] = s->depth[i];
-        s->cvn[nc++] = tb_dot(v[i], gr->n); /* the predicted normal velocity */
-      }
-    tb_ground_friction(gr, nc, s->cids, s->cdepth, x, s->mass, s->cp, s->keep);
-    for (int k = 0; k < nc; k++) p[s->cids[k]] = s->cp[k];
   }
 #pragma omp parallel for schedule(static)
   for (int i = 0; i < nv; i++) {
@@ -248,8 +301,29 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
     vn = s->cvn[k] < 0 ? -gr->restitution * s->cvn[k] : fmax(vn, 0);
     v[i] = tb_madd(vt, vn, n);
   }
+  if (!s->xpbd && gamma > 0) {
+    double c = gamma / (1 + gamma);
+#pragma omp parallel
+    for (int k = 0; k < s->ncolours; k++) {
+#pragma omp for schedule(static)
+      for (int t = s->colour_start[k]; t < s->colour_start[k + 1]; t++) damp_rate(s, t, c);
+    }
+  }
   memcpy(s->xm1, x, sizeof(tb_vec3) * (size_t)nv);
   memcpy(x, p, sizeof(tb_vec3) * (size_t)nv);
+  /* 5. A contact changed its node's normal velocity by an impulse: the
+   * normal part of the history the next BDF2 step reads is made that of a
+   * smooth motion through the new state (x_n = x - dt v, v_n = v along n);
+   * else the backward difference turns the stop into a rebound (v = (3
+   * x_{n+1} - 4 x_n + x_{n-1}) / (2 dt) = V / 2 up for a node that fell at
+   * V and stopped). The tangential history is kept: a sliding node's is smooth. */
+  for (int k = 0; k < nc; k++) {
+    int i = s->cids[k];
+    tb_vec3 n = gr->n;
+    double xn = tb_dot(x[i], n) - h * tb_dot(v[i], n);
+    s->xm1[i] = tb_madd(s->xm1[i], xn - tb_dot(s->xm1[i], n), n);
+    s->vm1[i] = tb_madd(s->vm1[i], tb_dot(v[i], n) - tb_dot(s->vm1[i], n), n);
+  }
   s->have_prev = 1, s->last_dt = h;
   return 0;
 }

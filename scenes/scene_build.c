@@ -78,7 +78,15 @@ static int build(const tb_mesh_source *src, const char *scene_path, const double
                  uint64_t seed, tb_mesh *out, tb_error *err) {
   memset(out, 0, sizeof *out);
   if (src->path[0]) return tb_mesh_read(src->path, out, err);
-  if (src->prefer[0]) return tb_mesh_read(src->prefer, out, err);
+  if (src->prefer[0]) { /* turned into the scene's frame by prefer_rotate */
+    if (tb_mesh_read(src->prefer, out, err)) return -1;
+    const double *r = src->prefer_rotate;
+    if (r[3] != 0) {
+      tb_mat3 R = tb_m3_rotation(tb_v3(r[0], r[1], r[2]), r[3] * (M_PI / 180.0));
+      for (int i = 0; i < out->nv; i++) out->x[i] = tb_m3_mulv(R, out->x[i]);
+    }
+    return 0;
+  }
   const tb_generator *g = tb_generator_find(src->generator);
   if (!g) return tb_error_set(err, scene_path, src->line, "unknown generator '%s'", src->generator);
   double p[TB_GEN_MAX_PARAMS];

@@ -14,9 +14,8 @@
 #include "tb_generators.h"
 
 const char *const tb_scene_param_names[TB_P_COUNT] = {
-    "dt",   "duration",  "amplitude", "release",       "nodes",        "gravity",
-    "vmax", "inversion", "drag",      "energy_factor", "energy_every", "rest_speed",
-    "ground"};
+    "dt",        "duration", "amplitude",     "release",      "nodes",      "gravity", "vmax",
+    "inversion", "drag",     "energy_factor", "energy_every", "rest_speed", "ground"};
 
 int tb_scene_param_index(const char *name) {
   for (int i = 0; i < TB_P_COUNT; i++)
@@ -202,6 +201,16 @@ static int mesh_key(parser *p, tb_mesh_source *m, const char *key, const char *v
     if (tb_scene_parse_list(value, m->bottom, 3, 3) < 0)
       return fail(p, "bottom: '%s' is not x,y,z%s", value, "");
     m->has_bottom = 1;
+    return 1;
+  }
+  if (!strcmp(key, "prefer_rotate")) {
+    tb_expr e[4];
+    if (tb_scene_parse_list(value, e, 4, 4) < 0 || e[0].param >= 0 || e[1].param >= 0 ||
+        e[2].param >= 0 || e[3].param >= 0)
+      return fail(p, "prefer_rotate: '%s' is not four numbers ax,ay,az, degrees%s", value, "");
+    for (int i = 0; i < 4; i++) m->prefer_rotate[i] = e[i].k;
+    if (e[3].k != 0 && !(e[0].k || e[1].k || e[2].k))
+      return fail(p, "prefer_rotate: the axis must not be zero%s%s", "", "");
     return 1;
   }
   if (!strcmp(key, "prefer")) { /* unreadable (e.g. no ../shared/data): the generator is used */

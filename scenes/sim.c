@@ -250,13 +250,16 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   s->target = calloc(n, sizeof(tb_vec3));
   s->on_surface = calloc(n, 1);
   s->x_prev = malloc(sizeof(tb_vec3) * n);
+  s->x_window = malloc(sizeof(tb_vec3) * n);
+  s->window_t0 = s->window_speed = NAN;
   s->ids_buf = malloc(sizeof(int) * n);
   s->xc_buf = malloc(sizeof(tb_vec3) * n);
   s->vc_buf = malloc(sizeof(tb_vec3) * n);
   s->depth_buf = malloc(sizeof(double) * n);
   s->keep_buf = malloc(sizeof(double) * n);
   if (!s->fixed || !s->fixed_x || !s->force || !s->mark || !s->target || !s->on_surface ||
-      !s->x_prev || !s->ids_buf || !s->xc_buf || !s->vc_buf || !s->depth_buf || !s->keep_buf) {
+      !s->x_prev || !s->x_window || !s->ids_buf || !s->xc_buf || !s->vc_buf || !s->depth_buf ||
+      !s->keep_buf) {
     tb_error_set(err, path, 0, "out of memory");
     goto fail;
   }
@@ -425,8 +428,24 @@ static int energy_check(tb_sim *s) {
   return -1;
 }
 
+/* After a step: closes the rest window when TB_SIM_REST_WINDOW has passed. */
+static void rest_window(tb_sim *s) {
+  const tb_vec3 *x = tb_model_positions(&s->model);
+  size_t bytes = sizeof(tb_vec3) * (size_t)s->mesh.nv;
+  double len = s->t - s->window_t0;
+  if (len < TB_SIM_REST_WINDOW * (1 - 1e-9)) return;
+  double d = 0;
+  for (int i = 0; i < s->mesh.nv; i++) d = fmax(d, tb_dist(x[i], s->x_window[i]));
+  s->window_speed = d / len, s->window_t0 = s->t;
+  memcpy(s->x_window, x, bytes);
+}
+
 int tb_sim_step(tb_sim *s, tb_error *err) {
   double t = s->t + s->def.dt;
+  if (isnan(s->window_t0)) {
+    memcpy(s->x_window, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
+    s->window_t0 = s->t;
+  }
   if (loads(s, t, 1, err)) return -1;
   int every = s->def.energy_every;
   int check = s->steps < every || (s->steps + 1) % every == 0;
@@ -455,6 +474,7 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
   s->t = t;
   s->steps++;
   if ((s->has_ground || s->has_tool) && tb_sim_contact(s, err)) return -1;
+  rest_window(s);
   s->health = tb_model_health(&s->mesh, tb_model_positions(&s->model),
                               tb_model_velocities(&s->model), s->def.vmax, s->def.inversion);
   if (s->health.ok && check) energy_check(s);
@@ -469,7 +489,8 @@ void tb_sim_destroy(tb_sim *s) {
   tb_sim_contact_free(s);
   tb_mesh_free(&s->mesh);
   free(s->fixed), free(s->fixed_x), free(s->force), free(s->mark), free(s->target);
-  free(s->on_surface), free(s->x_prev), free(s->ids_buf), free(s->xc_buf), free(s->vc_buf);
+  free(s->on_surface), free(s->x_prev), free(s->x_window), free(s->ids_buf), free(s->xc_buf),
+      free(s->vc_buf);
   free(s->depth_buf), free(s->keep_buf);
   free(s->anchor), free(s->driven), free(s->probe);
   for (int i = 0; s->forces && i < s->nforce; i++) free(s->forces[i].ids);
@@ -511,9 +532,12 @@ tb_sim_metrics tb_sim_measure(const tb_sim *s) {
 }
 
 int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol) {
-  const tb_vec3 *v = tb_model_velocities(&s->model);
-  double m = 0;
-  for (int i = 0; i < s->mesh.nv; i++) m = fmax(m, tb_len(v[i]));
+  double m = s->window_speed;
+  if (isnan(m)) {
+    const tb_vec3 *v = tb_model_velocities(&s->model);
+    m = 0;
+    for (int i = 0; i < s->mesh.nv; i++) m = fmax(m, tb_len(v[i]));
+  }
   *speed = m, *tol = s->def.rest_speed * s->size;
   return m < *tol;
 }

@@ -92,15 +92,16 @@ typedef struct tb_scene_ground {
 
 /* Where a mesh comes from: a file, or a generator with settings. */
 typedef struct tb_mesh_source {
-  char path[1024];    /* resolved file path, or "" */
-  char prefer[1024];  /* `prefer`: this file when it could be read (else the generator), or "" */
-  char generator[32]; /* liver, beam, sphere, instrument */
+  char path[1024];   /* resolved file path, or "" */
+  char prefer[1024]; /* `prefer`: this file when it could be read (else the generator), or "" */
+  double prefer_rotate[4]; /* `prefer_rotate`: axis, degrees turning the preferred file alone */
+  char generator[32];      /* liver, beam, sphere, instrument */
   int nset;
   char setkey[12][32];
   tb_expr setval[12];
   /* placed after loading: x' = R(axis, angle) (scale x) + translate */
   tb_expr scale, axis[3], angle, translate[3];
-  int has_bottom;     /* `bottom`: then translated so its bounding box's bottom centre is here */
+  int has_bottom; /* `bottom`: then translated so its bounding box's bottom centre is here */
   tb_expr bottom[3];
   int line;
 } tb_mesh_source;

@@ -120,7 +120,12 @@ typedef struct tb_sim {
   char *contact; /* per node: in contact with the tool last step */
   int ncontact;
   tb_vec3 *x_prev; /* positions before the step (friction) */
-  int *ids_buf;    /* scratch for contact corrections */
+  /* rest: positions at the start of the current window (TB_SIM_REST_WINDOW s),
+   * its start time (NAN before the first step), and the largest node
+   * speed averaged over the last completed window (NAN before one) */
+  tb_vec3 *x_window;
+  double window_t0, window_speed;
+  int *ids_buf; /* scratch for contact corrections */
   tb_vec3 *xc_buf, *vc_buf;
   double *depth_buf, *keep_buf;
   /* penetration: of the last step (after the contact response) and the largest over the run */
@@ -181,7 +186,13 @@ typedef struct tb_sim_metrics {
   int inverted;         /* tets with signed volume <= 0 */
 } tb_sim_metrics;
 tb_sim_metrics tb_sim_measure(const tb_sim *s);
-/* At rest: the largest node speed is below def.rest_speed * size (per s). */
+/* At rest: the largest node speed, averaged over the last completed window
+ * of TB_SIM_REST_WINDOW s (its displacement over the window's length), is
+ * below def.rest_speed * size (per s); before a window has passed, the
+ * current largest node speed. The average lets a node that jitters in
+ * place from step to step (an unconverged iterative solver) count as at
+ * rest, and no motion slower than the window escapes it. */
+#define TB_SIM_REST_WINDOW 0.1
 int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol);
 
 /* ParaView output (scenes/output.c): the current state as

@@ -210,17 +210,25 @@ static int run_scene(tb_sim *s, const char *scene, const char *model, const char
   return 0;
 }
 
-/* The liver dropped onto the ground never ends below it; without the
- * ground it falls through. */
+/* The liver dropped onto the ground never ends below it and comes to rest
+ * on it at the scene's defaults (tb_sim_at_rest); without the ground it
+ * falls through. */
 static void ground_holds(void) {
   const char *models[] = {"pbd-stvk", "xpbd-stvk"};
   for (int k = 0; k < 2; k++) {
     tb_sim s;
-    if (run_scene(&s, "liver-drop", models[k], "", 1.5) == 0) {
+    if (run_scene(&s, "liver-drop", models[k], "", 0) == 0) {
       TB_CHECK_MSG(s.pen_ground_max <= 1e-6 * s.size, "%s: %g below the ground (size %g)",
                    models[k], s.pen_ground_max, s.size);
       tb_sim_metrics mt = tb_sim_measure(&s);
       TB_CHECK_MSG(mt.com_z > 0, "%s: centre of mass at %g", models[k], mt.com_z);
+      double speed, tol, zmin = INFINITY;
+      const tb_vec3 *x = tb_model_positions(&s.model);
+      for (int i = 0; i < s.mesh.nv; i++) zmin = fmin(zmin, x[i].z);
+      TB_CHECK_MSG(tb_sim_at_rest(&s, &speed, &tol), "%s: not at rest after %g s (speed %g > %g)",
+                   models[k], s.t, speed, tol);
+      TB_CHECK_MSG(fabs(zmin) <= 1e-6 * s.size, "%s: lowest node at z = %g, not on the ground",
+                   models[k], zmin);
     }
     tb_sim_destroy(&s);
     if (run_scene(&s, "liver-drop", models[k], "ground=0", 1.5) == 0) {
@@ -228,6 +236,38 @@ static void ground_holds(void) {
       TB_CHECK_MSG(mt.com_z < 0, "%s without ground: centre of mass at %g", models[k], mt.com_z);
     }
     tb_sim_destroy(&s);
+  }
+}
+
+/* Constraint damping damps: the beam let go from 50% stretch (no drag)
+ * keeps less kinetic energy over its third second with rayleigh_stiffness
+ * 0.02 than without, for both models. */
+static void damping_damps(void) {
+  const char *models[] = {"pbd-stvk", "xpbd-stvk"};
+  for (int k = 0; k < 2; k++) {
+    double ke[2];
+    for (int d = 0; d < 2; d++) {
+      tb_sim s;
+      ke[d] = NAN;
+      if (run_scene(&s, "beam-stretch", models[k],
+                    d ? "amplitude=2 drag=0 rayleigh_stiffness=0.02"
+                      : "amplitude=2 drag=0 rayleigh_stiffness=0",
+                    2) == 0) {
+        tb_error err;
+        ke[d] = 0;
+        for (int n = 0; n < 100 && tb_sim_step(&s, &err) == 0; n++) {
+          const tb_vec3 *v = tb_model_velocities(&s.model);
+          const double *m = tb_model_masses(&s.model);
+          for (int i = 0; i < s.mesh.nv; i++) ke[d] += 0.5 * m[i] * tb_dot(v[i], v[i]) / 100;
+        }
+      }
+      tb_sim_destroy(&s);
+    }
+    printf("  %s, beam let go from 50%% stretch, mean kinetic energy over 2-3 s: %.4g undamped, "
+           "%.4g damped\n",
+           models[k], ke[0], ke[1]);
+    TB_CHECK_MSG(ke[1] < 0.5 * ke[0], "%s: kinetic energy %g damped, %g undamped", models[k],
+                 ke[1], ke[0]);
   }
 }
 
@@ -327,6 +367,7 @@ const tb_test_case tb_tests_pbd[] = {
     {"projection_lowers_energy", projection_lowers_energy},
     {"inverted_tet_restored", inverted_tet_restored},
     {"ground_holds", ground_holds},
+    {"damping_damps", damping_damps},
     {"slope_sticks_and_slides", slope_sticks_and_slides},
     {"integrator_orders", integrator_orders},
     {"threads_identical", threads_identical},

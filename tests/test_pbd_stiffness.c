@@ -73,6 +73,24 @@ static void pbd_depends_on_iterations_and_dt(void) {
                x / xE);
 }
 
+/* Constraint damping (rayleigh_stiffness) damps the motion, not the rest:
+ * PBD's sag is the undamped one (its damping acts on velocities, 0 at
+ * rest); tests/test_pbd.c checks that it damps. */
+static void damping_keeps_rest(void) {
+  tb_threads_set(1);
+  tb_sag_def d;
+  tb_sag_def_init(&d);
+  tb_sag_result r0, r1;
+  tb_error err;
+  TB_CHECK(tb_sag_run(&d, NULL, &r0, &err) == 0);
+  d.rayleigh = 0.02;
+  TB_CHECK(tb_sag_run(&d, NULL, &r1, &err) == 0);
+  TB_CHECK_MSG(r1.settled && r0.settled, "damped: %s; undamped: %s", r1.state, r0.state);
+  printf("  beam: undamped sag %.7g (%s, %g s), damped %.7g (%s, %g s)\n", r0.sag,
+         r0.state, r0.settle_time, r1.sag, r1.state, r1.settle_time);
+  TB_CHECK_MSG(fabs(r1.sag / r0.sag - 1) < 1e-4, "damped sag %g, undamped %g", r1.sag, r0.sag);
+}
+
 static void suite_smoke(void) {
   char args[900], cmd[1200];
   snprintf(args, sizeof args, "figure pbd-stiffness --scale 0.01 --results %s/ps",
@@ -106,6 +124,7 @@ static void suite_smoke(void) {
 const tb_test_case tb_tests_pbd_stiffness[] = {
     {"xpbd_reaches_reference", xpbd_reaches_reference},
     {"pbd_depends_on_iterations_and_dt", pbd_depends_on_iterations_and_dt},
+    {"damping_keeps_rest", damping_keeps_rest},
     {"suite_smoke", suite_smoke},
     {0, 0},
 };
