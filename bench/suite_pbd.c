@@ -113,7 +113,7 @@ static tb_settings patent_settings(void) {
 typedef struct scene_info {
   tb_ground ground;
   tb_vec3 gravity;
-  double dt, g, height, density, damping;
+  double dt, g, height, density, damping, drag;
 } scene_info;
 
 static int scene_info_of(const tb_mesh *mesh, scene_info *si, tb_error *err) {
@@ -126,6 +126,7 @@ static int scene_info_of(const tb_mesh *mesh, scene_info *si, tb_error *err) {
   int rc = tb_sim_loads(&s, 0, err);
   if (!rc && !s.has_ground) rc = tb_error_set(err, SCENE, 0, "the scene has no ground");
   si->ground = s.ground, si->gravity = s.gravity, si->dt = s.def.dt, si->g = tb_len(s.gravity);
+  si->drag = s.def.drag;
   si->height = INFINITY;
   for (int i = 0; i < s.mesh.nv; i++)
     si->height = fmin(si->height, tb_dot(tb_sub(s.mesh.x[i], s.ground.p), s.ground.n));
@@ -538,7 +539,8 @@ int tb_suite_pbd(const tb_suite_opts *o) {
   tb_suite_note(
       su,
       "Scene liver-drop: the liver's bottom %g above a rigid ground (mu_s %g, mu_k %g), "
-      "gravity %g, dt %g; pbd-stvk with the patent's k %g, nu %g, %d iterations (density %g, "
+      "gravity %g, the scene's ambient drag %g per s (btSoftBody below falls without it), dt %g; "
+      "pbd-stvk with the patent's k %g, nu %g, %d iterations (density %g, "
       "damping %g per s). The 596-tet row uses %s; the others TetGen livers whose tet counts "
       "are within 2%% of the patent's (a marching-cubes surface of 725 (tets/4230)^0.8 "
       "vertices, TetGen's maximum tet volume searched). Timed: the model's step alone "
@@ -548,8 +550,8 @@ int tb_suite_pbd(const tb_suite_opts *o) {
       "machine: %d cores (%s), load average %.2f %.2f %.2f at the start (other work on the "
       "machine slows every figure, the all-core ones most). The patent does not name its "
       "machine; ratios to it compare machines as much as programs.",
-      si.height, si.ground.mu_s, si.ground.mu_k, si.g, si.dt, K_STIFF, NU, ITERS, si.density,
-      si.damping,
+      si.height, si.ground.mu_s, si.ground.mu_k, si.g, si.drag, si.dt, K_STIFF, NU, ITERS,
+      si.density, si.damping,
       sofa ? "SOFA's liver.msh (181 nodes, 596 tets; ../shared/data)"
            : "a TetGen liver (SOFA's liver.msh is not in ../shared/data)",
       ITERS, p.warm, p.nblocks, p.block, plan_steps(&p) * DT, sqrt(2 * si.height / si.g), cores,
