@@ -31,33 +31,46 @@ static double balance(const tb_mesh *m, double tv, double tt) {
   return tt > 0 ? m->nv / tv + m->ntet / tt - 2 : m->nv / tv - 1;
 }
 
+/* Bisection on the log of TetGen's maximum tet volume over [lo, hi] for
+ * balance(tv, tt) = 0, at most `iters` meshes, until the interval is
+ * narrower than `width` or the closest mesh's |balance| is at most `stop`.
+ * The closest mesh met is kept in *best (its balance in *best_b). */
+static int bisect(const tb_mesh *surf, double lo, double hi, double tv, double tt, int iters,
+                  double width, double stop, tb_mesh *best, double *best_b, tb_error *err) {
+  memset(best, 0, sizeof *best);
+  *best_b = INFINITY;
+  for (int it = 0; it < iters && hi - lo > width && fabs(*best_b) > stop; it++) {
+    double mid = 0.5 * (lo + hi);
+    tb_mesh m;
+    if (run(surf, exp(mid), &m, err)) {
+      tb_mesh_free(best);
+      return -1;
+    }
+    double b = balance(&m, tv, tt);
+    if (fabs(b) < fabs(*best_b)) {
+      tb_mesh_free(best);
+      *best = m, *best_b = b;
+    } else {
+      tb_mesh_free(&m);
+    }
+    if (b > 0)
+      lo = mid; /* too many: allow larger tets */
+    else
+      hi = mid;
+  }
+  return 0;
+}
+
 /* Tets only (tet_verts 0): within TB_LIVER_TET_TOL of def->tets. */
 static int tets_only(const tb_liver_def *def, const tb_mesh *surf, double volume, tb_mesh *tets,
                      tb_error *err) {
   double tt = def->tets;
   /* a bound of volume / (4 T*) forces at least 4 T* tets; the whole volume, none */
   double lo = log(volume / (4.0 * tt)), hi = log(volume);
-  tb_mesh best = {0};
-  double best_b = INFINITY;
-  for (int it = 0; it < 40 && hi - lo > 1e-4 && fabs(best_b) > 0.25 * TB_LIVER_TET_TOL; it++) {
-    double mid = 0.5 * (lo + hi);
-    tb_mesh m;
-    if (run(surf, exp(mid), &m, err)) {
-      tb_mesh_free(&best);
-      return -1;
-    }
-    double b = balance(&m, 0, tt);
-    if (fabs(b) < fabs(best_b)) {
-      tb_mesh_free(&best);
-      best = m, best_b = b;
-    } else {
-      tb_mesh_free(&m);
-    }
-    if (b > 0)
-      lo = mid;
-    else
-      hi = mid;
-  }
+  tb_mesh best;
+  double best_b;
+  if (bisect(surf, lo, hi, 0, tt, 40, 1e-4, 0.25 * TB_LIVER_TET_TOL, &best, &best_b, err))
+    return -1;
   if (fabs(best_b) <= TB_LIVER_TET_TOL) {
     *tets = best;
     return 0;
@@ -87,27 +100,9 @@ int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, t
                         "tet_verts %d must be at least the surface's %d vertices (volume %g)",
                         def->tet_verts, surf->nv, volume);
   double lo = log(volume / (20.0 * tv)), hi = log(volume); /* log of the volume bound */
-  tb_mesh best = {0};
-  double best_b = INFINITY;
-  for (int it = 0; it < 30 && hi - lo > 1e-3; it++) {
-    double mid = 0.5 * (lo + hi);
-    tb_mesh m;
-    if (run(surf, exp(mid), &m, err)) {
-      tb_mesh_free(&best);
-      return -1;
-    }
-    double b = balance(&m, tv, tt);
-    if (fabs(b) < fabs(best_b)) {
-      tb_mesh_free(&best);
-      best = m, best_b = b;
-    } else {
-      tb_mesh_free(&m);
-    }
-    if (b > 0)
-      lo = mid; /* too many: allow larger tets */
-    else
-      hi = mid;
-  }
+  tb_mesh best;
+  double best_b;
+  if (bisect(surf, lo, hi, tv, tt, 30, 1e-3, -1, &best, &best_b, err)) return -1;
   if (fabs(best.nv / tv - 1) <= 0.1 && (tt < 0 || fabs(best.ntet / tt - 1) <= 0.1)) {
     *tets = best;
     return 0;
