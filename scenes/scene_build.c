@@ -79,10 +79,15 @@ static int build(const tb_mesh_source *src, const char *scene_path, const double
   memset(out, 0, sizeof *out);
   if (src->path[0]) return tb_mesh_read(src->path, out, err);
   if (src->prefer[0]) { /* turned into the scene's frame by prefer_rotate */
+    double a = tb_expr_eval(src->prefer_angle, param);
+    tb_vec3 axis =
+        tb_v3(tb_expr_eval(src->prefer_axis[0], param), tb_expr_eval(src->prefer_axis[1], param),
+              tb_expr_eval(src->prefer_axis[2], param));
+    if (a != 0 && !(tb_len(axis) > 0))
+      return tb_error_set(err, scene_path, src->line, "prefer_rotate: the axis must not be zero");
     if (tb_mesh_read(src->prefer, out, err)) return -1;
-    const double *r = src->prefer_rotate;
-    if (r[3] != 0) {
-      tb_mat3 R = tb_m3_rotation(tb_v3(r[0], r[1], r[2]), r[3] * (M_PI / 180.0));
+    if (a != 0) {
+      tb_mat3 R = tb_m3_rotation(axis, a * (M_PI / 180.0));
       for (int i = 0; i < out->nv; i++) out->x[i] = tb_m3_mulv(R, out->x[i]);
     }
     return 0;

@@ -25,9 +25,9 @@ int tb_scene_param_index(const char *name) {
 
 static void mesh_source_init(tb_mesh_source *m) {
   m->scale = (tb_expr){1, -1};
-  for (int i = 0; i < 3; i++) m->axis[i] = m->translate[i] = (tb_expr){0, -1};
+  for (int i = 0; i < 3; i++) m->axis[i] = m->translate[i] = m->prefer_axis[i] = (tb_expr){0, -1};
   m->axis[2].k = 1;
-  m->angle = (tb_expr){0, -1};
+  m->angle = m->prefer_angle = (tb_expr){0, -1};
 }
 
 void tb_scene_desc_init(tb_scene_desc *d) {
@@ -177,6 +177,17 @@ static int motion_key(parser *p, tb_motion *m, const char *key, const char *valu
 
 /* ---- meshes ---- */
 
+/* `rotate`-like keys: "ax,ay,az, degrees" into axis and angle. */
+static int rotate_key(parser *p, const char *key, const char *value, tb_expr axis[3],
+                      tb_expr *angle) {
+  tb_expr e[4];
+  if (tb_scene_parse_list(value, e, 4, 4) < 0)
+    return fail(p, "%s: '%s' is not ax,ay,az, degrees", key, value);
+  for (int i = 0; i < 3; i++) axis[i] = e[i];
+  *angle = e[3];
+  return 1;
+}
+
 static int mesh_key(parser *p, tb_mesh_source *m, const char *key, const char *value) {
   if (!m->line) m->line = (int)p->line;
   if (!strcmp(key, "scale")) {
@@ -189,28 +200,13 @@ static int mesh_key(parser *p, tb_mesh_source *m, const char *key, const char *v
       return fail(p, "translate: '%s' is not x,y,z%s", value, "");
     return 1;
   }
-  if (!strcmp(key, "rotate")) {
-    tb_expr e[4];
-    if (tb_scene_parse_list(value, e, 4, 4) < 0)
-      return fail(p, "rotate: '%s' is not ax,ay,az, degrees%s", value, "");
-    for (int i = 0; i < 3; i++) m->axis[i] = e[i];
-    m->angle = e[3];
-    return 1;
-  }
+  if (!strcmp(key, "rotate")) return rotate_key(p, key, value, m->axis, &m->angle);
+  if (!strcmp(key, "prefer_rotate"))
+    return rotate_key(p, key, value, m->prefer_axis, &m->prefer_angle);
   if (!strcmp(key, "bottom")) {
     if (tb_scene_parse_list(value, m->bottom, 3, 3) < 0)
       return fail(p, "bottom: '%s' is not x,y,z%s", value, "");
     m->has_bottom = 1;
-    return 1;
-  }
-  if (!strcmp(key, "prefer_rotate")) {
-    tb_expr e[4];
-    if (tb_scene_parse_list(value, e, 4, 4) < 0 || e[0].param >= 0 || e[1].param >= 0 ||
-        e[2].param >= 0 || e[3].param >= 0)
-      return fail(p, "prefer_rotate: '%s' is not four numbers ax,ay,az, degrees%s", value, "");
-    for (int i = 0; i < 4; i++) m->prefer_rotate[i] = e[i].k;
-    if (e[3].k != 0 && !(e[0].k || e[1].k || e[2].k))
-      return fail(p, "prefer_rotate: the axis must not be zero%s%s", "", "");
     return 1;
   }
   if (!strcmp(key, "prefer")) { /* unreadable (e.g. no ../shared/data): the generator is used */
@@ -324,14 +320,7 @@ static int ground_key(parser *p, tb_scene_ground *g, const char *key, const char
       return fail(p, "%s: '%s' is not x,y,z", key, value);
     return 1;
   }
-  if (!strcmp(key, "rotate")) {
-    tb_expr e[4];
-    if (tb_scene_parse_list(value, e, 4, 4) < 0)
-      return fail(p, "rotate: '%s' is not ax,ay,az, degrees%s", value, "");
-    for (int i = 0; i < 3; i++) g->axis[i] = e[i];
-    g->angle = e[3];
-    return 1;
-  }
+  if (!strcmp(key, "rotate")) return rotate_key(p, key, value, g->axis, &g->angle);
   tb_expr *e = !strcmp(key, "mu_s")          ? &g->mu_s
                : !strcmp(key, "mu_k")        ? &g->mu_k
                : !strcmp(key, "restitution") ? &g->restitution

@@ -94,8 +94,8 @@ typedef struct tb_scene_ground {
 typedef struct tb_mesh_source {
   char path[1024];   /* resolved file path, or "" */
   char prefer[1024]; /* `prefer`: this file when it could be read (else the generator), or "" */
-  double prefer_rotate[4]; /* `prefer_rotate`: axis, degrees turning the preferred file alone */
-  char generator[32];      /* liver, beam, sphere, instrument */
+  tb_expr prefer_axis[3], prefer_angle; /* `prefer_rotate`: turns the preferred file alone */
+  char generator[32];                   /* liver, beam, sphere, instrument */
   int nset;
   char setkey[12][32];
   tb_expr setval[12];

@@ -62,6 +62,42 @@ static void file_errors(void) {
   TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, want), "%s", tb_test_out);
 }
 
+/* `prefer_rotate` turns the preferred file alone (a beam 10 x 1 x 1 along
+ * x ends along y after 90 degrees about z); the generator, used when the
+ * file cannot be read, is not turned; a zero axis is an error. */
+static void prefer_rotate(void) {
+  char args[600], text[1600];
+  snprintf(args, sizeof args, "mesh beam --set nx=4 --set ny=1 --set nz=1 --out %s/pr.node",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  const char *files[] = {"pr.node", "no-such.node"};
+  for (int k = 0; k < 2; k++) {
+    snprintf(text, sizeof text,
+             "[mesh]\ngenerate = beam\nnx = 4\nny = 1\nnz = 1\nprefer = %s/%s\n"
+             "prefer_rotate = 0,0,1, 90\n",
+             tb_test_tmpdir(), files[k]);
+    tb_mesh m;
+    tb_error err;
+    if (tb_sim_mesh(scene_file("prefer.ini", text), NULL, &m, &err)) {
+      TB_CHECK_MSG(0, "%s", err.msg);
+      continue;
+    }
+    tb_vec3 lo = m.x[0], hi = m.x[0];
+    for (int i = 1; i < m.nv; i++) lo = tb_vmin(lo, m.x[i]), hi = tb_vmax(hi, m.x[i]);
+    double along_x = hi.x - lo.x, along_y = hi.y - lo.y;
+    TB_CHECK_MSG(k == 0 ? fabs(along_y - 10) < 1e-9 && fabs(along_x - 1) < 1e-9
+                        : fabs(along_x - 10) < 1e-9 && fabs(along_y - 1) < 1e-9,
+                 "%s: extent %g along x, %g along y", files[k], along_x, along_y);
+    tb_mesh_free(&m);
+  }
+  snprintf(text, sizeof text,
+           "[mesh]\ngenerate = beam\nprefer = %s/pr.node\nprefer_rotate = 0,0,0, 90\n",
+           tb_test_tmpdir());
+  expect_cli_error("prefer-axis.ini", text, 2, "prefer_rotate: the axis must not be zero");
+  expect_cli_error("prefer-syntax.ini", BEAM "prefer_rotate = 0,0,1\n", 6,
+                   "prefer_rotate: '0,0,1' is not ax,ay,az, degrees");
+}
+
 /* ---- the quick form and the CLI's bounds ---- */
 
 static void quick_form(void) {
@@ -507,6 +543,7 @@ static void every_model_every_scene(void) {
 }
 
 const tb_test_case tb_tests_scenes[] = {
+    {"prefer_rotate", prefer_rotate},
     {"file_errors", file_errors},
     {"quick_form", quick_form},
     {"static_solution", static_solution},
