@@ -133,10 +133,6 @@ static int collider_for_surface(tb_sim *s, tb_error *err) {
   return s->collider ? 0 : -1;
 }
 
-static tb_vec3 evec(const tb_expr *e, const double *P) {
-  return tb_v3(tb_expr_eval(e[0], P), tb_expr_eval(e[1], P), tb_expr_eval(e[2], P));
-}
-
 int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   const tb_scene_desc *d = &s->desc;
   const double *P = s->param;
@@ -145,16 +141,13 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
     const tb_scene_ground *g = &d->ground;
     s->has_ground = 1;
     tb_ground *gr = &s->ground;
-    gr->p = evec(g->point, P);
-    gr->n = tb_normalize(evec(g->normal, P));
-    double angle = tb_expr_eval(g->angle, P);
-    if (angle != 0) { /* `rotate`: about the origin, as the mesh's */
-      tb_vec3 axis = evec(g->axis, P);
-      if (!(tb_len(axis) > 0))
-        return tb_error_set(err, path, g->line, "[ground] rotate: the axis must not be zero");
-      tb_mat3 R = tb_m3_rotation(axis, angle * (M_PI / 180.0));
-      gr->p = tb_m3_mulv(R, gr->p), gr->n = tb_m3_mulv(R, gr->n);
-    }
+    gr->p = tb_expr_vec(g->point, P);
+    gr->n = tb_normalize(tb_expr_vec(g->normal, P));
+    tb_mat3 R; /* `rotate`: about the origin, as the mesh's */
+    int turned = tb_expr_rotation(g->axis, g->angle, P, &R);
+    if (turned < 0)
+      return tb_error_set(err, path, g->line, "[ground] rotate: the axis must not be zero");
+    if (turned) gr->p = tb_m3_mulv(R, gr->p), gr->n = tb_m3_mulv(R, gr->n);
     if (!(tb_len(gr->n) > 0) || !tb_isfinite3(gr->n))
       return tb_error_set(err, path, g->line, "[ground] normal must not be zero");
     gr->mu_s = tb_expr_eval(g->mu_s, P), gr->mu_k = tb_expr_eval(g->mu_k, P);
@@ -183,7 +176,7 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   if (!s->tool_x || !s->contact || !s->slot)
     return tb_error_set(err, path, t->line, "out of memory");
   for (int i = 0; i < s->mesh.nv; i++) s->slot[i] = -1;
-  tb_vec3 o = evec(t->origin, P);
+  tb_vec3 o = tb_expr_vec(t->origin, P);
   if (t->origin_extreme) {
     tb_vec3 dir = o;
     int best = s->mesh.tri[0];
@@ -192,7 +185,7 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
         best = s->mesh.tri[k];
     o = s->mesh.x[best];
   }
-  s->tool_origin = tb_add(o, evec(t->offset, P));
+  s->tool_origin = tb_add(o, tb_expr_vec(t->offset, P));
   s->tool_margin = tb_expr_eval(t->margin, P);
   s->tool_friction = tb_expr_eval(t->friction, P);
   if (!(s->tool_margin >= 0) || !(s->tool_friction >= 0))

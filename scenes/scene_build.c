@@ -46,21 +46,17 @@ static int build(const tb_mesh_source *src, const char *scene_path, const double
  * `bottom` moved so its bounding box's bottom centre (smallest z) is there. */
 static int place(const tb_mesh_source *src, const char *scene_path, const double *param, tb_mesh *m,
                  tb_error *err) {
-  double s = tb_expr_eval(src->scale, param), a = tb_expr_eval(src->angle, param);
-  tb_vec3 axis = tb_v3(tb_expr_eval(src->axis[0], param), tb_expr_eval(src->axis[1], param),
-                       tb_expr_eval(src->axis[2], param));
-  tb_vec3 t = tb_v3(tb_expr_eval(src->translate[0], param), tb_expr_eval(src->translate[1], param),
-                    tb_expr_eval(src->translate[2], param));
+  double s = tb_expr_eval(src->scale, param);
+  tb_vec3 t = tb_expr_vec(src->translate, param);
   if (!(s > 0)) return tb_error_set(err, scene_path, src->line, "scale must be > 0 (got %g)", s);
-  if (a != 0 && !(tb_len(axis) > 0))
+  tb_mat3 R;
+  if (tb_expr_rotation(src->axis, src->angle, param, &R) < 0)
     return tb_error_set(err, scene_path, src->line, "rotate: the axis must not be zero");
-  tb_mat3 R = a != 0 ? tb_m3_rotation(axis, a * (M_PI / 180.0)) : tb_m3_identity();
   for (int i = 0; i < m->nv; i++) m->x[i] = tb_add(tb_m3_mulv(R, tb_scale(m->x[i], s)), t);
   if (src->has_bottom && m->nv > 0) { /* bounding box's bottom centre to `bottom` */
     tb_vec3 lo = m->x[0], hi = m->x[0];
     for (int i = 1; i < m->nv; i++) lo = tb_vmin(lo, m->x[i]), hi = tb_vmax(hi, m->x[i]);
-    tb_vec3 b = tb_v3(tb_expr_eval(src->bottom[0], param), tb_expr_eval(src->bottom[1], param),
-                      tb_expr_eval(src->bottom[2], param));
+    tb_vec3 b = tb_expr_vec(src->bottom, param);
     tb_vec3 d = tb_sub(b, tb_v3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z));
     for (int i = 0; i < m->nv; i++) m->x[i] = tb_add(m->x[i], d);
   }
@@ -79,17 +75,13 @@ static int build(const tb_mesh_source *src, const char *scene_path, const double
   memset(out, 0, sizeof *out);
   if (src->path[0]) return tb_mesh_read(src->path, out, err);
   if (src->prefer[0]) { /* turned into the scene's frame by prefer_rotate */
-    double a = tb_expr_eval(src->prefer_angle, param);
-    tb_vec3 axis =
-        tb_v3(tb_expr_eval(src->prefer_axis[0], param), tb_expr_eval(src->prefer_axis[1], param),
-              tb_expr_eval(src->prefer_axis[2], param));
-    if (a != 0 && !(tb_len(axis) > 0))
+    tb_mat3 R;
+    int turned = tb_expr_rotation(src->prefer_axis, src->prefer_angle, param, &R);
+    if (turned < 0)
       return tb_error_set(err, scene_path, src->line, "prefer_rotate: the axis must not be zero");
     if (tb_mesh_read(src->prefer, out, err)) return -1;
-    if (a != 0) {
-      tb_mat3 R = tb_m3_rotation(axis, a * (M_PI / 180.0));
+    if (turned)
       for (int i = 0; i < out->nv; i++) out->x[i] = tb_m3_mulv(R, out->x[i]);
-    }
     return 0;
   }
   const tb_generator *g = tb_generator_find(src->generator);
@@ -144,10 +136,6 @@ static int build(const tb_mesh_source *src, const char *scene_path, const double
 }
 
 /* ---- selections ---- */
-
-static tb_vec3 vec(const tb_expr *e, const double *param) {
-  return tb_v3(tb_expr_eval(e[0], param), tb_expr_eval(e[1], param), tb_expr_eval(e[2], param));
-}
 
 /* The surface node farthest along dir (the first of equals, in triangle order). */
 static int extreme_surface_node(const tb_mesh *m, tb_vec3 dir) {
@@ -259,19 +247,19 @@ int tb_sim_motion_make(const tb_motion *m, const double *param, tb_sim_motion *o
   out->nkey = n;
   out->has_direction = m->has_direction;
   if (m->has_direction) {
-    tb_vec3 d = vec(m->direction, param);
+    tb_vec3 d = tb_expr_vec(m->direction, param);
     if (!(tb_len(d) > 0)) {
       tb_sim_motion_free(out);
       return tb_error_set(err, "scene", n ? m->key[0].line : 0, "direction must not be zero");
     }
     out->direction = tb_normalize(d);
   }
-  out->centre = vec(m->centre, param);
+  out->centre = tb_expr_vec(m->centre, param);
   for (int k = 0; k < n; k++) {
     const tb_keyframe *f = &m->key[k];
     out->t[k] = tb_expr_eval(f->t, param);
-    out->move[k] = vec(f->move, param);
-    tb_vec3 a = vec(f->axis, param);
+    out->move[k] = tb_expr_vec(f->move, param);
+    tb_vec3 a = tb_expr_vec(f->axis, param);
     out->angle[k] = tb_expr_eval(f->angle, param) * (M_PI / 180.0);
     if (!(tb_len(a) > 0) && out->angle[k] != 0) {
       tb_sim_motion_free(out);

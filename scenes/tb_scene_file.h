@@ -191,4 +191,22 @@ static inline double tb_expr_eval(tb_expr e, const double *param) {
   return e.param < 0 ? e.k : e.k * param[e.param];
 }
 
+/* The vector of three expressions. */
+static inline tb_vec3 tb_expr_vec(const tb_expr e[3], const double *param) {
+  return tb_v3(tb_expr_eval(e[0], param), tb_expr_eval(e[1], param), tb_expr_eval(e[2], param));
+}
+
+/* The rotation of a `rotate`-like key (axis, angle in degrees). Returns 1
+ * with R, 0 for angle 0 (R the identity), -1 for a zero axis. */
+static inline int tb_expr_rotation(const tb_expr axis[3], tb_expr angle, const double *param,
+                                   tb_mat3 *R) {
+  double a = tb_expr_eval(angle, param);
+  tb_vec3 k = tb_expr_vec(axis, param);
+  *R = tb_m3_identity();
+  if (a == 0) return 0;
+  if (!(tb_len(k) > 0)) return -1;
+  *R = tb_m3_rotation(k, a * (M_PI / 180.0));
+  return 1;
+}
+
 #endif
