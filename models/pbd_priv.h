@@ -51,17 +51,30 @@ typedef struct pbd {
 #define PBD_INLINE static inline
 #endif
 
+/* The kernels' small fixed loops unrolled completely: GCC's -O2 keeps loops of 9 or
+ * 27 steps as loops, and the projection ran 1.7x slower (suite pbd: 0.21 against
+ * 0.12 us per element-step at 12765 tets, the same positions bit for bit). */
+#if defined(__GNUC__)
+#define PBD_UNROLL _Pragma("GCC unroll 9")
+#else
+#define PBD_UNROLL
+#endif
+
 /* F = D_s D_m^-1 (row-major) of the tet with nodes n at positions x, D its
  * D_m^-1 (row-major); D_s's columns are x_j - x_3 (the patent's eq. 11). */
 PBD_INLINE void pbd_deformation(const tb_vec3 *x, const int n[4], const double D[9], double F[9]) {
   double ds[9];
+  PBD_UNROLL
   for (int j = 0; j < 3; j++) {
     tb_vec3 e = tb_sub(x[n[j]], x[n[3]]);
     ds[j] = e.x, ds[3 + j] = e.y, ds[6 + j] = e.z;
   }
-  for (int r = 0; r < 3; r++)
+  PBD_UNROLL
+  for (int r = 0; r < 3; r++) {
+    PBD_UNROLL
     for (int c = 0; c < 3; c++)
       F[3 * r + c] = ds[3 * r] * D[c] + ds[3 * r + 1] * D[3 + c] + ds[3 * r + 2] * D[6 + c];
+  }
 }
 
 /* Energy density psi(F) and P = d psi / dF for F (row-major); returns 0 for
@@ -71,20 +84,28 @@ PBD_INLINE int pbd_energy(int kind, double mu, double lambda, const double F[9],
   if (kind == PBD_STVK) {
     /* E = (F^T F - I) / 2, psi = mu E:E + lambda/2 tr(E)^2, P = F (2 mu E + lambda tr(E) I) */
     double E[9];
-    for (int r = 0; r < 3; r++)
+    PBD_UNROLL
+    for (int r = 0; r < 3; r++) {
+      PBD_UNROLL
       for (int c = r; c < 3; c++) {
         double s = F[r] * F[c] + F[3 + r] * F[3 + c] + F[6 + r] * F[6 + c];
         E[3 * r + c] = E[3 * c + r] = 0.5 * (s - (r == c));
       }
+    }
     double tr = E[0] + E[4] + E[8], ee = 0;
+    PBD_UNROLL
     for (int k = 0; k < 9; k++) ee += E[k] * E[k];
     *psi = mu * ee + 0.5 * lambda * tr * tr;
     double S[9];
+    PBD_UNROLL
     for (int k = 0; k < 9; k++) S[k] = 2 * mu * E[k];
     S[0] += lambda * tr, S[4] += lambda * tr, S[8] += lambda * tr;
-    for (int r = 0; r < 3; r++)
+    PBD_UNROLL
+    for (int r = 0; r < 3; r++) {
+      PBD_UNROLL
       for (int c = 0; c < 3; c++)
         P[3 * r + c] = F[3 * r] * S[c] + F[3 * r + 1] * S[3 + c] + F[3 * r + 2] * S[6 + c];
+    }
     return 1;
   }
   /* compressible Neo-Hookean (Bonet & Wood): psi = mu/2 (I1 - 3) - mu ln J
@@ -95,9 +116,11 @@ PBD_INLINE int pbd_energy(int kind, double mu, double lambda, const double F[9],
   double J = F[0] * C[0] + F[1] * C[1] + F[2] * C[2]; /* C: cofactor matrix, F^-T = C / J */
   if (!(J > 0)) return 0;
   double lj = log(J), i1 = 0;
+  PBD_UNROLL
   for (int k = 0; k < 9; k++) i1 += F[k] * F[k];
   *psi = 0.5 * mu * (i1 - 3) - mu * lj + 0.5 * lambda * lj * lj;
   double a = (lambda * lj - mu) / J;
+  PBD_UNROLL
   for (int k = 0; k < 9; k++) P[k] = mu * F[k] + a * C[k];
   return 1;
 }

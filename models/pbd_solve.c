@@ -121,6 +121,7 @@ static inline double gradients(const pbd *s, const tb_vec3 *p, int t, tb_vec3 g[
     inverted_stress(s, F, &psi, P);
   if (!(psi > 1e-14 * (s->mu + s->lambda))) return 0;
   double V = s->vol[t];
+  PBD_UNROLL
   for (int j = 0; j < 3; j++)
     g[j] = tb_v3(V * (P[0] * D[3 * j] + P[1] * D[3 * j + 1] + P[2] * D[3 * j + 2]),
                  V * (P[3] * D[3 * j] + P[4] * D[3 * j + 1] + P[5] * D[3 * j + 2]),
@@ -141,13 +142,16 @@ static inline void project(pbd *s, int t, double alpha, double gamma) {
   double U = gradients(s, p, t, g);
   if (U == 0) return;
   double sum = 0;
+  PBD_UNROLL
   for (int j = 0; j < 4; j++) sum += wj[j] * tb_dot(g[j], g[j]);
   if (!(sum > 0)) return;
   double f;
   if (s->xpbd) {
     double gdx = 0; /* grad U . (p - x_n), the constraint's change over the step */
-    if (gamma > 0)
+    if (gamma > 0) {
+      PBD_UNROLL
       for (int j = 0; j < 4; j++) gdx += tb_dot(g[j], tb_sub(p[n[j]], s->x[n[j]]));
+    }
     double C = sqrt(2 * U);
     double dl = (-C - alpha * s->lam[t] - gamma * gdx / C) / ((1 + gamma) * sum / (C * C) + alpha);
     s->lam[t] += dl;
@@ -155,6 +159,7 @@ static inline void project(pbd *s, int t, double alpha, double gamma) {
   } else {
     f = -s->set.k * U / sum;
   }
+  PBD_UNROLL
   for (int j = 0; j < 4; j++) p[n[j]] = tb_madd(p[n[j]], f * wj[j], g[j]);
 }
 
@@ -168,9 +173,11 @@ static inline void damp_rate(pbd *s, int t, double c) {
   tb_vec3 g[4], *v = s->v;
   if (gradients(s, s->p, t, g) == 0) return;
   double sum = 0, rate = 0;
+  PBD_UNROLL
   for (int j = 0; j < 4; j++) sum += wj[j] * tb_dot(g[j], g[j]), rate += tb_dot(g[j], v[n[j]]);
   if (!(sum > 0)) return;
   double f = -c * rate / sum;
+  PBD_UNROLL
   for (int j = 0; j < 4; j++) v[n[j]] = tb_madd(v[n[j]], f * wj[j], g[j]);
 }
 
