@@ -576,9 +576,11 @@ int tb_suite_pbd(const tb_suite_opts *o) {
                 "in node order, so the thread count must not change a single bit: `identical` "
                 "compares every position after the run of 1 and of %d threads (memcmp).%s Each "
                 "colour is one parallel loop ending in a barrier, and the ground's another, so "
-                "a step passes about %d x (colours + 1) barriers: when the machine has more "
-                "runnable work than cores, a thread descheduled before a barrier holds the "
-                "others up, and the all-core times grow far beyond the one-thread ones. Load "
+                "a step passes about %d x (colours + 1) barriers. Thread i is pinned to CPU i "
+                "(core/threads.c; left to Linux, both threads sometimes shared one CPU and a "
+                "step took 3x as long); when the machine has more runnable work than cores, a "
+                "thread descheduled before a barrier still holds the others up, and the "
+                "all-core times grow beyond the one-thread ones. Load "
                 "average at the start %.2f, at the end %.2f (%d cores).",
                 cores, cores,
                 cores < 2 ? " With one core both runs use one thread, so this shows nothing." : "",
