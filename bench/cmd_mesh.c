@@ -1,10 +1,13 @@
-/* `tissuebench mesh info FILE` and `tissuebench mesh NAME`: inspect a mesh
- * file, or generate one of the project's meshes (tools/tb_meshgen.h). Each
- * generator is one table entry with named numeric settings. */
+/* `tissuebench mesh info FILE`, `tissuebench mesh subdivide IN --levels N --out OUT` and
+ * `tissuebench mesh NAME`: inspect a mesh file, refine a closed surface with the modified
+ * butterfly scheme (Bao 2006 §3.1, core/tb_butterfly.h), or generate one of the project's meshes
+ * (tools/tb_meshgen.h). Each generator is one table entry with named numeric settings. */
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "tb_butterfly.h"
 #include "tb_cli.h"
 #include "tb_mesh_io.h"
 #include "tb_meshgen.h"
@@ -62,6 +65,82 @@ static int mesh_info(int argc, char **argv) {
   tb_mesh_print_info(stdout, argv[1], &m);
   tb_mesh_free(&m);
   return TB_EXIT_OK;
+}
+
+/* ---- mesh subdivide ---- */
+/* N levels of the modified butterfly scheme. A tet mesh is refused: the tet mesh's boundary
+ * would leave the interior vertices unused, and the refined surface would no longer match
+ * the tets. Level 0 is checked with the file's name, so bad surfaces print "FILE: reason". */
+static int mesh_subdivide(int argc, char **argv) {
+  const char *in = NULL, *out = NULL, *levels = NULL;
+  for (int i = 1; i < argc; i++) {
+    if (!strcmp(argv[i], "--levels") && i + 1 < argc)
+      levels = argv[++i];
+    else if (!strcmp(argv[i], "--out") && i + 1 < argc)
+      out = argv[++i];
+    else if (argv[i][0] != '-' && !in)
+      in = argv[i];
+    else {
+      fprintf(stderr, "tissuebench mesh subdivide: unknown or incomplete option '%s'\n", argv[i]);
+      return TB_EXIT_INPUT;
+    }
+  }
+  if (!in || !out || !levels) {
+    fprintf(stderr, "usage: tissuebench mesh subdivide IN --levels N --out OUT\n");
+    return TB_EXIT_INPUT;
+  }
+  char *end;
+  long n = strtol(levels, &end, 10);
+  if (end == levels || *end || n < 1 || n > 6) {
+    fprintf(stderr, "tissuebench mesh subdivide: --levels '%s': give a whole number in [1, 6]\n",
+            levels);
+    return TB_EXIT_INPUT;
+  }
+  tb_mesh m;
+  tb_error err;
+  if (tb_mesh_read(in, &m, &err)) {
+    fprintf(stderr, "%s\n", err.msg);
+    return TB_EXIT_INPUT;
+  }
+  tb_halfedge he;
+  int bad = 0;
+  if (m.ntet)
+    bad = tb_error_set(&err, in, 0,
+                       "a tet mesh (%d tets): subdivide a closed triangle surface (e.g. the "
+                       "liver's --part surface)",
+                       m.ntet);
+  else if (!tb_halfedge_build(&he, m.nv, m.ntri, m.tri, in, &err))
+    tb_halfedge_free(&he);
+  else
+    bad = 1;
+  if (!bad && (double)m.ntri * (1 << (2 * n)) * 3 > INT_MAX)
+    bad = tb_error_set(&err, in, 0, "%d triangles: %ld levels would give too many", m.ntri, n);
+  if (bad) {
+    fprintf(stderr, "%s\n", err.msg);
+    tb_mesh_free(&m);
+    return TB_EXIT_INPUT;
+  }
+  printf("level  vertices  triangles\n");
+  printf("%5d  %8d  %9d\n", 0, m.nv, m.ntri);
+  for (int l = 1; l <= n; l++) {
+    tb_mesh next;
+    if (tb_butterfly(&m, &next, NULL, &err)) {
+      fprintf(stderr, "tissuebench mesh subdivide: level %d: %s\n", l, err.msg);
+      tb_mesh_free(&m);
+      return TB_EXIT_FAIL;
+    }
+    tb_mesh_free(&m);
+    m = next;
+    printf("%5d  %8d  %9d\n", l, m.nv, m.ntri);
+  }
+  int rc = TB_EXIT_OK;
+  if (tb_mesh_write(out, &m, &err)) {
+    fprintf(stderr, "tissuebench mesh subdivide: %s\n", err.msg);
+    rc = TB_EXIT_FAIL;
+  } else
+    printf("wrote %s\n", out);
+  tb_mesh_free(&m);
+  return rc;
 }
 
 /* ---- generation ---- */
@@ -141,10 +220,13 @@ static int mesh_generate(int argc, char **argv) {
 
 int tb_cmd_mesh(int argc, char **argv) {
   if (argc < 2) {
-    fprintf(stderr, "usage: tissuebench mesh info FILE | mesh NAME ... | mesh list\n");
+    fprintf(stderr,
+            "usage: tissuebench mesh info FILE | mesh subdivide IN --levels N --out OUT | mesh "
+            "NAME ... | mesh list\n");
     return TB_EXIT_INPUT;
   }
   if (!strcmp(argv[1], "info")) return mesh_info(argc - 1, argv + 1);
+  if (!strcmp(argv[1], "subdivide")) return mesh_subdivide(argc - 1, argv + 1);
   if (!strcmp(argv[1], "list")) {
     tb_generator_list(stdout);
     return TB_EXIT_OK;

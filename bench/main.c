@@ -112,10 +112,16 @@ static const tb_command commands[] = {
      "  and Y. Only settled runs count. Prints the choice and the evidence rows; exit 1 when\n"
      "  no point qualifies, 2 for a missing or malformed points file (FILE:LINE: reason)",
      tb_cmd_advise},
-    {"mesh", "mesh info FILE, or generate a mesh (liver, instrument, sphere, beam)",
+    {"mesh",
+     "mesh info FILE, subdivide a surface, or generate a mesh (liver, instrument, sphere, beam)",
      "tissuebench mesh info FILE\n"
      "  counts, bounding box, closed/manifold, Euler characteristic and volume of a mesh file\n"
      "  (.obj .off .stl .node/.ele .msh); malformed input: FILE:LINE: reason, exit 2\n"
+     "tissuebench mesh subdivide IN --levels N --out OUT\n"
+     "  N levels (1..6) of Zorin's modified butterfly subdivision (Bao 2006 §3.1): each level\n"
+     "  splits every triangle in four, keeps the old vertices and adds one per edge; prints\n"
+     "  vertices and triangles per level, writes OUT by extension. IN: a closed, oriented\n"
+     "  2-manifold triangle surface (tet meshes are refused); otherwise FILE: reason, exit 2\n"
      "tissuebench mesh NAME [--out FILE] [--part PART] [--stats] [--set key=value ...]\n"
      "  NAME: liver, instrument, sphere, beam (mesh list shows their settings)\n"
      "  --out FILE   write by extension: .obj .off .node (with .ele) .vtk; .edges for edges\n"
