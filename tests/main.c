@@ -151,6 +151,7 @@ static const struct {
     {"render", tb_tests_render},
     {"pbd_stiffness", tb_tests_pbd_stiffness},
     {"softbody", tb_tests_softbody},
+    {"butterfly", tb_tests_butterfly},
 };
 
 static int selected(const char *id, int argc, char **argv) {

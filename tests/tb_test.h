@@ -81,5 +81,6 @@ extern const tb_test_case tb_tests_scenes[];
 extern const tb_test_case tb_tests_render[];
 extern const tb_test_case tb_tests_pbd_stiffness[];
 extern const tb_test_case tb_tests_softbody[];
+extern const tb_test_case tb_tests_butterfly[];
 
 #endif
