@@ -150,6 +150,7 @@ static const struct {
     {"scenes", tb_tests_scenes},
     {"render", tb_tests_render},
     {"pbd_stiffness", tb_tests_pbd_stiffness},
+    {"lod", tb_tests_lod},
     {"softbody", tb_tests_softbody},
     {"butterfly", tb_tests_butterfly},
 };
