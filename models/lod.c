@@ -13,10 +13,11 @@
 
 void tb_lod_free(tb_lod *lod) {
   if (lod->tri)
-    for (int l = 0; l < lod->nlevels; l++) free(lod->tri[l]), free(lod->pair[l]), free(lod->mid[l]);
-  free(lod->tri), free(lod->pair), free(lod->mid), free(lod->rest), free(lod->level_nv),
-      free(lod->level_nf), free(lod->first), free(lod->ends), free(lod->state), free(lod->out_tri),
-      free(lod->out_leaf), free(lod->active);
+    for (int l = 0; l < lod->nlevels; l++)
+      free(lod->tri[l]), free(lod->pair[l]), free(lod->out[l]), free(lod->mid[l]);
+  free(lod->tri), free(lod->pair), free(lod->out), free(lod->mid), free(lod->rest),
+      free(lod->level_nv), free(lod->level_nf), free(lod->first), free(lod->ends), free(lod->state),
+      free(lod->out_tri), free(lod->out_leaf), free(lod->active);
   memset(lod, 0, sizeof *lod);
 }
 
@@ -28,10 +29,11 @@ int tb_lod_create(tb_lod *lod, const tb_mesh *base, int nlevels, tb_error *err) 
     return tb_error_set(err, "lod", 0, "needs a closed triangle surface (no tets)");
   int L = lod->nlevels = nlevels;
   lod->tri = calloc((size_t)L, sizeof(int *)), lod->pair = calloc((size_t)L, sizeof(int *));
-  lod->mid = calloc((size_t)L, sizeof(int *));
+  lod->mid = calloc((size_t)L, sizeof(int *)), lod->out = calloc((size_t)L, sizeof(int *));
   lod->level_nv = calloc((size_t)L, sizeof(int)), lod->level_nf = calloc((size_t)L, sizeof(int));
   lod->first = calloc((size_t)L + 1, sizeof(int));
-  if (!lod->tri || !lod->pair || !lod->mid || !lod->level_nv || !lod->level_nf || !lod->first)
+  if (!lod->tri || !lod->pair || !lod->mid || !lod->out || !lod->level_nv || !lod->level_nf ||
+      !lod->first)
     goto oom;
   tb_mesh cur = *base, next;
   int owned = 0; /* cur is ours to free (every level but the base) */
@@ -44,7 +46,7 @@ int tb_lod_create(tb_lod *lod, const tb_mesh *base, int nlevels, tb_error *err) 
     }
     lod->level_nv[l] = cur.nv, lod->level_nf[l] = cur.ntri;
     lod->first[l + 1] = lod->first[l] + cur.ntri;
-    lod->pair[l] = he.pair, he.pair = NULL;
+    lod->pair[l] = he.pair, lod->out[l] = he.out, he.pair = he.out = NULL;
     tb_halfedge_free(&he);
     lod->tri[l] = malloc(sizeof(int) * 3 * (size_t)cur.ntri);
     if (!lod->tri[l]) goto oom_cur;
@@ -145,6 +147,21 @@ int tb_lod_coarsen(tb_lod *lod, int l, int f) {
   *st(lod, l, f) = TB_LOD_LEAF;
   for (int c = 0; c < 4; c++) *st(lod, l + 1, 4 * f + c) = TB_LOD_OFF;
   return 1;
+}
+
+void tb_lod_apply(tb_lod *lod, const unsigned char *depth) {
+  memset(lod->state, TB_LOD_OFF, (size_t)lod->first[lod->nlevels]);
+  memset(lod->state, TB_LOD_LEAF, (size_t)lod->level_nf[0]);
+  for (int l = 0; l + 1 < lod->nlevels; l++)
+    for (int v = 0; v < lod->level_nv[l]; v++) {
+      if (depth[v] <= l) continue;
+      int h0 = lod->out[l][v], h = h0; /* the faces of level l around v */
+      do {
+        tb_lod_refine(lod, l, h / 3);
+        h = lod->pair[l][h - h % 3 + (h + 2) % 3];
+      } while (h != h0);
+    }
+  tb_lod_surface(lod);
 }
 
 static void emit(tb_lod *lod, int a, int b, int c, int leaf) {

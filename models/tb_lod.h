@@ -37,6 +37,7 @@ typedef struct tb_lod {
   int *first;           /* level l's faces are first[l]..first[l]+level_nf[l]-1 in state */
   int **tri;            /* tri[l]: 3 level_nf[l] vertex indices */
   int **pair;           /* pair[l]: the opposite half-edge of each half-edge 3f+k */
+  int **out;            /* out[l]: one half-edge of level l leaving each of its vertices */
   int **mid;            /* mid[l] (l < nlevels-1): level l+1's vertex on half-edge h's edge */
   int *ends;            /* 2 nv: the level edge a vertex was born on (-1 for level 0's) */
   unsigned char *state; /* per face of every level: TB_LOD_* */
@@ -67,6 +68,12 @@ int tb_lod_coarsen(tb_lod *lod, int l, int f);
 /* Back to the base surface (every level-0 face a leaf). A region is
  * coarsened by a reset and refining again what is still wanted. */
 void tb_lod_reset(tb_lod *lod);
+
+/* The paper's §3.3 for every node at once: from the base, the faces of
+ * level l around each vertex v with depth[v] > l are split, level by level
+ * (depth[v] in 0..nlevels-1 for the active vertices, 0 for the others),
+ * then the surface is rebuilt. */
+void tb_lod_apply(tb_lod *lod, const unsigned char *depth);
 
 /* Rebuilds the active surface (out_tri, out_leaf, ntri, active). */
 void tb_lod_surface(tb_lod *lod);

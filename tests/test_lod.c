@@ -145,6 +145,38 @@ static void random_walk(void) {
   tb_lod_free(&lod);
 }
 
+/* Depths per vertex (the paper's §3.3 for every node at once): a vertex
+ * of depth 1 splits its fan of level-0 faces; depth 2 splits again around
+ * it; depth everywhere is the full subdivision. */
+static void apply_depths(void) {
+  tb_lod lod;
+  if (sphere_lod(&lod, 3)) return;
+  unsigned char *depth = calloc((size_t)lod.nv, 1);
+  int v = 0, k = 0, h = lod.out[0][v];
+  do k++, h = lod.pair[0][h - h % 3 + (h + 2) % 3];
+  while (h != lod.out[0][v]);
+  depth[v] = 1;
+  tb_lod_apply(&lod, depth);
+  check_surface(&lod, "depth 1");
+  int split = 0;
+  for (int f = 0; f < lod.level_nf[0]; f++) split += lod.state[f] == TB_LOD_SPLIT;
+  TB_CHECK_MSG(split >= k, "%d faces split around a vertex of valence %d", split, k);
+  int n1 = lod.ntri;
+  depth[v] = 2;
+  tb_lod_apply(&lod, depth);
+  check_surface(&lod, "depth 2");
+  TB_CHECK_MSG(lod.ntri > n1, "%d triangles at depth 2, %d at depth 1", lod.ntri, n1);
+  TB_CHECK(level_jump(&lod) <= 1);
+  for (int i = 0; i < lod.nv; i++) depth[i] = 2;
+  tb_lod_apply(&lod, depth);
+  TB_CHECK_MSG(lod.ntri == 8000, "%d triangles with depth 2 everywhere", lod.ntri);
+  memset(depth, 0, (size_t)lod.nv);
+  tb_lod_apply(&lod, depth);
+  TB_CHECK(lod.ntri == 500);
+  free(depth);
+  tb_lod_free(&lod);
+}
+
 static void bad_base(void) {
   tb_lod lod;
   tb_error err;
@@ -158,7 +190,11 @@ static void bad_base(void) {
 }
 
 const tb_test_case tb_tests_lod[] = {
-    {"one_face_band", one_face_band}, {"balance_and_closure", balance_and_closure},
-    {"full_and_back", full_and_back}, {"random_walk", random_walk},
-    {"bad_base", bad_base},           {NULL, NULL},
+    {"one_face_band", one_face_band},
+    {"balance_and_closure", balance_and_closure},
+    {"full_and_back", full_and_back},
+    {"random_walk", random_walk},
+    {"apply_depths", apply_depths},
+    {"bad_base", bad_base},
+    {NULL, NULL},
 };
