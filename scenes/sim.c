@@ -243,7 +243,7 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
                         tb_model_classes[i]->name);
     tb_error_set(err, path, s->desc.mesh.line,
                  "the mesh has no tets (%d vertices, %d triangles): model %s needs a tet mesh "
-                 "(a closed surface: %s)",
+                 "(models that take a closed surface: %s)",
                  s->mesh.nv, s->mesh.ntri, mname, takers);
     goto fail;
   }
