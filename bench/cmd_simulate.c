@@ -286,7 +286,10 @@ int tb_cmd_simulate(int argc, char **argv) {
              st.min, st.max, 1e3 / st.median);
     printf("max displacement %.6g at node %d, rms displacement %.6g\n", m.max_disp, m.max_disp_node,
            m.rms_disp);
-    printf("volume change %+.4f%%, inverted tets %d\n", 100.0 * m.volume_change, m.inverted);
+    if (s.mesh.ntet > 0)
+      printf("volume change %+.4f%%, inverted tets %d\n", 100.0 * m.volume_change, m.inverted);
+    else
+      printf("volume change %+.4f%% (enclosed by the surface; no tets)\n", 100.0 * m.volume_change);
     if (isnan(m.energy))
       printf("energy: not defined for %s\n", mname);
     else
@@ -303,6 +306,8 @@ int tb_cmd_simulate(int argc, char **argv) {
       }
       printf("probe (%d nodes): mean displacement (%.6g, %.6g, %.6g), largest %.6g at node %d\n",
              s.nprobe, mean.x, mean.y, mean.z, most, at);
+      printf("probe: largest mean displacement over the run %.6g at t = %g s\n", s.probe_peak,
+             s.probe_peak_t);
     }
     if (s.has_ground)
       printf("ground: largest penetration %.3g over the run (tolerance %.3g = 1e-9 x size)\n",

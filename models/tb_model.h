@@ -149,6 +149,9 @@ typedef struct tb_model_class {
   /* 1: the step handles tb_step.ground itself (position-based models
    * project it with their constraints). */
   int own_ground;
+  /* 1: create also takes a closed triangle surface without tets (the
+   * surface models); scenes refuse a surface mesh for the others. */
+  int surface_mesh;
 } tb_model_class;
 
 /* The table of models (models/model.c). */

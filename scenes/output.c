@@ -1,7 +1,8 @@
 /* A simulation's frames for ParaView: one .vtu file per frame (the body's
  * tets with point data `displacement` and `velocity` and cell data
- * `strain`, `von_mises` and `inverted`; the instrument and the ground as
- * their own pieces) and a .pvd collection naming every frame with its time.
+ * `strain`, `von_mises` and `inverted`, or a surface mesh's triangles with
+ * the point data alone; the instrument and the ground as their own pieces) and a .pvd collection
+ * naming every frame with its time.
  *
  * strain: the equivalent (von Mises) strain of the Green-Lagrange strain
  * E = (F^T F - I) / 2, F = D_s D_m^-1 per tet, sqrt(2/3 dev(E):dev(E));
@@ -101,7 +102,10 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
                             {"von_mises", 1, vm, NULL, 1}};
   tb_vtu_piece pieces[3];
   int np = 0;
-  pieces[np++] = (tb_vtu_piece){m->nv, x, 0, NULL, m->ntet, m->tet, stress ? 5 : 4, arrays};
+  if (nt) /* a tet mesh: its tets with cell data */
+    pieces[np++] = (tb_vtu_piece){m->nv, x, 0, NULL, m->ntet, m->tet, stress ? 5 : 4, arrays};
+  else /* a surface mesh: its triangles, point data alone */
+    pieces[np++] = (tb_vtu_piece){m->nv, x, m->ntri, m->tri, 0, NULL, 2, arrays};
   if (s->has_tool)
     pieces[np++] =
         (tb_vtu_piece){s->tool.nv, s->tool_x, s->tool.ntri, s->tool.tri, 0, NULL, 0, NULL};

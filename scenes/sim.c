@@ -14,9 +14,9 @@
 #include "sim_priv.h"
 
 /* The built-in scenes: scenes/NAME.ini. */
-static const char *const builtin[] = {"liver-stretch", "liver-press", "beam",       "drop",
-                                      "beam-stretch",  "beam-twist",  "beam-crush", "liver-drop",
-                                      "slope",         "liver-hang"};
+static const char *const builtin[] = {
+    "liver-stretch", "liver-press", "beam",  "drop",       "beam-stretch", "beam-twist",
+    "beam-crush",    "liver-drop",  "slope", "liver-hang", "sphere-press", "sphere-stretch"};
 #define NBUILTIN ((int)(sizeof builtin / sizeof builtin[0]))
 
 const char *const *tb_sim_scene_names(int *count) {
@@ -228,10 +228,23 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
     if (mesh) tb_error_set(err, path, 0, "out of memory");
     goto fail;
   }
-  if (s->mesh.ntet < 1) {
+  /* the model: the file's [model] settings, then the caller's */
+  const char *mname = model && *model ? model : s->desc.model;
+  if (!mname[0]) {
+    tb_error_set(err, path, 0, "no model: give --model or [model] name = ...");
+    goto fail;
+  }
+  const tb_model_class *cls = tb_model_find(mname);
+  if (s->mesh.ntet < 1 && (cls ? !cls->surface_mesh : s->mesh.ntri < 1)) {
+    char takers[128] = "";
+    for (int i = 0, len = 0; i < tb_model_count && len < (int)sizeof takers; i++)
+      if (tb_model_classes[i]->surface_mesh)
+        len += snprintf(takers + len, sizeof takers - (size_t)len, "%s%s", len ? ", " : "",
+                        tb_model_classes[i]->name);
     tb_error_set(err, path, s->desc.mesh.line,
-                 "the mesh has no tets (%d vertices, %d triangles): the models need a tet mesh",
-                 s->mesh.nv, s->mesh.ntri);
+                 "the mesh has no tets (%d vertices, %d triangles): model %s needs a tet mesh "
+                 "(models that take a closed surface: %s)",
+                 s->mesh.nv, s->mesh.ntri, mname, takers);
     goto fail;
   }
   if (s->mesh.ntri < 1) {
@@ -268,12 +281,6 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   tb_mesh_bbox(&s->mesh, &lo, &hi);
   s->size = tb_dist(lo, hi);
   if (!(s->def.vmax > 0)) s->def.vmax = 100.0 * s->size / s->def.duration; /* not given */
-  /* the model: the file's [model] settings, then the caller's */
-  const char *mname = model && *model ? model : s->desc.model;
-  if (!mname[0]) {
-    tb_error_set(err, path, 0, "no model: give --model or [model] name = ...");
-    goto fail;
-  }
   tb_settings all;
   tb_settings_init(&all);
   for (int i = 0; i < s->desc.nmodel_set; i++) {
@@ -440,6 +447,17 @@ static void rest_window(tb_sim *s) {
   memcpy(s->x_window, x, bytes);
 }
 
+/* After a step: the largest mean displacement of the probe nodes so far. */
+static void probe_track(tb_sim *s) {
+  if (s->nprobe < 1) return;
+  const tb_vec3 *x = tb_model_positions(&s->model);
+  tb_vec3 mean = tb_v3(0, 0, 0);
+  for (int k = 0; k < s->nprobe; k++)
+    mean = tb_add(mean, tb_sub(x[s->probe[k]], s->mesh.x[s->probe[k]]));
+  double d = tb_len(mean) / s->nprobe;
+  if (d > s->probe_peak) s->probe_peak = d, s->probe_peak_t = s->t;
+}
+
 int tb_sim_step(tb_sim *s, tb_error *err) {
   double t = s->t + s->def.dt;
   if (isnan(s->window_t0)) {
@@ -475,6 +493,7 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
   s->steps++;
   if ((s->has_ground || s->has_tool) && tb_sim_contact(s, err)) return -1;
   rest_window(s);
+  probe_track(s);
   s->health = tb_model_health(&s->mesh, tb_model_positions(&s->model),
                               tb_model_velocities(&s->model), s->def.vmax, s->def.inversion);
   if (s->health.ok && check) energy_check(s);
@@ -523,6 +542,11 @@ tb_sim_metrics tb_sim_measure(const tb_sim *s) {
     double vol = tb_tet_volume(x[e[0]], x[e[1]], x[e[2]], x[e[3]]);
     v1 += vol;
     if (!(vol > 0)) r.inverted++;
+  }
+  if (s->mesh.ntet < 1) { /* a surface mesh: the volume it encloses */
+    tb_mesh now = s->mesh;
+    now.x = (tb_vec3 *)x;
+    v0 = tb_mesh_volume(&s->mesh), v1 = tb_mesh_volume(&now);
   }
   r.rms_disp = sqrt(sum2 / s->mesh.nv);
   r.volume_change = (v1 - v0) / v0;

@@ -94,9 +94,10 @@ typedef struct tb_sim {
   const double *mass; /* the model's lumped node masses */
   char *on_surface;   /* per node: used by a surface triangle */
   /* the scene's node sets */
-  int nanchor, *anchor; /* fixed nodes, ascending */
-  int ndriven, *driven; /* nodes of [move] and [force] sections, ascending */
-  int nprobe, *probe;   /* [output]'s nodes (the summary reports their displacement) */
+  int nanchor, *anchor;            /* fixed nodes, ascending */
+  int ndriven, *driven;            /* nodes of [move] and [force] sections, ascending */
+  int nprobe, *probe;              /* [output]'s nodes (the summary reports their displacement) */
+  double probe_peak, probe_peak_t; /* largest |mean probe displacement| over the run, when */
   int nforce, nmove;
   tb_sim_group *forces, *moves;
   int hold; /* 1: moves are not let go at their release (held until cleared) */
@@ -179,7 +180,7 @@ typedef struct tb_sim_metrics {
   double max_disp; /* largest |x - X| */
   int max_disp_node;
   double rms_disp;      /* root mean square of |x - X| over nodes */
-  double volume_change; /* (V - V0) / V0 over the tets */
+  double volume_change; /* (V - V0) / V0 over the tets (no tets: the volume the surface encloses) */
   double energy;        /* the model's (NAN where undefined) */
   double max_speed;     /* largest |v| */
   double com_z;         /* centre of mass height (unit node weights) */

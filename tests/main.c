@@ -141,6 +141,7 @@ static const struct {
     {"collide", tb_tests_collide},
     {"models", tb_tests_models},
     {"msm", tb_tests_msm},
+    {"msm_vvs", tb_tests_msm_vvs},
     {"fem", tb_tests_fem},
     {"sm", tb_tests_sm},
     {"pbd", tb_tests_pbd},

@@ -71,6 +71,7 @@ extern const tb_test_case tb_tests_refbvh[];
 extern const tb_test_case tb_tests_collide[];
 extern const tb_test_case tb_tests_models[];
 extern const tb_test_case tb_tests_msm[];
+extern const tb_test_case tb_tests_msm_vvs[];
 extern const tb_test_case tb_tests_fem[];
 extern const tb_test_case tb_tests_sm[];
 extern const tb_test_case tb_tests_pbd[];

@@ -294,7 +294,10 @@ static void model_interface(void) {
 }
 
 /* Defaults run: every model on every scene at default settings stays
- * healthy (msm blew up on every scene with masses from the density). */
+ * healthy (msm blew up on every scene with masses from the density). A
+ * surface scene (sphere-press, sphere-stretch: no tets) runs the models
+ * that take a closed surface (msm-vvs); the others must refuse it by
+ * saying they need a tet mesh. */
 static void defaults_are_stable(void) {
   int n;
   const char *const *names = tb_sim_scene_names(&n);
@@ -310,7 +313,9 @@ static void defaults_are_stable(void) {
       tb_sim s;
       tb_error err;
       if (tb_sim_create(&s, names[k], &sd, model, NULL, NULL, &err)) {
-        TB_CHECK_MSG(0, "%s on %s: %s", model, names[k], err.msg);
+        int refused = !tb_model_classes[i]->surface_mesh && strstr(err.msg, "no tets") &&
+                      strstr(err.msg, "needs a tet mesh");
+        TB_CHECK_MSG(refused, "%s on %s: %s", model, names[k], err.msg);
         continue;
       }
       long steps = liver ? 100 : lround(s.def.duration / s.def.dt);
@@ -361,11 +366,11 @@ static void scene_settings(void) {
            strstr(err.msg, "liver-squeeze"));
 }
 
-/* Runs a scene with a model for n steps; returns the sim (caller destroys). */
-static int run_scene(tb_sim *s, const char *scene, const char *model, tb_sim_def *sd, long n,
-                     tb_error *err) {
-  tb_settings md = tb_test_settings("node_mass=1");
-  if (tb_sim_create(s, scene, sd, model, &md, NULL, err)) return -1;
+/* Runs a scene with a model and its settings md for n steps; returns the
+ * sim (caller destroys). */
+static int run_scene(tb_sim *s, const char *scene, const char *model, tb_sim_def *sd,
+                     const tb_settings *md, long n, tb_error *err) {
+  if (tb_sim_create(s, scene, sd, model, md, NULL, err)) return -1;
   for (long k = 0; k < n; k++)
     if (tb_sim_step(s, err)) return -1;
   return 0;
@@ -380,7 +385,11 @@ static void drop_follows_gravity(void) {
     tb_sim s;
     tb_error err;
     const char *name = tb_model_classes[i]->name;
-    if (run_scene(&s, "drop", name, &sd, 30, &err)) {
+    /* msm-vvs's default quasi-static steps have no inertia (a free body
+     * drifts alpha g dt per step): its symplectic Euler falls */
+    tb_settings md =
+        tb_test_settings(strcmp(name, "msm-vvs") ? "node_mass=1" : "node_mass=1 integrator=euler");
+    if (run_scene(&s, "drop", name, &sd, &md, 30, &err)) {
       TB_CHECK_MSG(0, "%s: %s", name, err.msg);
       tb_sim_destroy(&s);
       continue;
@@ -406,7 +415,8 @@ static void stretch_drives_patch(void) {
     tb_sim s;
     tb_error err;
     const char *name = tb_model_classes[i]->name;
-    if (run_scene(&s, "liver-stretch", name, &sd, 50, &err)) {
+    tb_settings md = tb_test_settings("node_mass=1");
+    if (run_scene(&s, "liver-stretch", name, &sd, &md, 50, &err)) {
       TB_CHECK_MSG(0, "%s: %s", name, err.msg);
       tb_sim_destroy(&s);
       continue;

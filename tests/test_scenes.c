@@ -263,7 +263,10 @@ static void ground_rest(void) {
              "[mesh]\ngenerate = beam\nlx = 1\nly = 1\nlz = 0.5\nnx = 2\nny = 2\nnz = 1\n"
              "translate = 0,0,0.3\n[ground]\npoint = 0,0,0\nnormal = 0,0,1\nmu_s = 0.5\n"
              "mu_k = 0.4\n%s",
-             strcmp(name, "msm") ? "" : "[model]\nks = 2000\nkd = 5\n");
+             !strcmp(name, "msm") ? "[model]\nks = 2000\nkd = 5\n"
+             : !strcmp(name, "msm-vvs")
+                 ? "[model]\nintegrator = euler\n" /* quasi-static: no fall */
+                 : "");
     const char *p = scene_file("drop-block.ini", text);
     tb_sim s;
     tb_error err;
@@ -523,7 +526,10 @@ static void every_model_every_scene(void) {
       tb_sim s;
       const char *model = tb_model_classes[i]->name;
       if (tb_sim_create(&s, names[q], NULL, model, NULL, &mesh, &err)) {
-        TB_CHECK_MSG(0, "%s on %s: %s", model, names[q], err.msg);
+        /* a surface scene (no tets) runs only the models that take one */
+        int refused = mesh.ntet == 0 && !tb_model_classes[i]->surface_mesh &&
+                      strstr(err.msg, "needs a tet mesh");
+        TB_CHECK_MSG(refused, "%s on %s: %s", model, names[q], err.msg);
         continue;
       }
       long n = lround(s.def.duration / s.def.dt);
@@ -535,7 +541,11 @@ static void every_model_every_scene(void) {
         }
         if (k % 10 == 0) most = fmax(most, tb_sim_measure(&s).max_disp);
       }
-      TB_CHECK_MSG(most > 1e-4 * s.size, "%s on %s: nothing moved (%g)", model, names[q], most);
+      /* msm-vvs's quasi-static steps at its default alpha 1 relax with a
+       * time constant of about a minute (models/msm_vvs.c): in the beam's
+       * 2 s its tip moves 1.6e-4, 4e-5 of the size */
+      double least = strcmp(model, "msm-vvs") ? 1e-4 : 1e-5;
+      TB_CHECK_MSG(most > least * s.size, "%s on %s: nothing moved (%g)", model, names[q], most);
       tb_sim_destroy(&s);
     }
     tb_mesh_free(&mesh);

@@ -1,0 +1,391 @@
+/* Surface mass-spring model with virtual volumetric springs (Bao, Wang,
+ * Liu, Cheng 2006, "A dynamic mass spring model for simulation of soft
+ * tissue deformation", J. System Simulation 18(4); SPEC §2.4).
+ *
+ * Points are the mesh's nodes; springs sit on the edges of a closed
+ * triangle surface (the mesh's own triangles, or a tet mesh's boundary).
+ * Per surface point i (eqs 1-2):
+ *   F_i = sum_j g_ij - d_i v_i + f_ext,i + m_i g,
+ *   g_ij = k_ij (|x_j - x_i| - R_ij) (x_j - x_i) / |x_j - x_i|   (eq. 3),
+ * R_ij the rest length. The virtual volumetric spring (§2): rest length
+ * zero, one end held at the node's rest position X_i, dx = x_i - X_i:
+ *   g_i = -[k'_s |dx| + k'_d (v_i . dx) / |dx|] dx / |dx|   (0 at dx = 0).
+ * volume_springs=0 leaves it out: the hollow shell the paper compares with.
+ *
+ * integrator=quasistatic (the paper's, §2): each step moves a free point by
+ *   dx_i = alpha F_i dt^2 / m_i,
+ * ignoring inertia; the reported velocity is dx_i / dt, and the damping
+ * terms of the next step (-d_i v_i and the k'_d term) use it. alpha scales
+ * the step (the paper leaves it open): 1 moves a point as far as one
+ * explicit Euler step from rest would. The equilibrium does not depend on
+ * alpha, only how fast it is reached: a mode of stiffness k relaxes with a
+ * time constant of about (m + alpha (d + k'_d) dt) / (alpha k dt) (alpha 1,
+ * k'_s 1.5, dt 0.01: 67 s). The damping terms feed the last increment back
+ * with the factor -alpha (d + k'_d) dt / m, so a step is stable while
+ *   alpha (d + k'_d) dt / m < 1  and  alpha dt^2 K / m + 2 alpha (d + k'_d) dt / m < 2,
+ * K the largest stiffness (at most 2 sum_j k_ij + k'_s): alpha < 100 at
+ * the paper's parameters with dt 0.01. integrator=euler: symplectic
+ * (semi-implicit) Euler, v += dt F / m then x += dt v, for comparison.
+ *
+ * A prescribed point ends the step at fixed_x with velocity
+ * (fixed_x - x_old) / dt. On a tet mesh the interior nodes are not
+ * simulated: each takes the displacement and velocity of the surface node
+ * nearest to it at rest (the lowest index among equals), unless prescribed;
+ * external forces given on them act on that surface node. Masses: node_mass,
+ * else the density's (tets: lumped; a surface: the enclosed volume's mass
+ * shared by vertex area). The energy is the springs' potential plus the
+ * surface points' kinetic energy.
+ *
+ * Hot data are flat arrays per point (x, v, X, f, m, 1/m, k'_s, k'_d, d)
+ * and per spring ((i, j), R, k); build_springs makes the springs from any
+ * triangle list over the points, so a later refinement can rebuild them.
+ * A step allocates nothing. */
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_model.h"
+
+enum { VVS_QUASISTATIC, VVS_EULER };
+
+/* msm-vvs's settings (its table is at the end of this file). */
+typedef struct vvs_settings {
+  double density, node_mass, ks, kd, ks_v, kd_v, alpha;
+  int integrator, volume_springs;
+} vvs_settings;
+
+typedef struct vvs {
+  int nv;                          /* points */
+  tb_vec3 *x, *v, *x0, *f;         /* positions, velocities, rest positions, forces */
+  double *mass, *invm, *ksv, *kdv; /* per point: mass, 1/mass, k'_s, k'_d */
+  double *d;                       /* per point: damping d_i */
+  int *follow;           /* per point: -1 when simulated, else the surface point followed */
+  int ntri, *tri;        /* the simulated surface */
+  unsigned long version; /* changes with the surface */
+  int ns, *ij;           /* springs: 2*ns point pairs, i < j */
+  double *len0, *k;      /* rest lengths, stiffnesses */
+  double ks, alpha;
+  int integrator;
+} vvs;
+
+static void destroy(void *self) {
+  vvs *s = self;
+  if (!s) return;
+  free(s->x), free(s->v), free(s->x0), free(s->f);
+  free(s->mass), free(s->invm), free(s->ksv), free(s->kdv), free(s->d), free(s->follow);
+  free(s->tri), free(s->ij), free(s->len0), free(s->k);
+  free(s);
+}
+
+static int cmp_pair(const void *a, const void *b) {
+  const int *p = a, *q = b;
+  return p[0] != q[0] ? (p[0] < q[0] ? -1 : 1) : (p[1] != q[1] ? (p[1] < q[1] ? -1 : 1) : 0);
+}
+
+/* The springs of triangles tri[0 .. 3 ntri) over the points: one per
+ * distinct edge, sorted, rest length from the rest positions, stiffness
+ * ks; replaces the old list and marks the triangles' points simulated
+ * (follow = -1). The one place springs are made. */
+static int build_springs(vvs *s, int ntri, const int *tri, tb_error *err) {
+  for (int k = 0; k < 3 * ntri; k++)
+    if (tri[k] < 0 || tri[k] >= s->nv)
+      return tb_error_set(err, "mesh", 0, "triangle %d refers to node %d (nv = %d)", k / 3, tri[k],
+                          s->nv);
+  int *e = malloc(sizeof(int) * 6 * (size_t)(ntri > 0 ? ntri : 1));
+  if (!e) return tb_error_set(err, "msm-vvs", 0, "out of memory");
+  for (int t = 0; t < ntri; t++)
+    for (int c = 0; c < 3; c++) {
+      int a = tri[3 * t + c], b = tri[3 * t + (c + 1) % 3];
+      e[6 * t + 2 * c] = a < b ? a : b, e[6 * t + 2 * c + 1] = a < b ? b : a;
+    }
+  qsort(e, 3 * (size_t)ntri, 2 * sizeof(int), cmp_pair);
+  int n = 0;
+  for (int q = 0; q < 3 * ntri; q++)
+    if (!n || cmp_pair(e + 2 * q, e + 2 * (n - 1)))
+      e[2 * n] = e[2 * q], e[2 * n + 1] = e[2 * q + 1], n++;
+  double *len0 = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+  double *k = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+  if (!len0 || !k) {
+    free(e), free(len0), free(k);
+    return tb_error_set(err, "msm-vvs", 0, "out of memory");
+  }
+  for (int q = 0; q < n; q++) {
+    int i = e[2 * q], j = e[2 * q + 1];
+    len0[q] = tb_dist(s->x0[i], s->x0[j]), k[q] = s->ks;
+    if (!(len0[q] > 0) || !isfinite(len0[q])) {
+      tb_error_set(err, "mesh", 0, "edge %d-%d has rest length %g (coincident nodes)", i, j,
+                   len0[q]);
+      free(e), free(len0), free(k);
+      return -1;
+    }
+  }
+  free(s->ij), free(s->len0), free(s->k);
+  s->ij = e, s->len0 = len0, s->k = k, s->ns = n;
+  for (int i = 0; i < s->nv; i++) s->follow[i] = 0;
+  for (int q = 0; q < 3 * ntri; q++) s->follow[tri[q]] = -1;
+  s->version++;
+  return 0;
+}
+
+/* Each point no triangle uses follows the nearest simulated point at rest
+ * (the lowest index among equals). */
+static void choose_followed(vvs *s) {
+  for (int i = 0; i < s->nv; i++) {
+    if (s->follow[i] < 0) continue;
+    double best = INFINITY;
+    int at = -1;
+    for (int j = 0; j < s->nv; j++) {
+      if (s->follow[j] != -1) continue; /* not simulated */
+      tb_vec3 r = tb_sub(s->x0[j], s->x0[i]);
+      double d2 = tb_dot(r, r);
+      if (d2 < best) best = d2, at = j;
+    }
+    s->follow[i] = at;
+  }
+}
+
+/* Masses of a closed surface from the density: the enclosed volume's mass,
+ * a third of each triangle's area share to each of its vertices. */
+static int surface_masses(const tb_mesh *mesh, double density, double *mass, tb_error *err) {
+  double vol = tb_mesh_volume(mesh), area = 0;
+  if (!(vol > 0))
+    return tb_error_set(err, "mesh", 0,
+                        "the surface encloses volume %g <= 0 (triangles facing inward?)", vol);
+  memset(mass, 0, sizeof(double) * (size_t)mesh->nv);
+  for (int t = 0; t < mesh->ntri; t++) {
+    const int *n = mesh->tri + 3 * t;
+    double a = tb_tri_area(mesh->x[n[0]], mesh->x[n[1]], mesh->x[n[2]]);
+    for (int c = 0; c < 3; c++) mass[n[c]] += a / 3;
+    area += a;
+  }
+  for (int i = 0; i < mesh->nv; i++) mass[i] *= density * vol / area;
+  for (int i = 0; i < mesh->nv; i++)
+    if (!(mass[i] > 0))
+      return tb_error_set(err, "mesh", 0, "node %d has no mass (set node_mass)", i);
+  return 0;
+}
+
+/* The surface to simulate: a tet mesh's boundary, else the mesh's own
+ * triangles, which must form a closed manifold surface. */
+static int surface_of(const tb_mesh *mesh, int **tri, tb_error *err) {
+  if (mesh->ntet > 0) {
+    if (tb_check_tets(mesh, err)) return -1;
+    int n = tb_mesh_tet_boundary(mesh, tri);
+    if (n < 0) return tb_error_set(err, "msm-vvs", 0, "out of memory");
+    return n;
+  }
+  if (mesh->ntri < 1)
+    return tb_error_set(err, "mesh", 0,
+                        "msm-vvs needs a closed triangle surface or a tet mesh (the mesh has "
+                        "%d nodes, no triangles, no tets)",
+                        mesh->nv);
+  for (int k = 0; k < 3 * mesh->ntri; k++)
+    if (mesh->tri[k] < 0 || mesh->tri[k] >= mesh->nv)
+      return tb_error_set(err, "mesh", 0, "triangle %d refers to node %d (nv = %d)", k / 3,
+                          mesh->tri[k], mesh->nv);
+  tb_mesh_topo t = tb_mesh_topology(mesh);
+  if (t.boundary_edges || t.nonmanifold_edges || t.nonmanifold_verts || t.misoriented_edges ||
+      t.degenerate_tris)
+    return tb_error_set(err, "mesh", 0,
+                        "msm-vvs needs a closed manifold surface: %d open (boundary) edges, %d "
+                        "non-manifold edges, %d non-manifold vertices, %d misoriented edges, %d "
+                        "degenerate triangles",
+                        t.boundary_edges, t.nonmanifold_edges, t.nonmanifold_verts,
+                        t.misoriented_edges, t.degenerate_tris);
+  *tri = malloc(sizeof(int) * 3 * (size_t)mesh->ntri);
+  if (!*tri) return tb_error_set(err, "msm-vvs", 0, "out of memory");
+  memcpy(*tri, mesh->tri, sizeof(int) * 3 * (size_t)mesh->ntri);
+  return mesh->ntri;
+}
+
+static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
+  const vvs_settings *def = settings;
+  vvs *s = calloc(1, sizeof *s);
+  if (!s) {
+    tb_error_set(err, "msm-vvs", 0, "out of memory");
+    return NULL;
+  }
+  s->nv = mesh->nv, s->ks = def->ks, s->alpha = def->alpha, s->integrator = def->integrator;
+  size_t nv = (size_t)mesh->nv;
+  s->x = malloc(sizeof(tb_vec3) * nv), s->x0 = malloc(sizeof(tb_vec3) * nv);
+  s->v = calloc(nv, sizeof(tb_vec3)), s->f = calloc(nv, sizeof(tb_vec3));
+  s->mass = malloc(sizeof(double) * nv), s->invm = malloc(sizeof(double) * nv);
+  s->ksv = malloc(sizeof(double) * nv), s->kdv = malloc(sizeof(double) * nv);
+  s->d = malloc(sizeof(double) * nv), s->follow = malloc(sizeof(int) * nv);
+  if (!s->x || !s->x0 || !s->v || !s->f || !s->mass || !s->invm || !s->ksv || !s->kdv || !s->d ||
+      !s->follow) {
+    tb_error_set(err, "msm-vvs", 0, "out of memory");
+    goto fail;
+  }
+  memcpy(s->x, mesh->x, sizeof(tb_vec3) * nv);
+  memcpy(s->x0, mesh->x, sizeof(tb_vec3) * nv);
+  if ((s->ntri = surface_of(mesh, &s->tri, err)) < 0) goto fail;
+  if (def->node_mass > 0 || mesh->ntet > 0) {
+    if (tb_lumped_masses(mesh, def->density, def->node_mass, s->mass, err)) goto fail;
+  } else if (surface_masses(mesh, def->density, s->mass, err))
+    goto fail;
+  for (int i = 0; i < s->nv; i++) {
+    s->invm[i] = 1.0 / s->mass[i], s->d[i] = def->kd;
+    s->ksv[i] = def->volume_springs ? def->ks_v : 0.0;
+    s->kdv[i] = def->volume_springs ? def->kd_v : 0.0;
+  }
+  if (build_springs(s, s->ntri, s->tri, err)) goto fail;
+  s->version = 0; /* the rest surface */
+  choose_followed(s);
+  return s;
+fail:
+  destroy(s);
+  return NULL;
+}
+
+/* F_i of eqs 1-3 and §2 into f for the simulated points (f holds the
+ * external forces on entry); a followed point's load moves to its leader. */
+static void forces(vvs *s, tb_vec3 g) {
+  tb_vec3 *restrict f = s->f;
+  const tb_vec3 *restrict x = s->x, *restrict v = s->v, *restrict x0 = s->x0;
+  for (int i = 0; i < s->nv; i++)
+    if (s->follow[i] >= 0) {
+      int j = s->follow[i];
+      f[j] = tb_add(f[j], f[i]), f[i] = tb_v3(0, 0, 0);
+    }
+  for (int i = 0; i < s->nv; i++) {
+    if (s->follow[i] >= 0) continue;
+    f[i] = tb_madd(tb_madd(f[i], s->mass[i], g), -s->d[i], v[i]); /* gravity, -d_i v_i */
+    tb_vec3 dx = tb_sub(x[i], x0[i]);
+    double l = tb_len(dx);
+    if (l > 0 && (s->ksv[i] > 0 || s->kdv[i] > 0)) { /* the virtual volumetric spring */
+      double c = -(s->ksv[i] * l + s->kdv[i] * tb_dot(v[i], dx) / l) / l;
+      f[i] = tb_madd(f[i], c, dx);
+    }
+  }
+  for (int e = 0; e < s->ns; e++) { /* eq. 3 */
+    const int i = s->ij[2 * e], j = s->ij[2 * e + 1];
+    tb_vec3 r = tb_sub(x[j], x[i]);
+    double l = tb_len(r), c = l > 0 ? s->k[e] * (l - s->len0[e]) / l : 0.0;
+    f[i] = tb_madd(f[i], c, r), f[j] = tb_madd(f[j], -c, r);
+  }
+}
+
+static int step(void *self, const tb_step *in, tb_error *err) {
+  vvs *s = self;
+  const int nv = s->nv, nfixed = in->nfixed;
+  if (nfixed < 0 || (nfixed > 0 && (!in->fixed || !in->fixed_x)))
+    return tb_error_set(err, "msm-vvs", 0, "bad prescribed set (nfixed %d)", nfixed);
+  for (int p = 0; p < nfixed; p++)
+    if (in->fixed[p] < 0 || in->fixed[p] >= nv || (p > 0 && in->fixed[p] <= in->fixed[p - 1]))
+      return tb_error_set(err, "msm-vvs", 0,
+                          "prescribed nodes must be strictly ascending in [0, %d): entry %d is %d",
+                          nv, p, in->fixed[p]);
+  if (in->force)
+    memcpy(s->f, in->force, sizeof(tb_vec3) * (size_t)nv);
+  else
+    memset(s->f, 0, sizeof(tb_vec3) * (size_t)nv);
+  forces(s, in->gravity);
+  tb_vec3 *x = s->x, *v = s->v;
+  const double dt = in->dt, h = s->alpha * dt * dt;
+  /* the simulated points, prescribed ones merged in (ascending); fixed_x may
+   * alias the positions */
+  int p = 0, next = nfixed > 0 ? in->fixed[0] : nv;
+  for (int i = 0; i < nv; i++) {
+    if (i == next) {
+      const tb_vec3 xe = in->fixed_x[p];
+      v[i] = tb_scale(tb_sub(xe, x[i]), 1.0 / dt), x[i] = xe;
+      next = ++p < nfixed ? in->fixed[p] : nv;
+    } else if (s->follow[i] >= 0) {
+      continue;
+    } else if (s->integrator == VVS_QUASISTATIC) {
+      tb_vec3 dx = tb_scale(s->f[i], h * s->invm[i]); /* alpha F dt^2 / m */
+      x[i] = tb_add(x[i], dx), v[i] = tb_scale(dx, 1.0 / dt);
+    } else { /* symplectic Euler */
+      v[i] = tb_madd(v[i], dt * s->invm[i], s->f[i]);
+      x[i] = tb_madd(x[i], dt, v[i]);
+    }
+  }
+  /* the followers (unless prescribed) */
+  p = 0, next = nfixed > 0 ? in->fixed[0] : nv;
+  for (int i = 0; i < nv; i++) {
+    if (i == next) {
+      next = ++p < nfixed ? in->fixed[p] : nv;
+      continue;
+    }
+    const int j = s->follow[i];
+    if (j < 0) continue;
+    x[i] = tb_add(s->x0[i], tb_sub(x[j], s->x0[j])), v[i] = v[j];
+  }
+  return 0;
+}
+
+static const tb_vec3 *positions(const void *self) { return ((const vvs *)self)->x; }
+static const tb_vec3 *velocities(const void *self) { return ((const vvs *)self)->v; }
+static const double *masses(const void *self) { return ((const vvs *)self)->mass; }
+static int npoints(const void *self) { return ((const vvs *)self)->nv; }
+
+static tb_surface surface(const void *self) {
+  const vvs *s = self;
+  tb_surface r = {s->nv, s->ntri, s->x, s->tri, s->version};
+  return r;
+}
+
+/* sum 1/2 k (l - R)^2 + sum 1/2 k'_s |x - X|^2 + sum 1/2 m |v|^2 over the
+ * simulated points (no gravity potential) */
+static double energy(const void *self) {
+  const vvs *s = self;
+  double w = 0;
+  for (int e = 0; e < s->ns; e++) {
+    double d = tb_dist(s->x[s->ij[2 * e]], s->x[s->ij[2 * e + 1]]) - s->len0[e];
+    w += 0.5 * s->k[e] * d * d;
+  }
+  for (int i = 0; i < s->nv; i++) {
+    if (s->follow[i] >= 0) continue;
+    tb_vec3 dx = tb_sub(s->x[i], s->x0[i]);
+    w += 0.5 * (s->ksv[i] * tb_dot(dx, dx) + s->mass[i] * tb_dot(s->v[i], s->v[i]));
+  }
+  return w;
+}
+
+static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
+  vvs *s = self;
+  for (int k = 0; k < n; k++) {
+    if (x) s->x[ids[k]] = x[k];
+    if (v) s->v[ids[k]] = v[k];
+  }
+}
+
+#define S vvs_settings
+static const tb_setting settings[] = {
+    TB_SETTINGS_MASS(S, 1.0), /* the paper's m = 1 */
+    TB_SETTING_R(S, ks, 3.0, 0.0, HUGE_VAL, 0, "surface spring stiffness k_ij (eq. 3)"),
+    TB_SETTING_R(S, kd, 0.5, 0.0, HUGE_VAL, 0, "node damping d_i: force -d_i v_i (eq. 2)"),
+    TB_SETTING_R(S, ks_v, 1.5, 0.0, HUGE_VAL, 0, "virtual volumetric spring stiffness k'_s"),
+    TB_SETTING_R(S, kd_v, 0.5, 0.0, HUGE_VAL, 0, "virtual volumetric spring damping k'_d"),
+    TB_SETTING_I(S, volume_springs, 1, 0, 1,
+                 "1: a virtual volumetric spring per node; 0: the hollow shell"),
+    TB_SETTING_C(S, integrator, VVS_QUASISTATIC, VVS_EULER, "quasistatic|euler",
+                 "quasistatic: dx = alpha F dt^2 / m (the paper); euler: symplectic Euler"),
+    TB_SETTING_R(S, alpha, 1.0, 0.0, HUGE_VAL, TB_OPEN_LO,
+                 "quasi-static step scale (1: one Euler step from rest; stable below "
+                 "m / ((kd + kd_v) dt))"),
+};
+#undef S
+
+const tb_model_class tb_model_msm_vvs = {
+    .name = "msm-vvs",
+    .summary =
+        "surface mass-spring with virtual volumetric springs, quasi-static steps (Bao 2006 "
+        "eqs 1-3, §2)",
+    .settings = settings,
+    .nsettings = (int)(sizeof settings / sizeof settings[0]),
+    .settings_size = sizeof(vvs_settings),
+    .create = create,
+    .step = step,
+    .positions = positions,
+    .velocities = velocities,
+    .energy = energy,
+    .destroy = destroy,
+    .masses = masses,
+    .npoints = npoints,
+    .surface = surface,
+    .correct = correct,
+    .surface_mesh = 1,
+};
