@@ -36,64 +36,57 @@
  * shared by vertex area). The energy is the springs' potential plus the
  * surface points' kinetic energy.
  *
+ * levels > 1: dynamic local refinement (the paper's §3, vvs_refine.c):
+ * the points of every butterfly level exist from the start, those not on
+ * the current surface are off (not simulated, at rest).
+ *
  * Hot data are flat arrays per point (x, v, X, f, m, 1/m, k'_s, k'_d, d)
- * and per spring ((i, j), R, k); build_springs makes the springs from any
- * triangle list over the points, so a later refinement can rebuild them.
- * A step allocates nothing. */
+ * and per spring ((i, j), R, k), and the list of simulated points;
+ * vvs_build_springs makes the springs from any triangle list over the
+ * points. A step allocates nothing. */
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_model.h"
-
-enum { VVS_QUASISTATIC, VVS_EULER };
-
-/* msm-vvs's settings (its table is at the end of this file). */
-typedef struct vvs_settings {
-  double density, node_mass, ks, kd, ks_v, kd_v, alpha;
-  int integrator, volume_springs;
-} vvs_settings;
-
-typedef struct vvs {
-  int nv;                          /* points */
-  tb_vec3 *x, *v, *x0, *f;         /* positions, velocities, rest positions, forces */
-  double *mass, *invm, *ksv, *kdv; /* per point: mass, 1/mass, k'_s, k'_d */
-  double *d;                       /* per point: damping d_i */
-  int *follow;           /* per point: -1 when simulated, else the surface point followed */
-  int ntri, *tri;        /* the simulated surface */
-  unsigned long version; /* changes with the surface */
-  int ns, *ij;           /* springs: 2*ns point pairs, i < j */
-  double *len0, *k;      /* rest lengths, stiffnesses */
-  double ks, alpha;
-  int integrator;
-} vvs;
+#include "vvs_priv.h"
+static int cmp_pair(const void *a, const void *b) {
+  const int *p = a, *q = b;
+  return p[0] != q[0] ? (p[0] < q[0] ? -1 : 1) : (p[1] != q[1] ? (p[1] < q[1] ? -1 : 1) : 0);
+}
 
 static void destroy(void *self) {
   vvs *s = self;
   if (!s) return;
   free(s->x), free(s->v), free(s->x0), free(s->f);
   free(s->mass), free(s->invm), free(s->ksv), free(s->kdv), free(s->d), free(s->follow);
-  free(s->tri), free(s->ij), free(s->len0), free(s->k);
+  free(s->sim), free(s->tri), free(s->ij), free(s->len0), free(s->k);
+  free(s->depth), free(s->share), free(s->stress);
+  if (s->lod) tb_lod_free(s->lod), free(s->lod);
   free(s);
 }
 
-static int cmp_pair(const void *a, const void *b) {
-  const int *p = a, *q = b;
-  return p[0] != q[0] ? (p[0] < q[0] ? -1 : 1) : (p[1] != q[1] ? (p[1] < q[1] ? -1 : 1) : 0);
+/* Per point and per spring arrays for nv points and up to cap_tri
+ * triangles. */
+static int alloc_points(vvs *s, int nv, int cap_tri, tb_error *err) {
+  size_t n = (size_t)nv, c = (size_t)(cap_tri > 0 ? cap_tri : 1);
+  s->nv = nv, s->cap_tri = cap_tri;
+  s->x = malloc(sizeof(tb_vec3) * n), s->x0 = malloc(sizeof(tb_vec3) * n);
+  s->v = calloc(n, sizeof(tb_vec3)), s->f = calloc(n, sizeof(tb_vec3));
+  s->mass = malloc(sizeof(double) * n), s->invm = malloc(sizeof(double) * n);
+  s->ksv = calloc(n, sizeof(double)), s->kdv = calloc(n, sizeof(double));
+  s->d = calloc(n, sizeof(double)), s->follow = malloc(sizeof(int) * n);
+  s->sim = malloc(sizeof(int) * n), s->tri = malloc(sizeof(int) * 3 * c);
+  s->ij = malloc(sizeof(int) * 6 * c); /* every half-edge's pair while sorting */
+  s->len0 = malloc(sizeof(double) * 3 * c), s->k = malloc(sizeof(double) * 3 * c);
+  if (!s->x || !s->x0 || !s->v || !s->f || !s->mass || !s->invm || !s->ksv || !s->kdv || !s->d ||
+      !s->follow || !s->sim || !s->tri || !s->ij || !s->len0 || !s->k)
+    return tb_error_set(err, "msm-vvs", 0, "out of memory (%d points)", nv);
+  return 0;
 }
 
-/* The springs of triangles tri[0 .. 3 ntri) over the points: one per
- * distinct edge, sorted, rest length from the rest positions, stiffness
- * ks; replaces the old list and marks the triangles' points simulated
- * (follow = -1). The one place springs are made. */
-static int build_springs(vvs *s, int ntri, const int *tri, tb_error *err) {
-  for (int k = 0; k < 3 * ntri; k++)
-    if (tri[k] < 0 || tri[k] >= s->nv)
-      return tb_error_set(err, "mesh", 0, "triangle %d refers to node %d (nv = %d)", k / 3, tri[k],
-                          s->nv);
-  int *e = malloc(sizeof(int) * 6 * (size_t)(ntri > 0 ? ntri : 1));
-  if (!e) return tb_error_set(err, "msm-vvs", 0, "out of memory");
+void vvs_build_springs(vvs *s, int ntri, const int *tri) {
+  int *e = s->ij;
   for (int t = 0; t < ntri; t++)
     for (int c = 0; c < 3; c++) {
       int a = tri[3 * t + c], b = tri[3 * t + (c + 1) % 3];
@@ -104,27 +97,21 @@ static int build_springs(vvs *s, int ntri, const int *tri, tb_error *err) {
   for (int q = 0; q < 3 * ntri; q++)
     if (!n || cmp_pair(e + 2 * q, e + 2 * (n - 1)))
       e[2 * n] = e[2 * q], e[2 * n + 1] = e[2 * q + 1], n++;
-  double *len0 = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
-  double *k = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
-  if (!len0 || !k) {
-    free(e), free(len0), free(k);
-    return tb_error_set(err, "msm-vvs", 0, "out of memory");
-  }
-  for (int q = 0; q < n; q++) {
-    int i = e[2 * q], j = e[2 * q + 1];
-    len0[q] = tb_dist(s->x0[i], s->x0[j]), k[q] = s->ks;
-    if (!(len0[q] > 0) || !isfinite(len0[q])) {
-      tb_error_set(err, "mesh", 0, "edge %d-%d has rest length %g (coincident nodes)", i, j,
-                   len0[q]);
-      free(e), free(len0), free(k);
-      return -1;
-    }
-  }
-  free(s->ij), free(s->len0), free(s->k);
-  s->ij = e, s->len0 = len0, s->k = k, s->ns = n;
-  for (int i = 0; i < s->nv; i++) s->follow[i] = 0;
-  for (int q = 0; q < 3 * ntri; q++) s->follow[tri[q]] = -1;
+  for (int q = 0; q < n; q++)
+    s->len0[q] = tb_dist(s->x0[e[2 * q]], s->x0[e[2 * q + 1]]), s->k[q] = s->set.ks;
+  s->ns = n;
+  s->nsim = 0;
+  for (int i = 0; i < s->nv; i++)
+    if (s->follow[i] == VVS_SIM) s->sim[s->nsim++] = i;
   s->version++;
+}
+
+/* Every edge of the surface has a positive, finite rest length. */
+static int check_springs(const vvs *s, tb_error *err) {
+  for (int q = 0; q < s->ns; q++)
+    if (!(s->len0[q] > 0) || !isfinite(s->len0[q]))
+      return tb_error_set(err, "mesh", 0, "edge %d-%d has rest length %g (coincident nodes)",
+                          s->ij[2 * q], s->ij[2 * q + 1], s->len0[q]);
   return 0;
 }
 
@@ -132,11 +119,11 @@ static int build_springs(vvs *s, int ntri, const int *tri, tb_error *err) {
  * (the lowest index among equals). */
 static void choose_followed(vvs *s) {
   for (int i = 0; i < s->nv; i++) {
-    if (s->follow[i] < 0) continue;
+    if (s->follow[i] < 0) continue; /* simulated or off */
     double best = INFINITY;
     int at = -1;
     for (int j = 0; j < s->nv; j++) {
-      if (s->follow[j] != -1) continue; /* not simulated */
+      if (s->follow[j] != VVS_SIM) continue; /* not simulated */
       tb_vec3 r = tb_sub(s->x0[j], s->x0[i]);
       double d2 = tb_dot(r, r);
       if (d2 < best) best = d2, at = j;
@@ -206,35 +193,43 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
     tb_error_set(err, "msm-vvs", 0, "out of memory");
     return NULL;
   }
-  s->nv = mesh->nv, s->ks = def->ks, s->alpha = def->alpha, s->integrator = def->integrator;
-  size_t nv = (size_t)mesh->nv;
-  s->x = malloc(sizeof(tb_vec3) * nv), s->x0 = malloc(sizeof(tb_vec3) * nv);
-  s->v = calloc(nv, sizeof(tb_vec3)), s->f = calloc(nv, sizeof(tb_vec3));
-  s->mass = malloc(sizeof(double) * nv), s->invm = malloc(sizeof(double) * nv);
-  s->ksv = malloc(sizeof(double) * nv), s->kdv = malloc(sizeof(double) * nv);
-  s->d = malloc(sizeof(double) * nv), s->follow = malloc(sizeof(int) * nv);
-  if (!s->x || !s->x0 || !s->v || !s->f || !s->mass || !s->invm || !s->ksv || !s->kdv || !s->d ||
-      !s->follow) {
-    tb_error_set(err, "msm-vvs", 0, "out of memory");
+  s->set = *def, s->nbase = mesh->nv;
+  int *tri = NULL, ntri = surface_of(mesh, &tri, err);
+  if (ntri < 0) goto fail;
+  if (def->levels > 1) {
+    if (mesh->ntet > 0) {
+      tb_error_set(err, "msm-vvs", 0,
+                   "local refinement (levels %d) needs a closed triangle surface, not a tet mesh",
+                   def->levels);
+      goto fail;
+    }
+    if (vvs_refine_init(s, mesh, err)) goto fail; /* every level's points */
+  } else if (alloc_points(s, mesh->nv, ntri, err))
     goto fail;
-  }
-  memcpy(s->x, mesh->x, sizeof(tb_vec3) * nv);
-  memcpy(s->x0, mesh->x, sizeof(tb_vec3) * nv);
-  if ((s->ntri = surface_of(mesh, &s->tri, err)) < 0) goto fail;
+  memcpy(s->x, mesh->x, sizeof(tb_vec3) * (size_t)mesh->nv);
+  memcpy(s->x0, mesh->x, sizeof(tb_vec3) * (size_t)mesh->nv);
   if (def->node_mass > 0 || mesh->ntet > 0) {
     if (tb_lumped_masses(mesh, def->density, def->node_mass, s->mass, err)) goto fail;
   } else if (surface_masses(mesh, def->density, s->mass, err))
     goto fail;
-  for (int i = 0; i < s->nv; i++) {
+  for (int i = 0; i < mesh->nv; i++) {
     s->invm[i] = 1.0 / s->mass[i], s->d[i] = def->kd;
     s->ksv[i] = def->volume_springs ? def->ks_v : 0.0;
     s->kdv[i] = def->volume_springs ? def->kd_v : 0.0;
   }
-  if (build_springs(s, s->ntri, s->tri, err)) goto fail;
+  for (int i = 0; i < s->nv; i++) s->follow[i] = i < mesh->nv ? 0 : VVS_OFF;
+  for (int q = 0; q < 3 * ntri; q++) s->follow[tri[q]] = VVS_SIM;
+  memcpy(s->tri, tri, sizeof(int) * 3 * (size_t)ntri);
+  s->ntri = ntri;
+  free(tri), tri = NULL;
+  vvs_build_springs(s, s->ntri, s->tri);
+  if (check_springs(s, err)) goto fail;
+  if (s->lod) vvs_refine_params(s);
   s->version = 0; /* the rest surface */
   choose_followed(s);
   return s;
 fail:
+  free(tri);
   destroy(s);
   return NULL;
 }
@@ -244,13 +239,13 @@ fail:
 static void forces(vvs *s, tb_vec3 g) {
   tb_vec3 *restrict f = s->f;
   const tb_vec3 *restrict x = s->x, *restrict v = s->v, *restrict x0 = s->x0;
-  for (int i = 0; i < s->nv; i++)
+  for (int i = 0; i < s->nbase; i++)
     if (s->follow[i] >= 0) {
       int j = s->follow[i];
       f[j] = tb_add(f[j], f[i]), f[i] = tb_v3(0, 0, 0);
     }
-  for (int i = 0; i < s->nv; i++) {
-    if (s->follow[i] >= 0) continue;
+  for (int q = 0; q < s->nsim; q++) {
+    const int i = s->sim[q];
     f[i] = tb_madd(tb_madd(f[i], s->mass[i], g), -s->d[i], v[i]); /* gravity, -d_i v_i */
     tb_vec3 dx = tb_sub(x[i], x0[i]);
     double l = tb_len(dx);
@@ -259,42 +254,54 @@ static void forces(vvs *s, tb_vec3 g) {
       f[i] = tb_madd(f[i], c, dx);
     }
   }
+  double *restrict st = s->stress; /* local refinement's criterion */
+  if (st)
+    for (int q = 0; q < s->nsim; q++) st[s->sim[q]] = 0;
   for (int e = 0; e < s->ns; e++) { /* eq. 3 */
     const int i = s->ij[2 * e], j = s->ij[2 * e + 1];
     tb_vec3 r = tb_sub(x[j], x[i]);
     double l = tb_len(r), c = l > 0 ? s->k[e] * (l - s->len0[e]) / l : 0.0;
     f[i] = tb_madd(f[i], c, r), f[j] = tb_madd(f[j], -c, r);
+    if (st) st[i] += fabs(c) * l, st[j] += fabs(c) * l;
   }
+}
+
+/* The external forces (on the mesh's nodes), then F_i. */
+static void load(vvs *s, const tb_step *in) {
+  size_t nb = (size_t)s->nbase;
+  if (in->force)
+    memcpy(s->f, in->force, sizeof(tb_vec3) * nb);
+  else
+    memset(s->f, 0, sizeof(tb_vec3) * nb);
+  memset(s->f + nb, 0, sizeof(tb_vec3) * ((size_t)s->nv - nb));
+  forces(s, in->gravity);
 }
 
 static int step(void *self, const tb_step *in, tb_error *err) {
   vvs *s = self;
-  const int nv = s->nv, nfixed = in->nfixed;
+  const int nb = s->nbase, nfixed = in->nfixed;
   if (nfixed < 0 || (nfixed > 0 && (!in->fixed || !in->fixed_x)))
     return tb_error_set(err, "msm-vvs", 0, "bad prescribed set (nfixed %d)", nfixed);
   for (int p = 0; p < nfixed; p++)
-    if (in->fixed[p] < 0 || in->fixed[p] >= nv || (p > 0 && in->fixed[p] <= in->fixed[p - 1]))
+    if (in->fixed[p] < 0 || in->fixed[p] >= nb || (p > 0 && in->fixed[p] <= in->fixed[p - 1]))
       return tb_error_set(err, "msm-vvs", 0,
                           "prescribed nodes must be strictly ascending in [0, %d): entry %d is %d",
-                          nv, p, in->fixed[p]);
-  if (in->force)
-    memcpy(s->f, in->force, sizeof(tb_vec3) * (size_t)nv);
-  else
-    memset(s->f, 0, sizeof(tb_vec3) * (size_t)nv);
-  forces(s, in->gravity);
+                          nb, p, in->fixed[p]);
+  load(s, in);
+  if (s->lod && vvs_refine_step(s)) load(s, in); /* the new surface's forces */
   tb_vec3 *x = s->x, *v = s->v;
-  const double dt = in->dt, h = s->alpha * dt * dt;
-  /* the simulated points, prescribed ones merged in (ascending); fixed_x may
-   * alias the positions */
-  int p = 0, next = nfixed > 0 ? in->fixed[0] : nv;
-  for (int i = 0; i < nv; i++) {
-    if (i == next) {
-      const tb_vec3 xe = in->fixed_x[p];
-      v[i] = tb_scale(tb_sub(xe, x[i]), 1.0 / dt), x[i] = xe;
-      next = ++p < nfixed ? in->fixed[p] : nv;
-    } else if (s->follow[i] >= 0) {
-      continue;
-    } else if (s->integrator == VVS_QUASISTATIC) {
+  const double dt = in->dt, h = s->set.alpha * dt * dt;
+  for (int p = 0; p < nfixed; p++) { /* prescribed (fixed_x may alias the positions) */
+    const int i = in->fixed[p];
+    const tb_vec3 xe = in->fixed_x[p];
+    v[i] = tb_scale(tb_sub(xe, x[i]), 1.0 / dt), x[i] = xe;
+  }
+  int p = 0; /* the simulated points but the prescribed ones (both ascending) */
+  for (int q = 0; q < s->nsim; q++) {
+    const int i = s->sim[q];
+    while (p < nfixed && in->fixed[p] < i) p++;
+    if (p < nfixed && in->fixed[p] == i) continue;
+    if (s->set.integrator == VVS_QUASISTATIC) {
       tb_vec3 dx = tb_scale(s->f[i], h * s->invm[i]); /* alpha F dt^2 / m */
       x[i] = tb_add(x[i], dx), v[i] = tb_scale(dx, 1.0 / dt);
     } else { /* symplectic Euler */
@@ -302,15 +309,11 @@ static int step(void *self, const tb_step *in, tb_error *err) {
       x[i] = tb_madd(x[i], dt, v[i]);
     }
   }
-  /* the followers (unless prescribed) */
-  p = 0, next = nfixed > 0 ? in->fixed[0] : nv;
-  for (int i = 0; i < nv; i++) {
-    if (i == next) {
-      next = ++p < nfixed ? in->fixed[p] : nv;
-      continue;
-    }
+  p = 0; /* the followers (a tet mesh's interior), unless prescribed */
+  for (int i = 0; i < nb; i++) {
+    while (p < nfixed && in->fixed[p] < i) p++;
     const int j = s->follow[i];
-    if (j < 0) continue;
+    if (j < 0 || (p < nfixed && in->fixed[p] == i)) continue;
     x[i] = tb_add(s->x0[i], tb_sub(x[j], s->x0[j])), v[i] = v[j];
   }
   return 0;
@@ -336,8 +339,8 @@ static double energy(const void *self) {
     double d = tb_dist(s->x[s->ij[2 * e]], s->x[s->ij[2 * e + 1]]) - s->len0[e];
     w += 0.5 * s->k[e] * d * d;
   }
-  for (int i = 0; i < s->nv; i++) {
-    if (s->follow[i] >= 0) continue;
+  for (int q = 0; q < s->nsim; q++) {
+    const int i = s->sim[q];
     tb_vec3 dx = tb_sub(s->x[i], s->x0[i]);
     w += 0.5 * (s->ksv[i] * tb_dot(dx, dx) + s->mass[i] * tb_dot(s->v[i], s->v[i]));
   }
@@ -366,6 +369,15 @@ static const tb_setting settings[] = {
     TB_SETTING_R(S, alpha, 1.0, 0.0, HUGE_VAL, TB_OPEN_LO,
                  "quasi-static step scale (1: one Euler step from rest; stable below "
                  "m / ((kd + kd_v) dt))"),
+    TB_SETTING_I(S, levels, 1, 1, 4,
+                 "butterfly levels of detail (1: the mesh as it is; 2+: dynamic local "
+                 "refinement of a closed surface, Bao 2006 §3)"),
+    TB_SETTING_R(S, refine_force, 1.0, 0.0, HUGE_VAL, 0,
+                 "a point whose force per area share (of a base point's) passes this splits its "
+                 "faces a level deeper (levels > 1; 0: everything refined)"),
+    TB_SETTING_R(S, coarsen_share, 0.5, 0.0, 1.0, 0,
+                 "hysteresis: a refined point goes back a level when its force falls below "
+                 "this share of refine_force"),
 };
 #undef S
 

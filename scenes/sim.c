@@ -484,11 +484,13 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
   in.fixed_x = s->fixed_x;
   in.ground = s->has_ground ? &s->ground : NULL;
   if (tb_model_step(&s->model, &in, err)) return -1;
-  if (tb_model_npoints(&s->model) != s->mesh.nv)
-    return tb_error_set(err, s->model.cls->name, 0,
-                        "the model now has %d points, the scene %d: scenes with a changing number "
-                        "of points are not supported yet",
-                        tb_model_npoints(&s->model), s->mesh.nv);
+  int np = tb_model_npoints(&s->model);
+  if (np < s->mesh.nv || (np > s->mesh.nv && (s->has_ground || s->has_tool)))
+    return tb_error_set(err, s->model.cls->name, 0, "the model now has %d points, the scene %d: %s",
+                        np, s->mesh.nv,
+                        np < s->mesh.nv ? "fewer points than the mesh's nodes"
+                                        : "contact with points beyond the mesh's nodes (local "
+                                          "refinement) is not supported yet");
   s->t = t;
   s->steps++;
   if ((s->has_ground || s->has_tool) && tb_sim_contact(s, err)) return -1;
@@ -496,6 +498,12 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
   probe_track(s);
   s->health = tb_model_health(&s->mesh, tb_model_positions(&s->model),
                               tb_model_velocities(&s->model), s->def.vmax, s->def.inversion);
+  if (s->health.ok && np > s->mesh.nv) { /* the model's own points (a finer level) */
+    tb_mesh extra = {0};
+    extra.nv = np - s->mesh.nv;
+    s->health = tb_model_health(&extra, tb_model_positions(&s->model) + s->mesh.nv,
+                                tb_model_velocities(&s->model) + s->mesh.nv, s->def.vmax, 0);
+  }
   if (s->health.ok && check) energy_check(s);
   if (!s->health.ok)
     return tb_error_set(err, s->model.cls->name, 0, "unstable at t = %g: %s", s->t,

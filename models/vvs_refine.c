@@ -1,0 +1,135 @@
+/* Dynamic local refinement of msm-vvs (Bao et al. 2006, §3.2-3.3): the
+ * surface is refined around the points under stress and coarsened where
+ * the stress has gone, over butterfly levels precomputed at create
+ * (models/lod.c).
+ *
+ * Criterion (§3.2). The paper refines where "the force on a node" passes a
+ * threshold. The net force on a node tends to zero as a quasi-static body
+ * settles, so the measure here is the node's stress: the sum of its
+ * springs' force magnitudes, sum_j k |l_ij - R_ij|, divided by its area
+ * share (its surface area over a base point's), so that a finer point,
+ * holding less of the surface, is judged by the same force per area.
+ * A point whose stress reaches refine_force deepens by one level (its
+ * depth becomes one more than the level it was born on, up to the finest);
+ * one below coarsen_share x refine_force goes back a level; between the
+ * two it stays (hysteresis). When a depth changes the surface is rebuilt
+ * from the base with every point's depth (tb_lod_apply): a smaller
+ * threshold spreads refinement further, as the paper says.
+ *
+ * A point coming on takes the rest position the butterfly gave it plus the
+ * mean displacement and velocity of the two ends of the edge it was born
+ * on (they are on; ascending order serves parents first). A point going
+ * off is parked: not simulated, velocity 0.
+ *
+ * Physical constants when the resolution changes (§3.3 "adjust the
+ * model's physical parameters"): the total mass is kept, shared by area
+ * (a third of each adjacent triangle's rest area); the damping d_i and the
+ * virtual spring k'_s, k'_d scale with the same share, so that they stay
+ * per unit area; the surface springs keep ks, since a triangulated sheet of
+ * springs of stiffness k has an in-plane stiffness that does not depend on
+ * its edge length (halving the edges halves each spring's stretch and
+ * doubles the springs across a cut). So a base point's share is about 1 and
+ * a point of level 1 about 1/4. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vvs_priv.h"
+
+int vvs_refine_init(vvs *s, const tb_mesh *mesh, tb_error *err) {
+  s->lod = calloc(1, sizeof *s->lod);
+  if (!s->lod) return tb_error_set(err, "msm-vvs", 0, "out of memory");
+  if (tb_lod_create(s->lod, mesh, s->set.levels, err)) {
+    free(s->lod), s->lod = NULL;
+    return -1;
+  }
+  const tb_lod *lod = s->lod;
+  size_t nv = (size_t)lod->nv;
+  s->nv = lod->nv, s->cap_tri = lod->level_nf[lod->nlevels - 1];
+  s->x = malloc(sizeof(tb_vec3) * nv), s->x0 = malloc(sizeof(tb_vec3) * nv);
+  s->v = calloc(nv, sizeof(tb_vec3)), s->f = calloc(nv, sizeof(tb_vec3));
+  s->mass = calloc(nv, sizeof(double)), s->invm = calloc(nv, sizeof(double));
+  s->ksv = calloc(nv, sizeof(double)), s->kdv = calloc(nv, sizeof(double));
+  s->d = calloc(nv, sizeof(double)), s->follow = malloc(sizeof(int) * nv);
+  s->sim = malloc(sizeof(int) * nv), s->tri = malloc(sizeof(int) * 3 * (size_t)s->cap_tri);
+  s->ij = malloc(sizeof(int) * 6 * (size_t)s->cap_tri);
+  s->len0 = malloc(sizeof(double) * 3 * (size_t)s->cap_tri);
+  s->k = malloc(sizeof(double) * 3 * (size_t)s->cap_tri);
+  s->depth = calloc(nv, 1), s->share = calloc(nv, sizeof(double));
+  s->stress = calloc(nv, sizeof(double));
+  if (!s->x || !s->x0 || !s->v || !s->f || !s->mass || !s->invm || !s->ksv || !s->kdv || !s->d ||
+      !s->follow || !s->sim || !s->tri || !s->ij || !s->len0 || !s->k || !s->depth || !s->share ||
+      !s->stress)
+    return tb_error_set(err, "msm-vvs", 0, "out of memory (%d points over %d levels)", lod->nv,
+                        lod->nlevels);
+  memcpy(s->x0, lod->rest, sizeof(tb_vec3) * nv);
+  memcpy(s->x, lod->rest, sizeof(tb_vec3) * nv);
+  return 0;
+}
+
+void vvs_refine_params(vvs *s) {
+  double *a = s->share, total = 0, mass = 0;
+  if (!(s->mass_base > 0)) /* the masses create gave the mesh's nodes */
+    for (int i = 0; i < s->nbase; i++) s->mass_base += s->mass[i];
+  for (int q = 0; q < s->nsim; q++) a[s->sim[q]] = 0;
+  for (int t = 0; t < s->ntri; t++) {
+    const int *n = s->tri + 3 * t;
+    double at = tb_tri_area(s->x0[n[0]], s->x0[n[1]], s->x0[n[2]]);
+    for (int c = 0; c < 3; c++) a[n[c]] += at / 3;
+    total += at;
+  }
+  double per = total / s->nbase, vs = s->set.volume_springs ? 1.0 : 0.0;
+  for (int q = 0; q < s->nsim; q++) {
+    const int i = s->sim[q];
+    double sh = a[i] /= per;
+    s->mass[i] = s->mass_base / s->nbase * sh, s->invm[i] = 1 / s->mass[i];
+    s->d[i] = s->set.kd * sh, s->ksv[i] = vs * s->set.ks_v * sh, s->kdv[i] = vs * s->set.kd_v * sh;
+    mass += s->mass[i];
+  }
+  (void)mass; /* = mass_base up to rounding */
+}
+
+/* The level a point was born on. */
+static int birth(const tb_lod *lod, int i) {
+  int l = 0;
+  while (i >= lod->level_nv[l]) l++;
+  return l;
+}
+
+int vvs_refine_step(vvs *s) {
+  tb_lod *lod = s->lod;
+  const double hi = s->set.refine_force, lo = hi * s->set.coarsen_share;
+  const int deepest = lod->nlevels - 1;
+  int changed = 0;
+  for (int q = 0; q < s->nsim; q++) {
+    const int i = s->sim[q], b = birth(lod, i);
+    double load = s->stress[i] / s->share[i];
+    int d = s->depth[i];
+    if (load >= hi)
+      d = (d > b ? d : b) + 1;
+    else if (load < lo && d > 0)
+      d = d - 1 > b ? d - 1 : 0;
+    if (d > deepest) d = deepest;
+    if (d != s->depth[i]) s->depth[i] = (unsigned char)d, changed = 1;
+  }
+  if (!changed) return 0;
+  tb_lod_apply(lod, s->depth);
+  for (int i = s->nbase; i < s->nv; i++) { /* ascending: an edge's ends come first */
+    int on = lod->active[i], was = s->follow[i] == VVS_SIM;
+    if (on && !was) {
+      const int a = lod->ends[2 * i], b = lod->ends[2 * i + 1];
+      tb_vec3 da = tb_sub(s->x[a], s->x0[a]), db = tb_sub(s->x[b], s->x0[b]);
+      s->x[i] = tb_add(s->x0[i], tb_scale(tb_add(da, db), 0.5));
+      s->v[i] = tb_scale(tb_add(s->v[a], s->v[b]), 0.5);
+      s->follow[i] = VVS_SIM;
+    } else if (!on && was) {
+      s->follow[i] = VVS_OFF, s->v[i] = tb_v3(0, 0, 0), s->depth[i] = 0;
+    }
+  }
+  s->ntri = lod->ntri;
+  memcpy(s->tri, lod->out_tri, sizeof(int) * 3 * (size_t)lod->ntri);
+  vvs_build_springs(s, s->ntri, s->tri);
+  vvs_refine_params(s);
+  s->refinements++;
+  return 1;
+}
