@@ -152,6 +152,7 @@ static const struct {
     {"render", tb_tests_render},
     {"pbd_stiffness", tb_tests_pbd_stiffness},
     {"lod", tb_tests_lod},
+    {"vvs_refine", tb_tests_vvs_refine},
     {"softbody", tb_tests_softbody},
     {"butterfly", tb_tests_butterfly},
 };

@@ -1,0 +1,125 @@
+/* msm-vvs's dynamic local refinement (models/vvs_refine.c) on the paper's
+ * pressed sphere: the surface refines under the press and comes back to
+ * the base after the release, stays closed and 2-manifold throughout,
+ * keeps the total mass, and the sphere recovers its shape. */
+#define _GNU_SOURCE
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_sim.h"
+#include "tb_test.h"
+
+static int sim_open(tb_sim *s, const char *settings) {
+  tb_sim_def def;
+  tb_sim_def_init(&def);
+  tb_settings set;
+  tb_settings_init(&set);
+  tb_error err;
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", settings);
+  for (char *save = NULL, *t = strtok_r(buf, " ", &save); t; t = strtok_r(NULL, " ", &save))
+    if (tb_settings_set(&set, t, &err)) {
+      TB_CHECK_MSG(0, "%s", err.msg);
+      return -1;
+    }
+  int rc = tb_sim_create(s, "sphere-press", &def, "msm-vvs", &set, NULL, &err);
+  TB_CHECK_MSG(rc == 0, "%s", err.msg);
+  return rc;
+}
+
+/* Vertices the surface uses, and their total mass. */
+static int used_points(const tb_sim *s, double *mass) {
+  tb_surface su = tb_model_surface(&s->model);
+  const double *m = tb_model_masses(&s->model);
+  char *used = calloc((size_t)su.nv, 1);
+  int n = 0;
+  *mass = 0;
+  for (int k = 0; k < 3 * su.ntri; k++)
+    if (!used[su.tri[k]]++) n++, *mass += m[su.tri[k]];
+  free(used);
+  return n;
+}
+
+static int surface_ok(const tb_sim *s) {
+  tb_surface su = tb_model_surface(&s->model);
+  tb_mesh m = {0};
+  m.nv = su.nv, m.x = (tb_vec3 *)su.x, m.ntri = su.ntri, m.tri = (int *)su.tri;
+  tb_mesh_topo t = tb_mesh_topology(&m);
+  return t.closed && t.manifold && !t.misoriented_edges && t.euler == 2;
+}
+
+/* Refines under the press (beyond the base), closed throughout, mass
+ * kept, back to the base after the release, the shape recovered. */
+static void press_refines_and_returns(void) {
+  tb_sim s;
+  if (sim_open(&s, "levels=2 refine_force=0.2")) return;
+  tb_error err;
+  double base_mass = 0, mass;
+  used_points(&s, &base_mass);
+  int most = 0, broken = 0, mass_off = 0;
+  while (s.t < s.def.duration - 1e-9) {
+    if (tb_sim_step(&s, &err)) {
+      TB_CHECK_MSG(0, "%s", err.msg);
+      break;
+    }
+    if (s.steps % 10) continue;
+    int n = used_points(&s, &mass);
+    if (n > most) most = n;
+    broken += !surface_ok(&s);
+    mass_off += !(fabs(mass - base_mass) <= 1e-9 * base_mass);
+  }
+  TB_CHECK_MSG(most > 270, "at most %d points on the surface under the press", most);
+  TB_CHECK_MSG(!broken, "the surface was open or non-manifold %d times", broken);
+  TB_CHECK_MSG(!mass_off, "the total mass changed %d times (base %g)", mass_off, base_mass);
+  int n = used_points(&s, &mass);
+  TB_CHECK_MSG(n == 252 && tb_model_surface(&s.model).ntri == 500,
+               "%d points, %d triangles after the release", n, tb_model_surface(&s.model).ntri);
+  tb_sim_metrics m = tb_sim_measure(&s);
+  TB_CHECK_MSG(m.max_disp < 0.01, "largest displacement %g after the release (radius 1)",
+               m.max_disp);
+  tb_sim_destroy(&s);
+}
+
+/* refine_force 0 refines everything: the first level's 1002 points and
+ * 2000 triangles, the paper's fully subdivided sphere; a huge threshold
+ * never refines. */
+static void threshold_extremes(void) {
+  tb_sim s;
+  tb_error err;
+  double mass;
+  if (sim_open(&s, "levels=2 refine_force=0")) return;
+  for (int k = 0; k < 3; k++) tb_sim_step(&s, &err);
+  TB_CHECK(used_points(&s, &mass) == 1002 && tb_model_surface(&s.model).ntri == 2000);
+  TB_CHECK(surface_ok(&s));
+  tb_sim_destroy(&s);
+  if (sim_open(&s, "levels=2 refine_force=1e9")) return;
+  int most = 0;
+  for (int k = 0; k < 400; k++) {
+    tb_sim_step(&s, &err);
+    int n = used_points(&s, &mass);
+    if (n > most) most = n;
+  }
+  TB_CHECK_MSG(most == 252, "%d points with a huge threshold", most);
+  tb_sim_destroy(&s);
+}
+
+/* Local refinement needs a surface: a tet mesh is refused with a clear
+ * message. */
+static void tets_refused(void) {
+  char out[1024];
+  char cmd[600];
+  snprintf(cmd, sizeof cmd, "%s simulate --scene beam --model msm-vvs --set levels=2 2>&1",
+           tb_test_cli());
+  int rc = tb_test_run(cmd, out, sizeof out);
+  TB_CHECK_MSG(rc == 2, "exit %d: %s", rc, out);
+  TB_CHECK_MSG(strstr(out, "local refinement") && strstr(out, "tet mesh"), "%s", out);
+}
+
+const tb_test_case tb_tests_vvs_refine[] = {
+    {"press_refines_and_returns", press_refines_and_returns},
+    {"threshold_extremes", threshold_extremes},
+    {"tets_refused", tets_refused},
+    {0, 0},
+};
