@@ -109,9 +109,13 @@ static int mesh_subdivide(int argc, char **argv) {
                        "a tet mesh (%d tets): subdivide a closed triangle surface (e.g. the "
                        "liver's --part surface)",
                        m.ntet);
-  else if (!tb_halfedge_build(&he, m.nv, m.ntri, m.tri, in, &err))
+  else if (!tb_halfedge_build(&he, m.nv, m.ntri, m.tri, in, &err)) {
+    for (int v = 0; v < m.nv && !bad; v++)
+      if (tb_halfedge_valence(&he, v) < 3)
+        bad = tb_error_set(&err, in, 0,
+                           "vertex %d has valence 2 (two triangles on the same three vertices)", v);
     tb_halfedge_free(&he);
-  else
+  } else
     bad = 1;
   if (!bad && (double)m.ntri * (1 << (2 * n)) * 3 > INT_MAX)
     bad = tb_error_set(&err, in, 0, "%d triangles: %ld levels would give too many", m.ntri, n);

@@ -11,8 +11,9 @@
  *   counting around: k = 3: 5/12, -1/12, -1/12; k = 4: 3/8, 0, -1/8, 0; k >= 5:
  *   s_j = (1/4 + cos(2 pi j / k) + 1/2 cos(4 pi j / k)) / k. The s_j sum to 1/4.
  * - both ends irregular: the average of the two one-end stencils.
- * A vertex of valence 2 (a closed "pillow" of two triangles) has no rule; its one-end stencil
- * is the edge's midpoint. */
+ * A vertex of valence 2 (a closed "pillow": two triangles on the same three vertices) has no
+ * rule; tb_butterfly_point takes the edge's midpoint for its end, and tb_butterfly refuses such
+ * a surface (its split would put four triangles on an edge). */
 #include "tb_butterfly.h"
 
 #include <stdlib.h>
@@ -73,6 +74,14 @@ int tb_butterfly(const tb_mesh *in, tb_mesh *out, int **midpoint, tb_error *err)
   tb_halfedge he;
   if (tb_halfedge_build(&he, in->nv, in->ntri, in->tri, "butterfly", err)) return -1;
   int nv = in->nv, nf = in->ntri, nh = 3 * nf, ne = nh / 2;
+  for (int v = 0; v < nv; v++)
+    if (tb_halfedge_valence(&he, v) < 3) {
+      tb_halfedge_free(&he);
+      return tb_error_set(err, "butterfly", 0,
+                          "vertex %d has valence 2 (two triangles on the same three vertices): "
+                          "its split would not be a manifold",
+                          v);
+    }
   if (nf > (1 << 29) / 4 || nv > (1 << 30) - ne) {
     tb_halfedge_free(&he);
     return tb_error_set(err, "butterfly", 0, "%d triangles: the result would be too large", nf);

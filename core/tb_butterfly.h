@@ -23,8 +23,10 @@ tb_vec3 tb_butterfly_point(const tb_halfedge *he, const tb_vec3 *x, int h);
  * Triangle f = (a, b, c) of in gives out's triangles 4f+k: k=0 (a, m_ab, m_ca), 1 (m_ab, b, m_bc),
  * 2 (m_ca, m_bc, c), 3 (m_ab, m_bc, m_ca). If midpoint != NULL, *midpoint gets a malloc'd array
  * of 3 nf: the new vertex on half-edge h's edge (the same for h and its pair).
- * Errors ("butterfly: reason", *out left empty): a tet mesh, and every surface
- * tb_halfedge_build refuses (open, non-manifold, misoriented, unused vertices). */
+ * Errors ("butterfly: reason", *out left empty): a tet mesh, every surface
+ * tb_halfedge_build refuses (open, non-manifold, misoriented, unused vertices), and a vertex
+ * of valence 2 (two triangles on the same three vertices). The output is then again a closed,
+ * oriented 2-manifold with the same Euler characteristic and no vertex of valence 2. */
 int tb_butterfly(const tb_mesh *in, tb_mesh *out, int **midpoint, tb_error *err);
 
 #endif

@@ -341,6 +341,17 @@ static void subdivide_counts_topology(void) {
     check_level(&m, 2);
     tb_mesh_free(&m);
   }
+  /* a pillow of two triangles: valence 2, no rule: the point is the edge's midpoint, and
+   * tb_butterfly refuses it (its split would put four triangles on an edge) */
+  static const int pillow[6] = {0, 1, 2, 0, 2, 1};
+  tb_vec3 px[3] = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}};
+  tb_mesh p = {3, px, 2, (int *)pillow, 0, NULL, 0};
+  tb_halfedge he;
+  TB_CHECK(tb_halfedge_build(&he, 3, 2, pillow, "pillow", &err) == 0);
+  CHECK_V3(tb_butterfly_point(&he, px, 1), tb_v3(0.5, 1, 0), 0);
+  tb_halfedge_free(&he);
+  TB_CHECK(tb_butterfly(&p, &m2, NULL, &err) != 0 && strstr(err.msg, "vertex 0 has valence 2") &&
+           !m2.x);
   TB_CHECK(tb_geosphere(252, 1.0, &m, &err) == 0);
   m.ntet = 1;
   TB_CHECK(tb_butterfly(&m, &m2, NULL, &err) != 0 && strstr(err.msg, "tet mesh"));
@@ -449,8 +460,9 @@ static void cli_subdivide(void) {
        "non-manifold"},
       {"flip.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 3 4\n",
        "misoriented"},
+      {"pillow.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n", "valence 2"},
   };
-  for (int i = 0; i < 3; i++) {
+  for (int i = 0; i < 4; i++) {
     const char *p = tb_test_file(bad[i].file, bad[i].text, -1);
     snprintf(args, sizeof args, "mesh subdivide %s --levels 1 --out %s/x.obj", p, dir);
     char prefix[600];
