@@ -66,14 +66,12 @@ static void destroy(void *self) {
   free(s);
 }
 
-/* Per point and per spring arrays for nv points and up to cap_tri
- * triangles. */
-static int alloc_points(vvs *s, int nv, int cap_tri, tb_error *err) {
+int vvs_alloc(vvs *s, int nv, int cap_tri, tb_error *err) {
   size_t n = (size_t)nv, c = (size_t)(cap_tri > 0 ? cap_tri : 1);
   s->nv = nv, s->cap_tri = cap_tri;
   s->x = malloc(sizeof(tb_vec3) * n), s->x0 = malloc(sizeof(tb_vec3) * n);
   s->v = calloc(n, sizeof(tb_vec3)), s->f = calloc(n, sizeof(tb_vec3));
-  s->mass = malloc(sizeof(double) * n), s->invm = malloc(sizeof(double) * n);
+  s->mass = calloc(n, sizeof(double)), s->invm = calloc(n, sizeof(double));
   s->ksv = calloc(n, sizeof(double)), s->kdv = calloc(n, sizeof(double));
   s->d = calloc(n, sizeof(double)), s->follow = malloc(sizeof(int) * n);
   s->sim = malloc(sizeof(int) * n), s->tri = malloc(sizeof(int) * 3 * c);
@@ -204,7 +202,7 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
       goto fail;
     }
     if (vvs_refine_init(s, mesh, err)) goto fail; /* every level's points */
-  } else if (alloc_points(s, mesh->nv, ntri, err))
+  } else if (vvs_alloc(s, mesh->nv, ntri, err))
     goto fail;
   memcpy(s->x, mesh->x, sizeof(tb_vec3) * (size_t)mesh->nv);
   memcpy(s->x0, mesh->x, sizeof(tb_vec3) * (size_t)mesh->nv);

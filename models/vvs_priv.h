@@ -41,6 +41,10 @@ typedef struct vvs {
   int refinements; /* surface rebuilds so far */
 } vvs;
 
+/* The per point arrays for nv points, the triangles' and springs' for up
+ * to cap_tri triangles. */
+int vvs_alloc(vvs *s, int nv, int cap_tri, tb_error *err);
+
 /* The springs of tri[0 .. 3 ntri) (one per distinct edge, rest length from
  * x0, stiffness ks) and the simulated list; follow[] must already mark
  * the simulated points VVS_SIM. Allocates nothing (capacity cap_tri). */

@@ -45,21 +45,10 @@ int vvs_refine_init(vvs *s, const tb_mesh *mesh, tb_error *err) {
   }
   const tb_lod *lod = s->lod;
   size_t nv = (size_t)lod->nv;
-  s->nv = lod->nv, s->cap_tri = lod->level_nf[lod->nlevels - 1];
-  s->x = malloc(sizeof(tb_vec3) * nv), s->x0 = malloc(sizeof(tb_vec3) * nv);
-  s->v = calloc(nv, sizeof(tb_vec3)), s->f = calloc(nv, sizeof(tb_vec3));
-  s->mass = calloc(nv, sizeof(double)), s->invm = calloc(nv, sizeof(double));
-  s->ksv = calloc(nv, sizeof(double)), s->kdv = calloc(nv, sizeof(double));
-  s->d = calloc(nv, sizeof(double)), s->follow = malloc(sizeof(int) * nv);
-  s->sim = malloc(sizeof(int) * nv), s->tri = malloc(sizeof(int) * 3 * (size_t)s->cap_tri);
-  s->ij = malloc(sizeof(int) * 6 * (size_t)s->cap_tri);
-  s->len0 = malloc(sizeof(double) * 3 * (size_t)s->cap_tri);
-  s->k = malloc(sizeof(double) * 3 * (size_t)s->cap_tri);
+  if (vvs_alloc(s, lod->nv, lod->level_nf[lod->nlevels - 1], err)) return -1;
   s->depth = calloc(nv, 1), s->share = calloc(nv, sizeof(double));
   s->stress = calloc(nv, sizeof(double));
-  if (!s->x || !s->x0 || !s->v || !s->f || !s->mass || !s->invm || !s->ksv || !s->kdv || !s->d ||
-      !s->follow || !s->sim || !s->tri || !s->ij || !s->len0 || !s->k || !s->depth || !s->share ||
-      !s->stress)
+  if (!s->depth || !s->share || !s->stress)
     return tb_error_set(err, "msm-vvs", 0, "out of memory (%d points over %d levels)", lod->nv,
                         lod->nlevels);
   memcpy(s->x0, lod->rest, sizeof(tb_vec3) * nv);
