@@ -61,7 +61,7 @@ static void destroy(void *self) {
   free(s->x), free(s->v), free(s->x0), free(s->f);
   free(s->mass), free(s->invm), free(s->ksv), free(s->kdv), free(s->d), free(s->follow);
   free(s->sim), free(s->tri), free(s->ij), free(s->len0), free(s->k);
-  free(s->depth), free(s->share), free(s->stress);
+  free(s->depth), free(s->share), free(s->stress), free(s->kdiag);
   if (s->lod) tb_lod_free(s->lod), free(s->lod);
   free(s);
 }
@@ -300,7 +300,9 @@ static int step(void *self, const tb_step *in, tb_error *err) {
     while (p < nfixed && in->fixed[p] < i) p++;
     if (p < nfixed && in->fixed[p] == i) continue;
     if (s->set.integrator == VVS_QUASISTATIC) {
-      tb_vec3 dx = tb_scale(s->f[i], h * s->invm[i]); /* alpha F dt^2 / m */
+      /* alpha F dt^2 / m; refining, m at least 2 alpha dt^2 K_i (vvs_refine.c) */
+      double w = s->kdiag ? 1 / fmax(s->mass[i], 2 * h * s->kdiag[i]) : s->invm[i];
+      tb_vec3 dx = tb_scale(s->f[i], h * w);
       x[i] = tb_add(x[i], dx), v[i] = tb_scale(dx, 1.0 / dt);
     } else { /* symplectic Euler */
       v[i] = tb_madd(v[i], dt * s->invm[i], s->f[i]);

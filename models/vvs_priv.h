@@ -38,6 +38,7 @@ typedef struct vvs {
   unsigned char *depth;
   double *share, mass_base;
   double *stress;  /* per point: sum of its springs' |k (l - R)|, from the last forces */
+  double *kdiag;   /* per point: its springs' k summed with k'_s (bounds the quasi-static step) */
   int refinements; /* surface rebuilds so far */
 } vvs;
 

@@ -29,7 +29,19 @@
  * springs of stiffness k has an in-plane stiffness that does not depend on
  * its edge length (halving the edges halves each spring's stretch and
  * doubles the springs across a cut). So a base point's share is about 1 and
- * a point of level 1 about 1/4. */
+ * a point of level 1 about 1/4.
+ *
+ * The quasi-static update dx = alpha F dt^2 / m has no inertia: its mass
+ * only sizes the step, and the step is stable while alpha dt^2 K_i / m_i
+ * stays below about 1 (K_i: the point's springs' k summed, with k'_s; the
+ * model's head comment). A point of level l holds 4^-l of the mass but
+ * meets springs as stiff as a base point's, so its step grows 4^l times:
+ * at the scenes' alpha 50 level 1 is at 0.37, level 2 at 1.5 and blew up.
+ * Refining, the step's mass is therefore at least 2 alpha dt^2 K_i (a
+ * Jacobi bound, 0.5): base and level-1 points keep their own, finer ones
+ * take smaller steps. The equilibrium does not depend on it. The Euler
+ * integrator keeps each point's mass (the dynamics; finer levels then need
+ * a smaller dt, and the health check says so). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,8 +59,8 @@ int vvs_refine_init(vvs *s, const tb_mesh *mesh, tb_error *err) {
   size_t nv = (size_t)lod->nv;
   if (vvs_alloc(s, lod->nv, lod->level_nf[lod->nlevels - 1], err)) return -1;
   s->depth = calloc(nv, 1), s->share = calloc(nv, sizeof(double));
-  s->stress = calloc(nv, sizeof(double));
-  if (!s->depth || !s->share || !s->stress)
+  s->stress = calloc(nv, sizeof(double)), s->kdiag = calloc(nv, sizeof(double));
+  if (!s->depth || !s->share || !s->stress || !s->kdiag)
     return tb_error_set(err, "msm-vvs", 0, "out of memory (%d points over %d levels)", lod->nv,
                         lod->nlevels);
   memcpy(s->x0, lod->rest, sizeof(tb_vec3) * nv);
@@ -73,8 +85,11 @@ void vvs_refine_params(vvs *s) {
     double sh = a[i] /= per;
     s->mass[i] = s->mass_base / s->nbase * sh, s->invm[i] = 1 / s->mass[i];
     s->d[i] = s->set.kd * sh, s->ksv[i] = vs * s->set.ks_v * sh, s->kdv[i] = vs * s->set.kd_v * sh;
+    s->kdiag[i] = s->ksv[i];
     mass += s->mass[i];
   }
+  for (int e = 0; e < s->ns; e++)
+    s->kdiag[s->ij[2 * e]] += s->k[e], s->kdiag[s->ij[2 * e + 1]] += s->k[e];
   (void)mass; /* = mass_base up to rounding */
 }
 

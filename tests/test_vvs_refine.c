@@ -105,6 +105,30 @@ static void threshold_extremes(void) {
   tb_sim_destroy(&s);
 }
 
+/* The most points on the surface over a press with this threshold. */
+static int most_points(const char *settings) {
+  tb_sim s;
+  tb_error err;
+  double mass;
+  if (sim_open(&s, settings)) return -1;
+  int most = 0;
+  while (s.t < s.def.duration - 1e-9 && !tb_sim_step(&s, &err)) {
+    int n = used_points(&s, &mass);
+    if (n > most) most = n;
+  }
+  tb_sim_destroy(&s);
+  return most;
+}
+
+/* The paper's §3.2: the smaller the threshold, the further refinement
+ * spreads; deeper levels add points again. */
+static void threshold_spreads(void) {
+  int a = most_points("levels=2 refine_force=0.4"), b = most_points("levels=2 refine_force=0.2"),
+      c = most_points("levels=2 refine_force=0.1"), d = most_points("levels=3 refine_force=0.1");
+  TB_CHECK_MSG(252 <= a && a < b && b < c && c < d, "most points %d, %d, %d; levels 3: %d", a, b,
+               c, d);
+}
+
 /* Local refinement needs a surface: a tet mesh is refused with a clear
  * message. */
 static void tets_refused(void) {
@@ -120,6 +144,7 @@ static void tets_refused(void) {
 const tb_test_case tb_tests_vvs_refine[] = {
     {"press_refines_and_returns", press_refines_and_returns},
     {"threshold_extremes", threshold_extremes},
+    {"threshold_spreads", threshold_spreads},
     {"tets_refused", tets_refused},
     {0, 0},
 };
