@@ -113,7 +113,7 @@ static double probe_now(const tb_sim *s) {
  * (0 to U_SCALE), wireframe when asked, into dir/name with its caption. */
 static void picture(ctx *c, tb_sim *s, int wire, const char *name, const char *caption) {
   tb_camera cam;
-  tb_camera_preset("left-front", tb_v3(-1.3, -1.3, -1.3), tb_v3(1.3, 1.3, 1.3), &cam);
+  tb_camera_preset("left-front", tb_v3(-1, -1, -1), tb_v3(1, 1, 1.2), &cam);
   tb_renderer_begin(c->r, &cam, (const float[3]){1, 1, 1});
   tb_surface su = tb_model_surface(&s->model);
   double *u = malloc(sizeof(double) * (size_t)su.nv);
