@@ -99,8 +99,7 @@ static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam,
     if (!value || (!strcmp(o->color, "von_mises") && vertex_stress(s, value)))
       return free(value), tb_error_set(err, path, 0, "out of memory");
     if (!strcmp(o->color, "error") && vertex_error(s, o->scene, value, err)) return free(value), -1;
-    if (!strcmp(o->color, "displacement"))
-      for (int i = 0; i < su.nv; i++) value[i] = tb_dist(su.x[i], s->mesh.x[i]);
+    if (!strcmp(o->color, "displacement")) tb_draw_displacement(s, value);
     for (int i = 0; i < su.nv; i++) hi = fmax(hi, value[i]);
   }
   tb_draw_sim(r, s, value, hi, o->color, o->wireframe);

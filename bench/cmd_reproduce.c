@@ -50,6 +50,10 @@ static const tb_suite_entry suites[] = {
      "2022 patent tables 1-2: pbd-stvk solve time per step and element on 596-12829-tet livers "
      "dropped on a ground, 1 vs all threads (bit-identical?), Bullet btSoftBody beside it",
      tb_suite_pbd},
+    {"bao", "bao", NULL,
+     "Bao 2006 table 1 and figs 6-8: msm-vvs on the sphere, base vs fully subdivided vs locally "
+     "refined (time, accuracy), the conventional and the improved model pressed and released",
+     tb_suite_bao},
     {"figures", NULL, "pictures",
      "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures},
 };
@@ -59,7 +63,8 @@ static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
  * chapter 3 (deformation: its table and figure, then our reference, the
  * calibration against it, the error/speed trade-off, stability), its
  * chapter 4 (collision: correctness first, then its tables, then the
- * deforming liver); then the 2022 patent's performance tables. A chapter
+ * deforming liver); then the 2022 patent's performance tables; then Bao
+ * 2006's sphere (its table 1, figs 6-8). A chapter
  * is a heading then suite names; every suite above appears once
  * (tests/test_cli.c checks through --only). */
 static const char *const report_order[] = {
@@ -80,6 +85,8 @@ static const char *const report_order[] = {
     "#2022 patent: position-based dynamics, a liver dropped on a rigid ground",
     "pbd",
     "pbd-stiffness",
+    "#Bao 2006: a surface mass-spring model with virtual volumetric springs and local refinement",
+    "bao",
     "#Pictures: the documents' figures, rendered",
     "figures",
 };

@@ -37,6 +37,16 @@ void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, cons
   if (value) tb_renderer_colorbar(r, 0, hi > 0 ? hi : 1, label);
 }
 
+double tb_draw_displacement(const tb_sim *s, double *value) {
+  tb_surface su = tb_model_surface(&s->model);
+  const tb_vec3 *x0 = su.x0 ? su.x0 : s->mesh.x;
+  int n = su.x0 || su.nv <= s->mesh.nv ? su.nv : s->mesh.nv;
+  double hi = 0;
+  for (int i = 0; i < su.nv; i++) value[i] = i < n ? tb_dist(su.x[i], x0[i]) : 0;
+  for (int i = 0; i < su.nv; i++) hi = fmax(hi, value[i]);
+  return hi;
+}
+
 void tb_draw_edges(tb_renderer *r, const tb_mesh *m, const tb_vec3 *x) {
   static const float ink[3] = {0.15f, 0.2f, 0.35f};
   int *e = NULL, n = tb_mesh_edges(m, &e);

@@ -75,7 +75,7 @@ static void surface(fig *f, int nv, const tb_vec3 *x, int ntri, const int *tri, 
 static void body(fig *f, tb_sim *s, int colour) {
   tb_surface su = tb_model_surface(&s->model);
   double *u = colour ? malloc(sizeof(double) * (size_t)su.nv) : NULL, hi = 0;
-  for (int i = 0; u && i < su.nv; i++) u[i] = tb_dist(su.x[i], s->mesh.x[i]), hi = fmax(hi, u[i]);
+  if (u) hi = tb_draw_displacement(s, u);
   tb_draw_sim(f->r, s, u, hi, "displacement", 0);
   free(u);
 }

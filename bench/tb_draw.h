@@ -16,6 +16,10 @@ extern const float tb_draw_body_rgb[3], tb_draw_tool_rgb[3];
  * the instrument (if any). */
 void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, const char *label,
                  int wireframe);
+/* Each surface point's distance from its rest position into value[su.nv]
+ * (su = tb_model_surface: points beyond the mesh's nodes, a finer level of
+ * msm-vvs, measured from their own rest positions); returns the largest. */
+double tb_draw_displacement(const tb_sim *s, double *value);
 /* Every tet edge of m at positions x as a thin dark line. */
 void tb_draw_edges(tb_renderer *r, const tb_mesh *m, const tb_vec3 *x);
 /* The model's structure: shape matching's clusters (each node coloured by

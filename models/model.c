@@ -257,7 +257,7 @@ int tb_model_npoints(const tb_model *m) {
 }
 tb_surface tb_model_surface(const tb_model *m) {
   if (m->cls->surface) return m->cls->surface(m->self);
-  tb_surface s = {m->nv, m->ntri, tb_model_positions(m), m->tri, 0};
+  tb_surface s = {m->nv, m->ntri, tb_model_positions(m), m->tri, 0, NULL};
   return s;
 }
 void tb_model_correct(tb_model *m, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {

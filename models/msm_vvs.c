@@ -326,7 +326,7 @@ static int npoints(const void *self) { return ((const vvs *)self)->nv; }
 
 static tb_surface surface(const void *self) {
   const vvs *s = self;
-  tb_surface r = {s->nv, s->ntri, s->x, s->tri, s->version};
+  tb_surface r = {s->nv, s->ntri, s->x, s->tri, s->version, s->x0};
   return r;
 }
 

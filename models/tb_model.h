@@ -108,12 +108,15 @@ typedef struct tb_step {
 /* The current surface of a model: nv points x (the model's points for tet
  * models), ntri triangles. version changes whenever nv, ntri or tri change
  * (a cut, a remesh), so a collision hierarchy refits while it is the same
- * and rebuilds when it is not. */
+ * and rebuilds when it is not. x0: the rest positions of the nv points
+ * when the model has points beyond the mesh's nodes (msm-vvs's finer
+ * levels); NULL: the points are the rest mesh's nodes. */
 typedef struct tb_surface {
   int nv, ntri;
   const tb_vec3 *x;
   const int *tri;
   unsigned long version;
+  const tb_vec3 *x0;
 } tb_surface;
 
 typedef struct tb_model_class {

@@ -145,10 +145,43 @@ static void tets_refused(void) {
   TB_CHECK_MSG(strstr(out, "local refinement") && strstr(out, "tet mesh"), "%s", out);
 }
 
+/* `render` draws the model's current surface: the refined sphere at the
+ * end of the press, coloured by displacement measured for every surface
+ * point from its own rest position (a finer point's too; it once read past
+ * the mesh's nodes and printed 1.9 on a sphere of radius 1), the same
+ * bytes from the same run. */
+static void render_refined(void) {
+  char cmd[900], out[1024];
+  const char *dir = tb_test_tmpdir();
+  for (int k = 0; k < 2; k++) {
+    snprintf(cmd, sizeof cmd,
+             "%s render --scene sphere-press --set levels=2 --set refine_force=0.2 --times 4 "
+             "--color displacement --wireframe --size 160x120 --out %s/vvs%d 2>&1",
+             tb_test_cli(), dir, k);
+    TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "%s", out);
+  }
+  const char *at = strstr(out, "displacement from 0 to ");
+  double hi = at ? atof(at + strlen("displacement from 0 to ")) : NAN;
+  tb_sim s;
+  if (sim_open(&s, "levels=2 refine_force=0.2")) return;
+  tb_error err;
+  while (s.t < 4 - 1e-9)
+    if (tb_sim_step(&s, &err)) break;
+  tb_surface su = tb_model_surface(&s.model);
+  double want = 0;
+  for (int i = 0; i < su.nv; i++) want = fmax(want, tb_dist(su.x[i], su.x0[i]));
+  TB_CHECK_MSG(su.ntri > 500 && su.x0, "%d triangles at t = 4", su.ntri);
+  TB_CHECK_MSG(fabs(hi - want) <= 1e-5 * want && hi < 1, "render: %s (want %g)", out, want);
+  tb_sim_destroy(&s);
+  snprintf(cmd, sizeof cmd, "cmp %s/vvs0/t4.000.png %s/vvs1/t4.000.png", dir, dir);
+  TB_CHECK_MSG(tb_test_run(cmd, NULL, 0) == 0, "two renders of the same run differ");
+}
+
 const tb_test_case tb_tests_vvs_refine[] = {
     {"press_refines_and_returns", press_refines_and_returns},
     {"threshold_extremes", threshold_extremes},
     {"threshold_spreads", threshold_spreads},
     {"tets_refused", tets_refused},
+    {"render_refined", render_refined},
     {0, 0},
 };
