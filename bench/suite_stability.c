@@ -29,7 +29,10 @@
  * {stretch 100%, twist 180 deg, crush 50%} of a 4 x 1 x 1 beam, ramped, held, let go: inverted tets
  * and volume change at the peak, inverted tets and the residual displacement after recovery.
  * Inversion checking is off there (inverted tets are counted, not a stop); NaN/inf, velocity and
- * energy growth still stop a run, printed as `unstable (reason)`. */
+ * energy growth still stop a run, printed as `unstable (reason)`.
+ *
+ * Part 3 (bench/suite_stability_vvs.c): msm-vvs over ks x kd at dt 0.01 on
+ * the pressed sphere, quasi-static and Euler, against Bao 2006's region. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -75,7 +78,7 @@ int tb_stab_deform_runs(const tb_stab_model *m, const char *only) {
  * (msm at ks 10, dt 0.1 is caught after 11 steps). */
 #define MIN_STEPS 50
 
-static const char *const status_names[ST_COUNT] = {
+const char *const tb_stab_status_names[ST_COUNT] = {
     "stable",     "NaN or inf", "energy growth", "inverted elements", "velocity beyond bound",
     "step failed"};
 
@@ -115,8 +118,7 @@ int tb_stab_classify(const char *reason) {
   return ST_FAILED;
 }
 
-/* Steps a created sim to its duration (or the first failure) into c. */
-static void run_to_end(tb_sim *s, tb_stab_cell *c) {
+void tb_stab_run(tb_sim *s, tb_stab_cell *c) {
   long n = lround(s->def.duration / s->def.dt);
   c->code = ST_STABLE, c->t = 0, c->reason[0] = 0;
   for (long k = 0; k < n; k++) {
@@ -161,17 +163,15 @@ static int map_cell(const tb_mesh *mesh, const tb_stab_model *mm, int cells, dou
   sd.seed = 1;
   tb_sim s;
   if (tb_sim_create(&s, "beam", &sd, mm->name, &md, mesh, err)) return -1;
-  run_to_end(&s, c);
+  tb_stab_run(&s, c);
   tb_sim_destroy(&s);
   return 0;
 }
 
 /* ---- msm: linearised bounds of the whole mesh at rest ---- */
 
-/* Largest eigenvalue of M^-1/2 A M^-1/2 on the free nodes (power iteration),
- * A the rest stiffness of the springs (springs = 1) or the Kelvin damping
- * (springs = 0; kd (v_j - v_i) per edge), both per unit coefficient. */
-static double largest_eigen(const tb_sim *s, const int *edges, int ne, int springs, uint64_t seed) {
+double tb_stab_largest_eigen(const tb_sim *s, const int *edges, int ne, int springs,
+                             uint64_t seed) {
   int n = s->mesh.nv;
   tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)n), *y = malloc(sizeof(tb_vec3) * (size_t)n);
   char *fixed = calloc((size_t)n, 1);
@@ -300,8 +300,8 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
     }
     double kd = 0;
     tb_model_setting("msm", &md, "kd", &kd);
-    double lk = k * largest_eigen(&s, edges, ne, 1, seed),
-           lc = kd * largest_eigen(&s, edges, ne, 0, seed);
+    double lk = k * tb_stab_largest_eigen(&s, edges, ne, 1, seed),
+           lc = kd * tb_stab_largest_eigen(&s, edges, ne, 0, seed);
     double mmin = s.mass[0];
     for (int i = 1; i < s.mesh.nv; i++) mmin = fmin(mmin, s.mass[i]);
     tb_sim_destroy(&s);
@@ -403,7 +403,7 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
       if (c->code == ST_STABLE)
         tb_table_cell(t, "stable");
       else
-        tb_table_cell(t, "unstable (%s, t %.3g)", status_names[c->code], c->t);
+        tb_table_cell(t, "unstable (%s, t %.3g)", tb_stab_status_names[c->code], c->t);
       char detail[200];
       snprintf(detail, sizeof detail, "%s", c->reason);
       for (char *p = detail; *p; p++)
@@ -503,8 +503,9 @@ int tb_suite_stability(const tb_suite_opts *o) {
         snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", m ? ", " : "",
                  maps[m].name);
     }
+    found |= !strcmp(only, TB_STAB_VVS);
     if (!found) {
-      fprintf(stderr, "stability: unknown model '%s' (%s)\n", only, names);
+      fprintf(stderr, "stability: unknown model '%s' (%s, %s)\n", only, names, TB_STAB_VVS);
       return 1;
     }
   }
@@ -536,7 +537,10 @@ int tb_suite_stability(const tb_suite_opts *o) {
       "or `unstable (reason, t at which it was detected)`; map_<model>.csv (and "
       "map_pbd-stvk-iterations.csv) has the detector's full words.",
       g.duration, MIN_STEPS, g.nk, g.ndt, g.dt[0], g.dt[g.ndt - 1]);
-  int failed = maps_part(s, o, only, &err) || tb_stab_deform(s, o, only, &err);
+  int deform = 0, vvs = !only || !strcmp(only, TB_STAB_VVS);
+  for (int m = 0; m < NMAPS; m++) deform |= tb_stab_deform_runs(&maps[m], only);
+  int failed = maps_part(s, o, only, &err) || (deform && tb_stab_deform(s, o, only, &err)) ||
+               (vvs && tb_stab_vvs(s, o, &err));
   if (failed) fprintf(stderr, "stability: %s\n", err.msg);
   if (tb_suite_end(s, &err)) fprintf(stderr, "stability: %s\n", err.msg), failed = 1;
   return failed;

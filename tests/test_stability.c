@@ -1,12 +1,14 @@
 /* Tests of the stability work: the simulation driver's detector
  * (bench/sim.c tb_sim_step: NaN/inf, velocity, inversion, energy growth)
  * on known-unstable and known-stable runs, the large-deformation scenes
- * (bench/scene_deform.c), and the `figure stability` suite's smoke run. */
+ * (bench/scene_deform.c), points and edges of msm-vvs's map over ks x kd
+ * (bench/tb_stab_vvs.h), and the `figure stability` suite's smoke run. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "tb_sim.h"
+#include "tb_stab_vvs.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
 
@@ -212,6 +214,95 @@ static void deform_scenes(void) {
   }
 }
 
+/* One msm-vvs run as the quick map's (3 s, let go at 1.5 s); its code. */
+static int vvs_code(int integrator, double ks, double kd, tb_vvs_cell *c) {
+  tb_vvs_run r;
+  tb_vvs_run_init(&r);
+  r.integrator = integrator, r.ks = ks, r.kd = kd;
+  tb_error err;
+  if (tb_vvs_run_cell(&r, NULL, c, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return -1;
+  }
+  return c->code;
+}
+
+/* The map's points: the paper's defaults (ks 3, kd 0.5) stable with both
+ * integrators over the whole run; far outside the paper's region the
+ * quasi-static update blows up with a reason (ks 1000, kd 50), while
+ * symplectic Euler at dt 0.01 holds ks 1000 (its edge is near 6800) and
+ * fails only past its own damping limit (kd 500: kd dt / m = 5 > 2). */
+static void vvs_map_points(void) {
+  tb_vvs_cell c;
+  for (int integ = 0; integ < 2; integ++) {
+    TB_CHECK_MSG(vvs_code(integ, 3, 0.5, &c) == 0, "integrator %d: %s", integ, c.reason);
+    TB_CHECK(fabs(c.t - 3.0) < 1e-9 && !c.reason[0]);
+  }
+  static const double far[][2] = {{1000, 0.5}, {3, 50}};
+  for (int k = 0; k < 2; k++) {
+    int code = vvs_code(TB_VVS_QUASISTATIC, far[k][0], far[k][1], &c);
+    TB_CHECK_MSG(code > 0 && c.t < 1.0 && c.reason[0], "ks %g kd %g: code %d at %g", far[k][0],
+                 far[k][1], code, c.t);
+    TB_CHECK_MSG(!strncmp(c.reason, "energy growth", 13) || !strncmp(c.reason, "velocity", 8) ||
+                     !strncmp(c.reason, "NaN", 3),
+                 "%s", c.reason);
+  }
+  TB_CHECK_MSG(vvs_code(TB_VVS_EULER, 1000, 0.5, &c) == 0, "%s", c.reason);
+  TB_CHECK_MSG(vvs_code(TB_VVS_EULER, 3, 500, &c) > 0 && c.reason[0], "%s", c.reason);
+}
+
+/* The measured edge against models/msm_vvs.c's bound (a + 2 b < 2, Euler
+ * < 4) with K = lambda ks + k'_s and c from kd + k'_d (low end) to kd
+ * (high end): one grid step of the quick map (ks x 1.94, kd 0.5) inside
+ * the low end is stable, one past the high end unstable, and the bisected
+ * edges from the defaults lie within a grid step of [low, high] (over the
+ * scene's 12 s: at 3 s a mode just past Euler's damping limit, kd ~ 200,
+ * grows too slowly to be caught before kd 203). */
+static void vvs_edge_vs_formula(void) {
+  tb_vvs_linear p, p0;
+  tb_error err;
+  if (tb_vvs_linear_init(&p, NULL, 1, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  /* at most 2 x the valence (6 on the geodesic sphere): the file's bound */
+  TB_CHECK_MSG(p.lambda > 3 && p.lambda <= 12, "lambda %g", p.lambda);
+  TB_CHECK(p.alpha == 50 && p.mass == 1 && p.ks_v == 1.5 && p.kd_v == 0.5);
+  p0 = p, p0.kd_v = 0;
+  const double dt = 0.01, rks = pow(200.0, 1.0 / 8), dkd = 0.5; /* the quick grid's steps */
+  /* quasi-static at alpha 50: kd < 1 / (alpha dt) - k'_d = 1.5 before any stiffness */
+  double ks_lo = tb_vvs_ks_limit(&p, TB_VVS_QUASISTATIC, dt, 0.5),
+         ks_hi = tb_vvs_ks_limit(&p0, TB_VVS_QUASISTATIC, dt, 0.5),
+         kd_lo = tb_vvs_kd_limit(&p, TB_VVS_QUASISTATIC, dt, 3),
+         kd_hi = tb_vvs_kd_limit(&p0, TB_VVS_QUASISTATIC, dt, 3);
+  TB_CHECK_MSG(kd_lo < 1.5 && kd_lo > 1.3 && kd_hi < 2 && ks_lo > 20 && ks_hi < 60, "%g..%g %g..%g",
+               ks_lo, ks_hi, kd_lo, kd_hi);
+  tb_vvs_cell c;
+  TB_CHECK_MSG(vvs_code(TB_VVS_QUASISTATIC, ks_lo / rks, 0.5, &c) == 0, "%s", c.reason);
+  TB_CHECK(vvs_code(TB_VVS_QUASISTATIC, ks_hi * rks, 0.5, &c) > 0);
+  TB_CHECK_MSG(vvs_code(TB_VVS_QUASISTATIC, 3, kd_lo - dkd, &c) == 0, "%s", c.reason);
+  TB_CHECK(vvs_code(TB_VVS_QUASISTATIC, 3, kd_hi + dkd, &c) > 0);
+  for (int integ = 0; integ < 2; integ++)
+    for (int along_kd = 0; along_kd < 2; along_kd++) {
+      tb_vvs_run r;
+      tb_vvs_run_init(&r);
+      r.integrator = integ, r.duration = 12, r.release = 4; /* the scene's run, as --full */
+      double lo, hi;
+      int runs;
+      if (tb_vvs_edge(&r, NULL, along_kd, along_kd ? 1e4 : 1e6, 6, &lo, &hi, &runs, &err)) {
+        TB_CHECK_MSG(0, "%s", err.msg);
+        return;
+      }
+      double a = along_kd ? tb_vvs_kd_limit(&p, integ, dt, 3) : tb_vvs_ks_limit(&p, integ, dt, 0.5),
+             b = along_kd ? tb_vvs_kd_limit(&p0, integ, dt, 3)
+                          : tb_vvs_ks_limit(&p0, integ, dt, 0.5);
+      int ok = along_kd ? lo > a - dkd && lo < b + dkd : lo > a / rks && lo < b * rks;
+      TB_CHECK_MSG(ok && lo < hi && isfinite(hi) && runs > 6,
+                   "integrator %d, %s: measured %g..%g, predicted %g..%g", integ,
+                   along_kd ? "kd" : "ks", lo, hi, a, b);
+    }
+}
+
 static int has_file(const char *dir, const char *name) {
   char cmd[1200];
   snprintf(cmd, sizeof cmd, "test -s %s/%s", dir, name);
@@ -240,7 +331,11 @@ static void suite_smoke(void) {
                                       "map_pbd-stvk-iterations.csv",
                                       "map_pbd-stvk-iterations_n10.svg",
                                       "map_xpbd-stvk.csv",
-                                      "map_xpbd-stvk_n10.svg"};
+                                      "map_xpbd-stvk_n10.svg",
+                                      "map_msm-vvs.csv",
+                                      "msm-vvs_edges.csv",
+                                      "map_msm-vvs-quasistatic.svg",
+                                      "map_msm-vvs-euler.svg"};
   for (size_t i = 0; i < sizeof files / sizeof files[0]; i++)
     TB_CHECK_MSG(has_file(dir, files[i]), "no %s", files[i]);
   char cmd[1200];
@@ -259,7 +354,8 @@ static void suite_smoke(void) {
   TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   snprintf(dir, sizeof dir, "%s/one/stability", tb_test_tmpdir());
   TB_CHECK(has_file(dir, "map_msm.csv") && has_file(dir, "map_msm_n10.svg"));
-  TB_CHECK(!has_file(dir, "map_fem.csv") && !has_file(dir, "map_sm.csv"));
+  TB_CHECK(!has_file(dir, "map_fem.csv") && !has_file(dir, "map_sm.csv") &&
+           !has_file(dir, "map_msm-vvs.csv"));
   snprintf(cmd, sizeof cmd, "cat %s/table.md", dir);
   TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
   TB_CHECK(strstr(tb_test_out, "| msm | crush 50% |") && !strstr(tb_test_out, "| fem |") &&
@@ -283,6 +379,28 @@ static void suite_smoke(void) {
   TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
   TB_CHECK_MSG(strstr(tb_test_out, "1 10 100"), "iterations axis: %s", tb_test_out);
 
+  /* msm-vvs: its map over ks x kd alone (no dt maps, no deformations) */
+  snprintf(args, sizeof args, "figure stability --scale 0.01 --model msm-vvs --results %s/vvs",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  snprintf(dir, sizeof dir, "%s/vvs/stability", tb_test_tmpdir());
+  TB_CHECK(has_file(dir, "map_msm-vvs.csv") && has_file(dir, "msm-vvs_edges.csv") &&
+           has_file(dir, "map_msm-vvs-euler.svg"));
+  TB_CHECK(!has_file(dir, "map_msm.csv") && !has_file(dir, "table-deform.csv"));
+  snprintf(cmd, sizeof cmd, "cat %s/table.md", dir);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK_MSG(strstr(tb_test_out, "| quasi-static | ks | kd 0.5 |") &&
+                   strstr(tb_test_out, "| symplectic Euler | kd | ks 3 |") &&
+                   strstr(tb_test_out, "Against the paper's region (ks < 20, kd < 2)"),
+               "%s", tb_test_out);
+  snprintf(cmd, sizeof cmd, "head -1 %s/map_msm-vvs.csv", dir);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0 &&
+           !strncmp(tb_test_out, "kd,ks,status,integrator,t,reason", 32));
+  snprintf(cmd, sizeof cmd, "tail -n +2 %s/map_msm-vvs.csv | cut -d, -f4 | sort | uniq -c | xargs",
+           dir);
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  TB_CHECK_MSG(strstr(tb_test_out, "9 euler 9 quasistatic"), "%s", tb_test_out);
+
   snprintf(args, sizeof args, "figure stability --scale 0.01 --model nope --results %s/bad",
            tb_test_tmpdir());
   TB_CHECK(tb_test_cli_run(args) != 0);
@@ -295,6 +413,8 @@ const tb_test_case tb_tests_stability[] = {
     {"detector_settings", detector_settings},
     {"stable_fem_and_sm", stable_fem_and_sm},
     {"deform_scenes", deform_scenes},
+    {"vvs_map_points", vvs_map_points},
+    {"vvs_edge_vs_formula", vvs_edge_vs_formula},
     {"suite_smoke", suite_smoke},
     {0, 0},
 };
