@@ -524,12 +524,13 @@ int tb_suite_bao(const tb_suite_opts *o) {
         "the paper's %.2fx), full subdivision %.2fx (the paper's %.2fx). The time full "
         "subdivision adds is %.1f times the time local refinement adds (the paper: \"20-some "
         "times\", %.1f). Where it goes: %d of the local run's steps rebuilt the surface (a "
-        "point's depth changed: tb_lod_apply, the springs sorted anew, masses and constants from "
-        "the area shares), %.0f us each on the median (%.0f base steps), %.2f of its %.2f ms; its "
-        "other %d steps cost %.2fx a base step. Several rebuilds leave the counts as they were "
-        "(a depth changing where the surface does not). The levels=2 base row costs %.2fx the "
+        "point's depth changed the surface: tb_lod_apply, the springs from its edges, masses and "
+        "constants from the area shares), %.0f us each on the median (%.0f base steps), %.2f of "
+        "its %.2f ms; its "
+        "other %d steps cost %.2fx a base step (a depth change that leaves the surface as it was "
+        "rebuilds nothing). The levels=2 base row costs %.2fx the "
         "levels=1 model (the refinement's work in every step: the springs' stress sums, the "
-        "criterion over every point, the finer levels' forces cleared).",
+        "criterion over every point).",
         lb, GOAL, lb <= GOAL ? "met" : "NOT met", paper[LOCAL].ms / paper[BASE].ms, fb,
         paper[FULL].ms / paper[BASE].ms, added,
         (paper[FULL].ms - paper[BASE].ms) / (paper[LOCAL].ms - paper[BASE].ms), w[LOCAL].rebuilds,

@@ -61,7 +61,7 @@ static void destroy(void *self) {
   free(s->x), free(s->v), free(s->x0), free(s->f);
   free(s->mass), free(s->invm), free(s->ksv), free(s->kdv), free(s->d), free(s->follow);
   free(s->sim), free(s->tri), free(s->ij), free(s->len0), free(s->k);
-  free(s->depth), free(s->share), free(s->stress), free(s->kdiag);
+  free(s->depth), free(s->share), free(s->stress), free(s->kdiag), free(s->qinv);
   if (s->lod) tb_lod_free(s->lod), free(s->lod);
   free(s);
 }
@@ -83,18 +83,24 @@ int vvs_alloc(vvs *s, int nv, int cap_tri, tb_error *err) {
   return 0;
 }
 
-void vvs_build_springs(vvs *s, int ntri, const int *tri) {
-  int *e = s->ij;
-  for (int t = 0; t < ntri; t++)
-    for (int c = 0; c < 3; c++) {
-      int a = tri[3 * t + c], b = tri[3 * t + (c + 1) % 3];
-      e[6 * t + 2 * c] = a < b ? a : b, e[6 * t + 2 * c + 1] = a < b ? b : a;
+void vvs_build_springs(vvs *s, int ntri, const int *tri, int closed) {
+  int *e = s->ij, n = 0;
+  if (closed) {
+    for (int k = 0; k < 3 * ntri; k++) {
+      int a = tri[k], b = tri[k - k % 3 + (k + 1) % 3];
+      if (a < b) e[2 * n] = a, e[2 * n + 1] = b, n++;
     }
-  qsort(e, 3 * (size_t)ntri, 2 * sizeof(int), cmp_pair);
-  int n = 0;
-  for (int q = 0; q < 3 * ntri; q++)
-    if (!n || cmp_pair(e + 2 * q, e + 2 * (n - 1)))
-      e[2 * n] = e[2 * q], e[2 * n + 1] = e[2 * q + 1], n++;
+  } else {
+    for (int t = 0; t < ntri; t++)
+      for (int c = 0; c < 3; c++) {
+        int a = tri[3 * t + c], b = tri[3 * t + (c + 1) % 3];
+        e[6 * t + 2 * c] = a < b ? a : b, e[6 * t + 2 * c + 1] = a < b ? b : a;
+      }
+    qsort(e, 3 * (size_t)ntri, 2 * sizeof(int), cmp_pair);
+    for (int q = 0; q < 3 * ntri; q++)
+      if (!n || cmp_pair(e + 2 * q, e + 2 * (n - 1)))
+        e[2 * n] = e[2 * q], e[2 * n + 1] = e[2 * q + 1], n++;
+  }
   for (int q = 0; q < n; q++)
     s->len0[q] = tb_dist(s->x0[e[2 * q]], s->x0[e[2 * q + 1]]), s->k[q] = s->set.ks;
   s->ns = n;
@@ -220,7 +226,7 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   memcpy(s->tri, tri, sizeof(int) * 3 * (size_t)ntri);
   s->ntri = ntri;
   free(tri), tri = NULL;
-  vvs_build_springs(s, s->ntri, s->tri);
+  vvs_build_springs(s, s->ntri, s->tri, 0);
   if (check_springs(s, err)) goto fail;
   if (s->lod) vvs_refine_params(s);
   s->version = 0; /* the rest surface */
@@ -252,15 +258,11 @@ static void forces(vvs *s, tb_vec3 g) {
       f[i] = tb_madd(f[i], c, dx);
     }
   }
-  double *restrict st = s->stress; /* local refinement's criterion */
-  if (st)
-    for (int q = 0; q < s->nsim; q++) st[s->sim[q]] = 0;
   for (int e = 0; e < s->ns; e++) { /* eq. 3 */
     const int i = s->ij[2 * e], j = s->ij[2 * e + 1];
     tb_vec3 r = tb_sub(x[j], x[i]);
     double l = tb_len(r), c = l > 0 ? s->k[e] * (l - s->len0[e]) / l : 0.0;
     f[i] = tb_madd(f[i], c, r), f[j] = tb_madd(f[j], -c, r);
-    if (st) st[i] += fabs(c) * l, st[j] += fabs(c) * l;
   }
 }
 
@@ -271,7 +273,8 @@ static void load(vvs *s, const tb_step *in) {
     memcpy(s->f, in->force, sizeof(tb_vec3) * nb);
   else
     memset(s->f, 0, sizeof(tb_vec3) * nb);
-  memset(s->f + nb, 0, sizeof(tb_vec3) * ((size_t)s->nv - nb));
+  for (int q = s->nsim - 1; q >= 0 && s->sim[q] >= s->nbase; q--) /* a finer level's, on now */
+    s->f[s->sim[q]] = tb_v3(0, 0, 0);
   forces(s, in->gravity);
 }
 
@@ -286,9 +289,9 @@ static int step(void *self, const tb_step *in, tb_error *err) {
                           "prescribed nodes must be strictly ascending in [0, %d): entry %d is %d",
                           nb, p, in->fixed[p]);
   load(s, in);
-  if (s->lod && vvs_refine_step(s)) load(s, in); /* the new surface's forces */
   tb_vec3 *x = s->x, *v = s->v;
   const double dt = in->dt, h = s->set.alpha * dt * dt;
+  if (s->lod && h != s->qh) vvs_refine_steps(s, h);
   for (int p = 0; p < nfixed; p++) { /* prescribed (fixed_x may alias the positions) */
     const int i = in->fixed[p];
     const tb_vec3 xe = in->fixed_x[p];
@@ -301,8 +304,7 @@ static int step(void *self, const tb_step *in, tb_error *err) {
     if (p < nfixed && in->fixed[p] == i) continue;
     if (s->set.integrator == VVS_QUASISTATIC) {
       /* alpha F dt^2 / m; refining, m at least 2 alpha dt^2 K_i (vvs_refine.c) */
-      double w = s->kdiag ? 1 / fmax(s->mass[i], 2 * h * s->kdiag[i]) : s->invm[i];
-      tb_vec3 dx = tb_scale(s->f[i], h * w);
+      tb_vec3 dx = tb_scale(s->f[i], h * (s->lod ? s->qinv[i] : s->invm[i]));
       x[i] = tb_add(x[i], dx), v[i] = tb_scale(dx, 1.0 / dt);
     } else { /* symplectic Euler */
       v[i] = tb_madd(v[i], dt * s->invm[i], s->f[i]);
@@ -316,6 +318,8 @@ static int step(void *self, const tb_step *in, tb_error *err) {
     if (j < 0 || (p < nfixed && in->fixed[p] == i)) continue;
     x[i] = tb_add(s->x0[i], tb_sub(x[j], s->x0[j])), v[i] = v[j];
   }
+  /* refinement after the step: the next step's forces see the new surface */
+  if (s->lod && ++s->steps % s->set.refine_every == 0) vvs_refine_step(s);
   return 0;
 }
 
@@ -375,6 +379,8 @@ static const tb_setting settings[] = {
     TB_SETTING_R(S, refine_force, 1.0, 0.0, HUGE_VAL, 0,
                  "a point whose force per area share (of a base point's) passes this splits its "
                  "faces a level deeper (levels > 1; 0: everything refined)"),
+    TB_SETTING_I(S, refine_every, 5, 1, 100000,
+                 "steps between two checks of the refinement criterion (levels > 1)"),
     TB_SETTING_R(S, coarsen_share, 0.5, 0.0, 1.0, 0,
                  "hysteresis: a refined point goes back a level when its force falls below "
                  "this share of refine_force"),

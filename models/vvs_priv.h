@@ -14,7 +14,7 @@ enum { VVS_SIM = -1, VVS_OFF = -2 };
 
 typedef struct vvs_settings {
   double density, node_mass, ks, kd, ks_v, kd_v, alpha, refine_force, coarsen_share;
-  int integrator, volume_springs, levels;
+  int integrator, volume_springs, levels, refine_every;
 } vvs_settings;
 
 typedef struct vvs {
@@ -37,8 +37,11 @@ typedef struct vvs {
   tb_lod *lod;
   unsigned char *depth;
   double *share, mass_base;
-  double *stress;  /* per point: sum of its springs' |k (l - R)|, from the last forces */
-  double *kdiag;   /* per point: its springs' k summed with k'_s (bounds the quasi-static step) */
+  double *stress; /* per point: sum of its springs' |k (l - R)| at the last check */
+  double *kdiag;  /* per point: its springs' k summed with k'_s */
+  double *qinv;   /* per point: the quasi-static step's 1 / mass, for the step qh */
+  double qh;
+  int steps;
   int refinements; /* surface rebuilds so far */
 } vvs;
 
@@ -48,8 +51,12 @@ int vvs_alloc(vvs *s, int nv, int cap_tri, tb_error *err);
 
 /* The springs of tri[0 .. 3 ntri) (one per distinct edge, rest length from
  * x0, stiffness ks) and the simulated list; follow[] must already mark
- * the simulated points VVS_SIM. Allocates nothing (capacity cap_tri). */
-void vvs_build_springs(vvs *s, int ntri, const int *tri);
+ * the simulated points VVS_SIM. closed: the triangles form a closed,
+ * oriented 2-manifold, where every edge runs a -> b with a < b in exactly
+ * one triangle, so no sorting is needed (local refinement's surfaces);
+ * otherwise edges are sorted and merged. Allocates nothing (capacity
+ * cap_tri). */
+void vvs_build_springs(vvs *s, int ntri, const int *tri, int closed);
 
 /* Local refinement (vvs_refine.c). Init: the levels over the mesh (a
  * closed surface), the arrays for every level's points. Step: after the
@@ -61,5 +68,7 @@ int vvs_refine_step(vvs *s);
 /* Masses, damping and virtual springs from the area shares of the surface
  * (local refinement keeps the total mass and the stiffness per area). */
 void vvs_refine_params(vvs *s);
+/* The quasi-static step's masses for the step h = alpha dt^2 (qinv, qh). */
+void vvs_refine_steps(vvs *s, double h);
 
 #endif

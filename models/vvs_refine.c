@@ -12,7 +12,10 @@
  * A point whose stress reaches refine_force deepens by one level (its
  * depth becomes one more than the level it was born on, up to the finest);
  * one below coarsen_share x refine_force goes back a level; between the
- * two it stays (hysteresis). When a depth changes the surface is rebuilt
+ * two it stays (hysteresis). The criterion is checked after every
+ * refine_every-th step (the stresses summed then, not in every step), so
+ * the next step's forces see the new surface. When a depth changes the
+ * surface is rebuilt
  * from the base with every point's depth (tb_lod_apply): a smaller
  * threshold spreads refinement further, as the paper says.
  *
@@ -60,7 +63,8 @@ int vvs_refine_init(vvs *s, const tb_mesh *mesh, tb_error *err) {
   if (vvs_alloc(s, lod->nv, lod->level_nf[lod->nlevels - 1], err)) return -1;
   s->depth = calloc(nv, 1), s->share = calloc(nv, sizeof(double));
   s->stress = calloc(nv, sizeof(double)), s->kdiag = calloc(nv, sizeof(double));
-  if (!s->depth || !s->share || !s->stress || !s->kdiag)
+  s->qinv = calloc(nv, sizeof(double));
+  if (!s->depth || !s->share || !s->stress || !s->kdiag || !s->qinv)
     return tb_error_set(err, "msm-vvs", 0, "out of memory (%d points over %d levels)", lod->nv,
                         lod->nlevels);
   memcpy(s->x0, lod->rest, sizeof(tb_vec3) * nv);
@@ -90,7 +94,26 @@ void vvs_refine_params(vvs *s) {
   }
   for (int e = 0; e < s->ns; e++)
     s->kdiag[s->ij[2 * e]] += s->k[e], s->kdiag[s->ij[2 * e + 1]] += s->k[e];
+  s->qh = 0;  /* the step's masses anew */
   (void)mass; /* = mass_base up to rounding */
+}
+
+void vvs_refine_steps(vvs *s, double h) {
+  for (int q = 0; q < s->nsim; q++) {
+    const int i = s->sim[q];
+    s->qinv[i] = 1 / fmax(s->mass[i], 2 * h * s->kdiag[i]);
+  }
+  s->qh = h;
+}
+
+/* Each simulated point's stress, sum_j k |l_ij - R_ij| (the criterion). */
+static void stresses(vvs *s) {
+  for (int q = 0; q < s->nsim; q++) s->stress[s->sim[q]] = 0;
+  for (int e = 0; e < s->ns; e++) {
+    const int i = s->ij[2 * e], j = s->ij[2 * e + 1];
+    double a = s->k[e] * fabs(tb_dist(s->x[i], s->x[j]) - s->len0[e]);
+    s->stress[i] += a, s->stress[j] += a;
+  }
 }
 
 /* The level a point was born on. */
@@ -105,19 +128,24 @@ int vvs_refine_step(vvs *s) {
   const double hi = s->set.refine_force, lo = hi * s->set.coarsen_share;
   const int deepest = lod->nlevels - 1;
   int changed = 0;
+  stresses(s);
   for (int q = 0; q < s->nsim; q++) {
-    const int i = s->sim[q], b = birth(lod, i);
-    double load = s->stress[i] / s->share[i];
-    int d = s->depth[i];
-    if (load >= hi)
-      d = (d > b ? d : b) + 1;
-    else if (load < lo && d > 0)
-      d = d - 1 > b ? d - 1 : 0;
-    if (d > deepest) d = deepest;
-    if (d != s->depth[i]) s->depth[i] = (unsigned char)d, changed = 1;
+    const int i = s->sim[q], d = s->depth[i];
+    const double st = s->stress[i], sh = s->share[i];
+    int nd = d;
+    if (st >= hi * sh) { /* deeper, unless born on the finest level */
+      int b = birth(lod, i);
+      if (b < deepest) nd = (d > b ? d : b) + 1 < deepest ? (d > b ? d : b) + 1 : deepest;
+    } else if (d > 0 && st < lo * sh) {
+      int b = birth(lod, i);
+      nd = d - 1 > b ? d - 1 : 0; /* a depth at or below the birth level does nothing */
+    }
+    if (nd != d) s->depth[i] = (unsigned char)nd, changed = 1;
   }
   if (!changed) return 0;
   tb_lod_apply(lod, s->depth);
+  if (lod->ntri == s->ntri && !memcmp(lod->out_tri, s->tri, sizeof(int) * 3 * (size_t)s->ntri))
+    return 0;                              /* another point's depth holds the same faces split */
   for (int i = s->nbase; i < s->nv; i++) { /* ascending: an edge's ends come first */
     int on = lod->active[i], was = s->follow[i] == VVS_SIM;
     if (on && !was) {
@@ -132,7 +160,7 @@ int vvs_refine_step(vvs *s) {
   }
   s->ntri = lod->ntri;
   memcpy(s->tri, lod->out_tri, sizeof(int) * 3 * (size_t)lod->ntri);
-  vvs_build_springs(s, s->ntri, s->tri);
+  vvs_build_springs(s, s->ntri, s->tri, 1);
   vvs_refine_params(s);
   s->refinements++;
   return 1;
