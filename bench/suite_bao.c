@@ -577,6 +577,7 @@ int tb_suite_bao(const tb_suite_opts *o) {
                 wall, NROWS, NROWS * reps);
   flush(&c);
   tb_renderer_free(c.r);
+  for (int r = 0; r < NROWS; r++) free(w[r].x_press);
   if (tb_suite_end(su, &err)) fprintf(stderr, "bao: %s\n", err.msg), c.failed = 1;
   return c.failed;
 }
