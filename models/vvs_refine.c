@@ -73,7 +73,7 @@ int vvs_refine_init(vvs *s, const tb_mesh *mesh, tb_error *err) {
 }
 
 void vvs_refine_params(vvs *s) {
-  double *a = s->share, total = 0, mass = 0;
+  double *a = s->share, total = 0;
   if (!(s->mass_base > 0)) /* the masses create gave the mesh's nodes */
     for (int i = 0; i < s->nbase; i++) s->mass_base += s->mass[i];
   for (int q = 0; q < s->nsim; q++) a[s->sim[q]] = 0;
@@ -90,12 +90,10 @@ void vvs_refine_params(vvs *s) {
     s->mass[i] = s->mass_base / s->nbase * sh, s->invm[i] = 1 / s->mass[i];
     s->d[i] = s->set.kd * sh, s->ksv[i] = vs * s->set.ks_v * sh, s->kdv[i] = vs * s->set.kd_v * sh;
     s->kdiag[i] = s->ksv[i];
-    mass += s->mass[i];
   }
   for (int e = 0; e < s->ns; e++)
     s->kdiag[s->ij[2 * e]] += s->k[e], s->kdiag[s->ij[2 * e + 1]] += s->k[e];
-  s->qh = 0;  /* the step's masses anew */
-  (void)mass; /* = mass_base up to rounding */
+  s->qh = 0; /* the step's masses anew */
 }
 
 void vvs_refine_steps(vvs *s, double h) {
@@ -135,7 +133,8 @@ int vvs_refine_step(vvs *s) {
     int nd = d;
     if (st >= hi * sh) { /* deeper, unless born on the finest level */
       int b = birth(lod, i);
-      if (b < deepest) nd = (d > b ? d : b) + 1 < deepest ? (d > b ? d : b) + 1 : deepest;
+      int up = (d > b ? d : b) + 1;
+      if (b < deepest) nd = up < deepest ? up : deepest;
     } else if (d > 0 && st < lo * sh) {
       int b = birth(lod, i);
       nd = d - 1 > b ? d - 1 : 0; /* a depth at or below the birth level does nothing */
