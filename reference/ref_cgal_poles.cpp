@@ -1,0 +1,77 @@
+// Reference adapter: inner Voronoi poles of surface samples through CGAL's
+// 3D Delaunay triangulation, behind tb_voronoi_poles() (tools/tb_sphpack.h).
+//
+// The poles are those of Amenta, Choi & Kolluri's power crust (2001): the
+// Voronoi cell of a sample p is bounded by the circumcentres of the Delaunay
+// tetrahedra incident to p; of these, the inner pole is the one farthest from
+// p on the inner side, i.e. with (c - p) . n < 0 for p's outward normal n. For
+// a dense sample of a smooth closed surface it lies near the medial axis, and
+// |c - p| approximates its distance to the surface.
+//
+// CGAL 5.5, Delaunay_triangulation_3 on Exact_predicates_inexact_constructions_kernel:
+// the triangulation's predicates are exact (with symbolic perturbation for
+// cospherical points), the circumcentres are computed in doubles. Points are
+// inserted as one range (CGAL spatially sorts them, deterministically), each
+// with its sample number; a sample equal to an earlier one shares its vertex
+// and gets no pole.
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <utility>
+#include <vector>
+
+extern "C" {
+#include "tb_sphpack.h"
+}
+
+namespace {
+
+typedef CGAL::Exact_predicates_inexact_constructions_kernel K;
+typedef CGAL::Triangulation_vertex_base_with_info_3<int, K> Vb;
+typedef CGAL::Delaunay_triangulation_cell_base_3<K> Cb;
+typedef CGAL::Triangulation_data_structure_3<Vb, Cb> Tds;
+typedef CGAL::Delaunay_triangulation_3<K, Tds> Delaunay;
+typedef K::Point_3 Point;
+
+int poles(const tb_vec3 *p, const tb_vec3 *n, int np, tb_vec3 *pole, double *pole_r) {
+  std::vector<std::pair<Point, int>> pts;
+  pts.reserve(np);
+  for (int i = 0; i < np; i++) {
+    pole_r[i] = -1;
+    pole[i] = p[i];
+    if (!tb_isfinite3(p[i])) return -1;
+    pts.push_back(std::make_pair(Point(p[i].x, p[i].y, p[i].z), i));
+  }
+  Delaunay dt(pts.begin(), pts.end());
+  std::vector<Delaunay::Cell_handle> cells;
+  for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
+    int i = v->info();
+    cells.clear();
+    dt.incident_cells(v, std::back_inserter(cells));
+    for (const Delaunay::Cell_handle &c : cells) {
+      if (dt.is_infinite(c)) continue;
+      Point q = dt.dual(c);  // the circumcentre: a Voronoi vertex of p's cell
+      tb_vec3 cq = tb_v3(q.x(), q.y(), q.z());
+      tb_vec3 d = tb_sub(cq, p[i]);
+      if (tb_dot(d, n[i]) >= 0 || !tb_isfinite3(cq)) continue;
+      double r = tb_len(d);
+      if (r > pole_r[i]) {
+        pole_r[i] = r;
+        pole[i] = cq;
+      }
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+extern "C" int tb_voronoi_poles(const tb_vec3 *p, const tb_vec3 *n, int np, tb_vec3 *pole,
+                                double *pole_r) {
+  try {
+    return poles(p, n, np, pole, pole_r);
+  } catch (...) {
+    return -1;
+  }
+}
