@@ -1,7 +1,8 @@
 /* `tissuebench mesh info FILE`, `tissuebench mesh subdivide IN --levels N --out OUT` and
- * `tissuebench mesh NAME`: inspect a mesh file, refine a closed surface with the modified
- * butterfly scheme (Bao 2006 §3.1, core/tb_butterfly.h), or generate one of the project's meshes
- * (tools/tb_meshgen.h). Each generator is one table entry with named numeric settings. */
+ * `tissuebench mesh NAME`: inspect a mesh file (or a .sph sphere file), refine a closed surface
+ * with the modified butterfly scheme (Bao 2006 §3.1, core/tb_butterfly.h), or generate one of the
+ * project's meshes (tools/tb_meshgen.h). Each generator is one table entry with named numeric
+ * settings. */
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -56,6 +57,8 @@ static int mesh_info(int argc, char **argv) {
     fprintf(stderr, "usage: tissuebench mesh info FILE\n");
     return TB_EXIT_INPUT;
   }
+  size_t len = strlen(argv[1]);
+  if (len > 4 && !strcmp(argv[1] + len - 4, ".sph")) return tb_spheres_info(argv[1], NULL, 64);
   tb_mesh m;
   tb_error err;
   if (tb_mesh_read(argv[1], &m, &err)) {
@@ -226,11 +229,13 @@ int tb_cmd_mesh(int argc, char **argv) {
   if (argc < 2) {
     fprintf(stderr,
             "usage: tissuebench mesh info FILE | mesh subdivide IN --levels N --out OUT | mesh "
+            "spheres IN --count N --out OUT.sph | mesh spheres --info X.sph [--surface IN] | mesh "
             "NAME ... | mesh list\n");
     return TB_EXIT_INPUT;
   }
   if (!strcmp(argv[1], "info")) return mesh_info(argc - 1, argv + 1);
   if (!strcmp(argv[1], "subdivide")) return mesh_subdivide(argc - 1, argv + 1);
+  if (!strcmp(argv[1], "spheres")) return tb_cmd_mesh_spheres(argc - 1, argv + 1);
   if (!strcmp(argv[1], "list")) {
     tb_generator_list(stdout);
     return TB_EXIT_OK;

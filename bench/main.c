@@ -113,15 +113,26 @@ static const tb_command commands[] = {
      "  no point qualifies, 2 for a missing or malformed points file (FILE:LINE: reason)",
      tb_cmd_advise},
     {"mesh",
-     "mesh info FILE, subdivide a surface, or generate a mesh (liver, instrument, sphere, beam)",
+     "mesh info FILE, subdivide a surface, fill it with spheres, or generate a mesh (liver, "
+     "instrument, sphere, beam)",
      "tissuebench mesh info FILE\n"
      "  counts, bounding box, closed/manifold, Euler characteristic and volume of a mesh file\n"
-     "  (.obj .off .stl .node/.ele .msh); malformed input: FILE:LINE: reason, exit 2\n"
+     "  (.obj .off .stl .node/.ele .msh); for a .sph file, as mesh spheres --info;\n"
+     "  malformed input: FILE:LINE: reason, exit 2\n"
      "tissuebench mesh subdivide IN --levels N --out OUT\n"
      "  N levels (1..6) of Zorin's modified butterfly subdivision (Bao 2006 §3.1): each level\n"
      "  splits every triangle in four, keeps the old vertices and adds one per edge; prints\n"
      "  vertices and triangles per level, writes OUT by extension. IN: a closed, oriented\n"
      "  2-manifold triangle surface (tet meshes are refused); otherwise FILE: reason, exit 2\n"
+     "tissuebench mesh spheres IN --count N --out OUT.sph [--samples S] [--seed K] [--grid G]\n"
+     "  N overlapping spheres inside the closed surface IN (a metaball organ model): centres at\n"
+     "  inner Voronoi poles of S surface samples (default max(vertices, 20 N, 4000); CGAL's\n"
+     "  Delaunay), radius the distance to the surface, largest first; prints the time, the\n"
+     "  radii and the coverage (share of the volume on a G grid, default 64, inside a sphere;\n"
+     "  share of vertices at r <= d <= 2r from a centre); writes SOFA's .sph format\n"
+     "tissuebench mesh spheres --info X.sph [--surface IN] [--grid G]\n"
+     "  count, radius range and, with IN, the coverage of a .sph file; a bad file or surface:\n"
+     "  FILE:LINE: reason (FILE: reason), exit 2\n"
      "tissuebench mesh NAME [--out FILE] [--part PART] [--stats] [--set key=value ...]\n"
      "  NAME: liver, instrument, sphere, beam (mesh list shows their settings)\n"
      "  --out FILE   write by extension: .obj .off .node (with .ele) .vtk; .edges for edges\n"

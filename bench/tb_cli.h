@@ -21,6 +21,10 @@ typedef struct tb_command {
 enum { TB_EXIT_OK = 0, TB_EXIT_FAIL = 1, TB_EXIT_INPUT = 2 };
 
 int tb_cmd_mesh(int argc, char **argv);
+/* `mesh spheres ...` (bench/cmd_spheres.c); tb_spheres_info prints a .sph file's count, radii
+ * and, with a surface (may be NULL), its coverage on a grid of that many points. */
+int tb_cmd_mesh_spheres(int argc, char **argv);
+int tb_spheres_info(const char *path, const char *surface, int grid);
 int tb_cmd_reproduce(int argc, char **argv);
 int tb_cmd_table(int argc, char **argv);
 int tb_cmd_figure(int argc, char **argv);
