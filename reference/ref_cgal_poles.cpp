@@ -11,13 +11,18 @@
 // CGAL 5.5, Delaunay_triangulation_3 on Exact_predicates_inexact_constructions_kernel:
 // the triangulation's predicates are exact (with symbolic perturbation for
 // cospherical points), the circumcentres are computed in doubles. Points are
-// inserted as one range (CGAL spatially sorts them, deterministically), each
-// with its sample number; a sample equal to an earlier one shares its vertex
-// and gets no pole.
+// inserted as one range, each with its sample number; a sample equal to an
+// earlier one shares its vertex and gets no pole. The result does not depend
+// on the insertion order CGAL picks: the triangulation is unique (exact
+// predicates, symbolic perturbation), each circumcentre is computed from the
+// corners in sample order, and equal pole radii go to the smaller centre
+// (xyz order).
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
+#include <algorithm>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -51,12 +56,21 @@ int poles(const tb_vec3 *p, const tb_vec3 *n, int np, tb_vec3 *pole, double *pol
     dt.incident_cells(v, std::back_inserter(cells));
     for (const Delaunay::Cell_handle &c : cells) {
       if (dt.is_infinite(c)) continue;
-      Point q = dt.dual(c);  // the circumcentre: a Voronoi vertex of p's cell
+      // The circumcentre (a Voronoi vertex of p's cell) from the corners in
+      // sample order, so its rounding does not depend on how CGAL stored the cell.
+      int ord[4] = {0, 1, 2, 3};
+      std::sort(ord, ord + 4,
+                [&](int a, int b) { return c->vertex(a)->info() < c->vertex(b)->info(); });
+      Point q =
+          K::Construct_circumcenter_3()(c->vertex(ord[0])->point(), c->vertex(ord[1])->point(),
+                                        c->vertex(ord[2])->point(), c->vertex(ord[3])->point());
       tb_vec3 cq = tb_v3(q.x(), q.y(), q.z());
       tb_vec3 d = tb_sub(cq, p[i]);
       if (tb_dot(d, n[i]) >= 0 || !tb_isfinite3(cq)) continue;
       double r = tb_len(d);
-      if (r > pole_r[i]) {
+      if (r > pole_r[i] ||
+          (r == pole_r[i] &&
+           std::make_tuple(cq.x, cq.y, cq.z) < std::make_tuple(pole[i].x, pole[i].y, pole[i].z))) {
         pole_r[i] = r;
         pole[i] = cq;
       }
