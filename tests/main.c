@@ -155,6 +155,7 @@ static const struct {
     {"vvs_refine", tb_tests_vvs_refine},
     {"softbody", tb_tests_softbody},
     {"butterfly", tb_tests_butterfly},
+    {"meshless", tb_tests_meshless},
 };
 
 static int selected(const char *id, int argc, char **argv) {
