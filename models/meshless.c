@@ -32,22 +32,28 @@
  * exactly minus the gradient of sum_i U_i (J_i is linear in x and d_ij is
  * fixed), so linear and angular momentum are conserved.
  *
- * A point whose A_i is degenerate (fewer than 3 non-coplanar neighbours:
- * det A <= 1e-6 (tr A / 3)^3) is inactive: it has no strain energy of its
- * own (J = I) but still enters its neighbours' sums, or moves freely when
- * it has no active neighbour. Never NaN.
+ * A point whose A_i is degenerate (fewer than 3 non-coplanar neighbours, or
+ * a nearly flat stencil: det A <= 1e-3 (tr A / 3)^3, the smallest
+ * eigenvalue below roughly 1e-3 of the mean) is inactive: it has no strain
+ * energy of its own (J = I) but still enters its neighbours' sums, or moves
+ * freely when it has no active neighbour; no NaN comes from it. (A dt
+ * beyond the explicit bound still blows up: tb_meshless_step reports it.)
  *
  * Volumes: given, or s^3. Masses m_i = density V_i.
  *
- * Time integration. The patent: "交替式显式积分法 ... 在半步长内获取力,
- * 通过该力获取位移, 在后半个步长内更新速度" (alternating explicit: within a
- * half step get the force and from it the displacement; in the second half
- * step update the velocity). Read as the half-step (kick-drift-kick) scheme
+ * Time integration. The patent (normalised to simplified script; its "显示"
+ * read as 显式, explicit): "交替式显式积分法 ... 在半步长内获取力, 通过该力
+ * 获取位移, 在后半个步长内更新速度" (alternating explicit: within a half
+ * step get the force and from it the displacement; in the second half step
+ * update the velocity). Read as the half-step (kick-drift-kick) scheme
  *   v' = v + dt/2 a(x),  x += dt v',  v = v' + dt/2 a(x_new),
  * i.e. velocity Verlet: one force evaluation per step (a(x_new) is kept for
- * the next step), symplectic, exact under constant acceleration. Option:
- * symplectic Euler, v += dt a(x), x += dt v. Damping multiplies v by
- * exp(-c dt) once per step. */
+ * the next step), symplectic, exact under constant acceleration. Against
+ * symplectic Euler the displacement takes dt^2/2 a(x) instead of dt^2 a(x)
+ * and the velocity the mean of the old and new accelerations, in line with
+ * the patent's remark that velocity comes out larger and displacement
+ * smaller ("相对中合"). Option: symplectic Euler, v += dt a(x), x += dt v.
+ * Damping multiplies v by exp(-c dt) once per step. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -169,8 +175,7 @@ static int link(tb_meshless *m, tb_meshless_crosses crosses, void *ctx) {
       for (int dy = -1; dy <= 1; dy++)
         for (int dx = -1; dx <= 1; dx++) {
           int a = c[0] + dx, b = c[1] + dy, e = c[2] + dz;
-          if (a < 0 || b < 0 || e < 0 || a >= g.dim[0] || b >= g.dim[1] || e >= g.dim[2])
-            continue;
+          if (a < 0 || b < 0 || e < 0 || a >= g.dim[0] || b >= g.dim[1] || e >= g.dim[2]) continue;
           int k = (e * g.dim[1] + b) * g.dim[0] + a;
           for (int q = g.start[k]; q < g.start[k + 1]; q++) {
             int j = g.pt[q];
@@ -205,7 +210,7 @@ static void moments(tb_meshless *m) {
         for (int b = 0; b < 3; b++) A.m[a][b] += m->w[k] * p[a] * p[b];
     }
     double tr = (A.m[0][0] + A.m[1][1] + A.m[2][2]) / 3, det = tb_m3_det(A);
-    m->active[i] = tr > 0 && det > 1e-6 * tr * tr * tr;
+    m->active[i] = tr > 0 && det > 1e-3 * tr * tr * tr;
     tb_mat3 inv = tb_m3_transpose(tb_m3_cofactor(A));
     for (int k = m->start[i]; k < m->start[i + 1]; k++) {
       tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);

@@ -41,10 +41,11 @@ void tb_meshless_set_integrator(tb_meshless *m, int integrator);
 int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, const int *ids,
                      const tb_vec3 *fixed_x, tb_error *err);
 
-/* Re-links the points with a new cut: pairs linked at creation stay linked
+/* Re-links the points with a new cut: pairs linked so far stay linked
  * unless crosses(ctx, x_i, x_j) at the current positions; weights are those
  * of the rest state. A point left with a degenerate stencil becomes
- * inactive. Returns 0, or -1 with err filled (out of memory). */
+ * inactive. Compacts the lists in place (allocates nothing); returns 0.
+ * err is unused (kept for symmetry). */
 int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err);
 
 /* Sets every position (velocities kept). */
