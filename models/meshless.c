@@ -134,13 +134,10 @@ static double nearest(const grid *g, const tb_vec3 *p, int i) {
   grid_cell(g, p[i], c);
   double best = INFINITY;
   for (int r = 0; r <= maxd && !(best <= (r - 1) * g->cell); r++)
-    for (int dz = -r; dz <= r; dz++)
-      for (int dy = -r; dy <= r; dy++)
-        for (int dx = -r; dx <= r; dx++) {
-          if (abs(dx) != r && abs(dy) != r && abs(dz) != r) continue;
-          int a = c[0] + dx, b = c[1] + dy, e = c[2] + dz;
-          if (a < 0 || b < 0 || e < 0 || a >= g->dim[0] || b >= g->dim[1] || e >= g->dim[2])
-            continue;
+    for (int e = c[2] - r < 0 ? 0 : c[2] - r; e <= c[2] + r && e < g->dim[2]; e++)
+      for (int b = c[1] - r < 0 ? 0 : c[1] - r; b <= c[1] + r && b < g->dim[1]; b++)
+        for (int a = c[0] - r < 0 ? 0 : c[0] - r; a <= c[0] + r && a < g->dim[0]; a++) {
+          if (abs(a - c[0]) != r && abs(b - c[1]) != r && abs(e - c[2]) != r) continue;
           int k = (e * g->dim[1] + b) * g->dim[0] + a;
           for (int q = g->start[k]; q < g->start[k + 1]; q++)
             if (g->pt[q] != i) best = fmin(best, tb_dist(p[i], p[g->pt[q]]));
