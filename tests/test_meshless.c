@@ -287,6 +287,12 @@ static void block_sags_and_rests(void) {
   run_held(m, 0.5 * S, 5e-4, 200);
   double sag = mean_z_above(m, 3.5 * S), ref = 1000 * 9.81 * (4 * S) * (4 * S) / (2 * 1e4);
   double vmax = max_len(tb_meshless_velocities(m), n);
+  int held_moved = 0; /* driven points sit exactly at their prescribed positions */
+  for (int i = 0; i < n; i++)
+    if (X[i].z < 0.5 * S)
+      held_moved += memcmp(&tb_meshless_positions(m)[i], &X[i], sizeof(tb_vec3)) != 0 ||
+                    tb_len(tb_meshless_velocities(m)[i]) != 0;
+  TB_CHECK(held_moved == 0);
   printf(
       "block: top sag %.4g mm (column formula %.4g mm), change over last 0.1 s %.3g mm, "
       "max speed %.3g m/s\n",
