@@ -156,6 +156,7 @@ static const struct {
     {"softbody", tb_tests_softbody},
     {"butterfly", tb_tests_butterfly},
     {"sph", tb_tests_sph},
+    {"meshless", tb_tests_meshless},
 };
 
 static int selected(const char *id, int argc, char **argv) {

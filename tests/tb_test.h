@@ -86,5 +86,6 @@ extern const tb_test_case tb_tests_vvs_refine[];
 extern const tb_test_case tb_tests_softbody[];
 extern const tb_test_case tb_tests_butterfly[];
 extern const tb_test_case tb_tests_sph[];
+extern const tb_test_case tb_tests_meshless[];
 
 #endif

@@ -1,0 +1,431 @@
+/* The patent's simplified meshless elasticity for the point set (metaball
+ * hybrid cutting patent, step 3 (2) "点集驱动", eqs 4-8; issue 14 §3; after
+ * Müller et al. 2004, "Point based animation of elastic, plastic and
+ * melting objects"). Energy is evaluated at the points only, each point's
+ * energy density held over its volume V_i.
+ *
+ * Support and links: s = the mean over points of the distance to the
+ * nearest other point (the sample spacing), h = 2 s for every point (the
+ * patent: twice the mean neighbour distance), so links are symmetric. i and
+ * j are linked when |X_j - X_i| < h and the segment does not cross the cut
+ * (crosses(ctx, x_i, x_j) == 0). Found with a uniform grid of cell >= h:
+ * O(n) for a sampled body; each list ascending.
+ *
+ * Kernel, fixed at the rest state X (the patent's w_ij): the cubic B-spline
+ * of support h, q = r / h,
+ *   w(q) = 8 / (pi h^3) * { 1 - 6 q^2 + 6 q^3   0 <= q <= 1/2
+ *                         { 2 (1 - q)^3         1/2 < q <= 1,  0 beyond,
+ * normalised to unit integral over R^3. The normalisation cancels: w enters
+ * only through A^-1 sum(... w).
+ *
+ * Eq 4, with X_ij = X_j - X_i and u = x - X:
+ *   A_i = sum_j X_ij X_ij^T w_ij,   d_ij = A_i^-1 X_ij w_ij,
+ *   J_i = I + grad(u_i)^T = I + sum_j (u_j - u_i) d_ij^T,
+ * so J[a][b] = dx_a / dX_b; a linear field u = G X + t gives J - I = G.
+ * Strain: Green's, eps = (J^T J - I) / 2. The patent (and Müller) write
+ * eps = J^T J - I, twice Green's: with it the body is 4 times stiffer than
+ * E says (energy quadratic in eps). Here E is the small-strain Young's
+ * modulus. sigma = lambda tr(eps) I + 2 mu eps (Hooke, isotropic; eq 5),
+ * energy U_i = V_i eps : sigma / 2. Since dU/dJ = V J sigma (with the
+ * patent's strain it is 2 V J sigma, its factor 2), eqs 7-8 become
+ *   F_e = -V_i J_i sigma_i,  f_j = F_e d_ij,  f_i = -sum_j f_j,
+ * exactly minus the gradient of sum_i U_i (J_i is linear in x and d_ij is
+ * fixed), so linear and angular momentum are conserved.
+ *
+ * A point whose A_i is degenerate (fewer than 3 non-coplanar neighbours, or
+ * a nearly flat stencil: det A <= 1e-3 (tr A / 3)^3, the smallest
+ * eigenvalue below roughly 1e-3 of the mean) is inactive: it has no strain
+ * energy of its own (J = I) but still enters its neighbours' sums, or moves
+ * freely when it has no active neighbour; no NaN comes from it. (A dt
+ * beyond the explicit bound still blows up: tb_meshless_step reports it.)
+ *
+ * Volumes: given, or s^3. Masses m_i = density V_i.
+ *
+ * Time integration. The patent (normalised to simplified script; its "显示"
+ * read as 显式, explicit): "交替式显式积分法 ... 在半步长内获取力, 通过该力
+ * 获取位移, 在后半个步长内更新速度" (alternating explicit: within a half
+ * step get the force and from it the displacement; in the second half step
+ * update the velocity). Read as the half-step (kick-drift-kick) scheme
+ *   v' = v + dt/2 a(x),  x += dt v',  v = v' + dt/2 a(x_new),
+ * i.e. velocity Verlet: one force evaluation per step (a(x_new) is kept for
+ * the next step), symplectic, exact under constant acceleration. Against
+ * symplectic Euler the displacement takes dt^2/2 a(x) instead of dt^2 a(x)
+ * and the velocity the mean of the old and new accelerations, in line with
+ * the patent's remark that velocity comes out larger and displacement
+ * smaller ("相对中合"). Option: symplectic Euler, v += dt a(x), x += dt v.
+ * Damping multiplies v by exp(-c dt) once per step. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_meshless.h"
+
+struct tb_meshless {
+  int n;
+  tb_vec3 *X, *x, *v, *f; /* rest, current, velocity, internal force */
+  double *vol, *mass;
+  int *start, *nbr; /* CSR links: nbr[start[i] .. start[i+1]-1] */
+  double *w;        /* w_ij per link (rest) */
+  tb_vec3 *d;       /* d_ij = A_i^-1 X_ij w_ij per link */
+  unsigned char *active;
+  unsigned *mark; /* driven this step when mark[i] == stamp */
+  unsigned stamp;
+  double h, lambda, mu, damping;
+  int integrator, fvalid;
+};
+
+/* ---- uniform grid: points binned by cell, ascending index in a cell ---- */
+
+typedef struct grid {
+  tb_vec3 lo;
+  double cell;
+  int dim[3];
+  int *start, *pt;
+} grid;
+
+static int grid_coord(const grid *g, double p, double lo, int k) {
+  int c = (int)floor((p - lo) / g->cell);
+  return c < 0 ? 0 : (c >= g->dim[k] ? g->dim[k] - 1 : c);
+}
+
+static int grid_cell(const grid *g, tb_vec3 p, int c[3]) {
+  c[0] = grid_coord(g, p.x, g->lo.x, 0);
+  c[1] = grid_coord(g, p.y, g->lo.y, 1);
+  c[2] = grid_coord(g, p.z, g->lo.z, 2);
+  return (c[2] * g->dim[1] + c[1]) * g->dim[0] + c[0];
+}
+
+/* Bins p[0..n-1] in cells of at least `cell`, at most 8n + 64 cells. */
+static int grid_build(grid *g, int n, const tb_vec3 *p, double cell) {
+  tb_vec3 lo = p[0], hi = p[0];
+  for (int i = 1; i < n; i++) lo = tb_vmin(lo, p[i]), hi = tb_vmax(hi, p[i]);
+  double ext[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
+  for (;;) {
+    double cells = 1;
+    for (int k = 0; k < 3; k++) {
+      g->dim[k] = (int)fmin(ext[k] / cell, 1e6) + 1;
+      cells *= g->dim[k];
+    }
+    if (cells <= 8.0 * n + 64) break;
+    cell *= 1.5;
+  }
+  g->lo = lo, g->cell = cell;
+  int nc = g->dim[0] * g->dim[1] * g->dim[2], c[3];
+  g->start = calloc((size_t)nc + 1, sizeof(int));
+  g->pt = malloc(sizeof(int) * (size_t)n);
+  if (!g->start || !g->pt) return -1;
+  for (int i = 0; i < n; i++) g->start[grid_cell(g, p[i], c) + 1]++;
+  for (int k = 0; k < nc; k++) g->start[k + 1] += g->start[k];
+  for (int i = 0; i < n; i++) g->pt[g->start[grid_cell(g, p[i], c)]++] = i;
+  for (int k = nc; k > 0; k--) g->start[k] = g->start[k - 1];
+  g->start[0] = 0;
+  return 0;
+}
+
+static void grid_free(grid *g) {
+  free(g->start), free(g->pt);
+  g->start = NULL, g->pt = NULL;
+}
+
+/* Distance from p[i] to its nearest other point (searching rings of cells
+ * until no closer point can remain); 0 for duplicates. */
+static double nearest(const grid *g, const tb_vec3 *p, int i) {
+  int c[3], maxd = g->dim[0] + g->dim[1] + g->dim[2];
+  grid_cell(g, p[i], c);
+  double best = INFINITY;
+  for (int r = 0; r <= maxd && !(best <= (r - 1) * g->cell); r++)
+    for (int e = c[2] - r < 0 ? 0 : c[2] - r; e <= c[2] + r && e < g->dim[2]; e++)
+      for (int b = c[1] - r < 0 ? 0 : c[1] - r; b <= c[1] + r && b < g->dim[1]; b++)
+        for (int a = c[0] - r < 0 ? 0 : c[0] - r; a <= c[0] + r && a < g->dim[0]; a++) {
+          if (abs(a - c[0]) != r && abs(b - c[1]) != r && abs(e - c[2]) != r) continue;
+          int k = (e * g->dim[1] + b) * g->dim[0] + a;
+          for (int q = g->start[k]; q < g->start[k + 1]; q++)
+            if (g->pt[q] != i) best = fmin(best, tb_dist(p[i], p[g->pt[q]]));
+        }
+  return best;
+}
+
+static double kernel(double r, double h) {
+  double q = r / h, s = 8.0 / (M_PI * h * h * h);
+  if (q <= 0.5) return s * (1 - 6 * q * q + 6 * q * q * q);
+  return q < 1 ? s * 2 * (1 - q) * (1 - q) * (1 - q) : 0.0;
+}
+
+static void sort_ints(int *a, int n) {
+  for (int i = 1; i < n; i++) {
+    int t = a[i], j = i;
+    for (; j > 0 && a[j - 1] > t; j--) a[j] = a[j - 1];
+    a[j] = t;
+  }
+}
+
+/* Links every pair closer than h (w > 0) that does not cross the cut. */
+static int link(tb_meshless *m, tb_meshless_crosses crosses, void *ctx) {
+  grid g = {0};
+  int cap = 32 * m->n + 16, len = 0, c[3];
+  m->nbr = malloc(sizeof(int) * (size_t)cap);
+  if (!m->nbr || grid_build(&g, m->n, m->X, m->h)) return grid_free(&g), -1;
+  for (int i = 0; i < m->n; i++) {
+    m->start[i] = len;
+    grid_cell(&g, m->X[i], c);
+    for (int dz = -1; dz <= 1; dz++)
+      for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+          int a = c[0] + dx, b = c[1] + dy, e = c[2] + dz;
+          if (a < 0 || b < 0 || e < 0 || a >= g.dim[0] || b >= g.dim[1] || e >= g.dim[2]) continue;
+          int k = (e * g.dim[1] + b) * g.dim[0] + a;
+          for (int q = g.start[k]; q < g.start[k + 1]; q++) {
+            int j = g.pt[q];
+            if (j == i || kernel(tb_dist(m->X[i], m->X[j]), m->h) <= 0) continue;
+            if (crosses && crosses(ctx, m->x[i], m->x[j])) continue;
+            if (len == cap) {
+              int *t = realloc(m->nbr, sizeof(int) * (size_t)(cap *= 2));
+              if (!t) return grid_free(&g), -1;
+              m->nbr = t;
+            }
+            m->nbr[len++] = j;
+          }
+        }
+    sort_ints(m->nbr + m->start[i], len - m->start[i]);
+  }
+  m->start[m->n] = len;
+  grid_free(&g);
+  m->w = malloc(sizeof(double) * (size_t)(len + 1));
+  m->d = malloc(sizeof(tb_vec3) * (size_t)(len + 1));
+  return m->w && m->d ? 0 : -1;
+}
+
+/* w_ij, A_i, d_ij and the active flags from the links. */
+static void moments(tb_meshless *m) {
+  for (int i = 0; i < m->n; i++) {
+    tb_mat3 A = {{{0}}};
+    for (int k = m->start[i]; k < m->start[i + 1]; k++) {
+      tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
+      double p[3] = {e.x, e.y, e.z};
+      m->w[k] = kernel(tb_len(e), m->h);
+      for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) A.m[a][b] += m->w[k] * p[a] * p[b];
+    }
+    double tr = (A.m[0][0] + A.m[1][1] + A.m[2][2]) / 3, det = tb_m3_det(A);
+    m->active[i] = tr > 0 && det > 1e-3 * tr * tr * tr;
+    tb_mat3 inv = tb_m3_transpose(tb_m3_cofactor(A));
+    for (int k = m->start[i]; k < m->start[i + 1]; k++) {
+      tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
+      m->d[k] = m->active[i] ? tb_scale(tb_m3_mulv(inv, e), m->w[k] / det) : tb_v3(0, 0, 0);
+    }
+  }
+}
+
+tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, double E, double nu,
+                                double density, tb_meshless_crosses crosses, void *ctx,
+                                tb_error *err) {
+  if (n < 2 || !x) return tb_error_set(err, "meshless", 0, "needs at least 2 points"), NULL;
+  if (!(E > 0) || !(nu > -1 && nu < 0.5) || !(density > 0))
+    return tb_error_set(err, "meshless", 0, "bad material (E > 0, -1 < nu < 1/2, density > 0)"),
+           NULL;
+  for (int i = 0; i < n; i++)
+    if (!tb_isfinite3(x[i]) || (volume && !(volume[i] > 0 && isfinite(volume[i]))))
+      return tb_error_set(err, "meshless", 0, "point %d: non-finite position or bad volume", i),
+             NULL;
+  tb_meshless *m = calloc(1, sizeof *m);
+  if (!m) return tb_error_set(err, "meshless", 0, "out of memory"), NULL;
+  size_t nv = (size_t)n;
+  m->n = n;
+  m->X = malloc(sizeof(tb_vec3) * nv), m->x = malloc(sizeof(tb_vec3) * nv);
+  m->v = calloc(nv, sizeof(tb_vec3)), m->f = calloc(nv, sizeof(tb_vec3));
+  m->vol = malloc(sizeof(double) * nv), m->mass = malloc(sizeof(double) * nv);
+  m->start = malloc(sizeof(int) * (nv + 1)), m->active = malloc(nv);
+  m->mark = calloc(nv, sizeof(unsigned));
+  grid g = {0};
+  if (!m->X || !m->x || !m->v || !m->f || !m->vol || !m->mass || !m->start || !m->active ||
+      !m->mark)
+    goto oom;
+  memcpy(m->X, x, sizeof(tb_vec3) * nv), memcpy(m->x, x, sizeof(tb_vec3) * nv);
+  /* Spacing s: mean nearest-neighbour distance, on a grid of ~1 point/cell. */
+  tb_vec3 lo = x[0], hi = x[0];
+  for (int i = 1; i < n; i++) lo = tb_vmin(lo, x[i]), hi = tb_vmax(hi, x[i]);
+  tb_vec3 ext = tb_sub(hi, lo);
+  double big = fmax(ext.x, fmax(ext.y, ext.z));
+  if (!(big > 0)) {
+    tb_meshless_destroy(m);
+    return tb_error_set(err, "meshless", 0, "all points coincide"), NULL;
+  }
+  if (grid_build(&g, n, x, big / cbrt((double)n))) goto oom;
+  double s = 0;
+  for (int i = 0; i < n; i++) s += nearest(&g, x, i);
+  grid_free(&g);
+  s /= n;
+  if (!(s > 0)) {
+    tb_meshless_destroy(m);
+    return tb_error_set(err, "meshless", 0, "mean point spacing is zero"), NULL;
+  }
+  m->h = 2 * s;
+  for (int i = 0; i < n; i++) {
+    m->vol[i] = volume ? volume[i] : s * s * s;
+    m->mass[i] = density * m->vol[i];
+  }
+  tb_lame(E, nu, &m->lambda, &m->mu);
+  if (link(m, crosses, ctx)) goto oom;
+  moments(m);
+  return m;
+oom:
+  grid_free(&g);
+  tb_meshless_destroy(m);
+  tb_error_set(err, "meshless", 0, "out of memory");
+  return NULL;
+}
+
+void tb_meshless_destroy(tb_meshless *m) {
+  if (!m) return;
+  free(m->X), free(m->x), free(m->v), free(m->f), free(m->vol), free(m->mass);
+  free(m->start), free(m->nbr), free(m->w), free(m->d), free(m->active), free(m->mark);
+  free(m);
+}
+
+int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err) {
+  (void)err; /* compacts in place: cannot fail */
+  int len = 0;
+  for (int i = 0; i < m->n; i++) {
+    int b = m->start[i], e = m->start[i + 1];
+    m->start[i] = len;
+    for (int k = b; k < e; k++)
+      if (!crosses || !crosses(ctx, m->x[i], m->x[m->nbr[k]])) m->nbr[len++] = m->nbr[k];
+  }
+  m->start[m->n] = len;
+  moments(m);
+  m->fvalid = 0;
+  return 0;
+}
+
+/* ---- elasticity ---- */
+
+tb_mat3 tb_meshless_jacobian(const tb_meshless *m, int i) {
+  tb_mat3 J = tb_m3_identity();
+  if (!m->active[i]) return J;
+  tb_vec3 ui = tb_sub(m->x[i], m->X[i]);
+  for (int k = m->start[i]; k < m->start[i + 1]; k++) {
+    int j = m->nbr[k];
+    tb_vec3 du = tb_sub(tb_sub(m->x[j], m->X[j]), ui), d = m->d[k];
+    double p[3] = {du.x, du.y, du.z}, q[3] = {d.x, d.y, d.z};
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) J.m[a][b] += p[a] * q[b];
+  }
+  return J;
+}
+
+tb_mat3 tb_meshless_strain(const tb_meshless *m, int i) {
+  tb_mat3 J = tb_meshless_jacobian(m, i), e = tb_m3_mul(tb_m3_transpose(J), J);
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) e.m[a][b] = 0.5 * (e.m[a][b] - (a == b));
+  return e;
+}
+
+static tb_mat3 stress(const tb_meshless *m, tb_mat3 e) {
+  double tr = e.m[0][0] + e.m[1][1] + e.m[2][2];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) e.m[a][b] = 2 * m->mu * e.m[a][b] + (a == b) * m->lambda * tr;
+  return e;
+}
+
+void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) {
+  memset(f, 0, sizeof(tb_vec3) * (size_t)m->n);
+  for (int i = 0; i < m->n; i++) {
+    if (!m->active[i]) continue;
+    tb_mat3 J = tb_meshless_jacobian(m, i), e = tb_m3_mul(tb_m3_transpose(J), J);
+    for (int a = 0; a < 3; a++) e.m[a][a] -= 1;
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) e.m[a][b] *= 0.5;
+    tb_mat3 Fe = tb_m3_mul(J, stress(m, e));
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) Fe.m[a][b] *= -m->vol[i];
+    tb_vec3 sum = tb_v3(0, 0, 0);
+    for (int k = m->start[i]; k < m->start[i + 1]; k++) {
+      tb_vec3 fj = tb_m3_mulv(Fe, m->d[k]);
+      f[m->nbr[k]] = tb_add(f[m->nbr[k]], fj);
+      sum = tb_add(sum, fj);
+    }
+    f[i] = tb_sub(f[i], sum);
+  }
+}
+
+double tb_meshless_energy(const tb_meshless *m) {
+  double U = 0;
+  for (int i = 0; i < m->n; i++) {
+    if (!m->active[i]) continue;
+    tb_mat3 e = tb_meshless_strain(m, i), s = stress(m, e);
+    double es = 0;
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) es += e.m[a][b] * s.m[a][b];
+    U += 0.5 * m->vol[i] * es;
+  }
+  return U;
+}
+
+double tb_meshless_kinetic(const tb_meshless *m) {
+  double K = 0;
+  for (int i = 0; i < m->n; i++) K += 0.5 * m->mass[i] * tb_dot(m->v[i], m->v[i]);
+  return K;
+}
+
+/* ---- time stepping ---- */
+
+int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, const int *ids,
+                     const tb_vec3 *fixed_x, tb_error *err) {
+  if (!(dt > 0)) return tb_error_set(err, "meshless", 0, "dt must be positive");
+  if (++m->stamp == 0) memset(m->mark, 0, sizeof(unsigned) * (size_t)m->n), m->stamp = 1;
+  for (int k = 0; k < nfixed; k++) {
+    if (ids[k] < 0 || ids[k] >= m->n)
+      return tb_error_set(err, "meshless", 0, "driven point %d out of range", ids[k]);
+    m->mark[ids[k]] = m->stamp;
+  }
+  int verlet = m->integrator == TB_MESHLESS_ALTERNATING;
+  double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt;
+  if (!m->fvalid) tb_meshless_forces(m, m->f);
+  for (int i = 0; i < m->n; i++) {
+    if (m->mark[i] == m->stamp) continue;
+    m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
+    if (!verlet) m->v[i] = tb_scale(m->v[i], damp);
+    m->x[i] = tb_madd(m->x[i], dt, m->v[i]);
+  }
+  for (int k = 0; k < nfixed; k++) {
+    int i = ids[k];
+    m->v[i] = tb_scale(tb_sub(fixed_x[k], m->x[i]), 1 / dt);
+    m->x[i] = fixed_x[k];
+  }
+  m->fvalid = 0;
+  if (verlet) {
+    tb_meshless_forces(m, m->f);
+    m->fvalid = 1;
+    for (int i = 0; i < m->n; i++) {
+      if (m->mark[i] == m->stamp) continue;
+      m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
+      m->v[i] = tb_scale(m->v[i], damp);
+    }
+  }
+  for (int i = 0; i < m->n; i++)
+    if (!tb_isfinite3(m->x[i]) || !tb_isfinite3(m->v[i]))
+      return tb_error_set(err, "meshless", 0, "point %d: non-finite state (dt too large?)", i);
+  return 0;
+}
+
+/* ---- settings and accessors ---- */
+
+void tb_meshless_set_damping(tb_meshless *m, double c) { m->damping = c > 0 ? c : 0; }
+void tb_meshless_set_integrator(tb_meshless *m, int integrator) {
+  m->integrator = integrator == TB_MESHLESS_SYMPLECTIC_EULER ? integrator : TB_MESHLESS_ALTERNATING;
+}
+void tb_meshless_set_positions(tb_meshless *m, const tb_vec3 *x) {
+  memcpy(m->x, x, sizeof(tb_vec3) * (size_t)m->n);
+  m->fvalid = 0;
+}
+int tb_meshless_count(const tb_meshless *m) { return m->n; }
+const tb_vec3 *tb_meshless_positions(const tb_meshless *m) { return m->x; }
+const tb_vec3 *tb_meshless_velocities(const tb_meshless *m) { return m->v; }
+const tb_vec3 *tb_meshless_rest(const tb_meshless *m) { return m->X; }
+double tb_meshless_support(const tb_meshless *m) { return m->h; }
+double tb_meshless_mass(const tb_meshless *m, int i) { return m->mass[i]; }
+int tb_meshless_neighbours(const tb_meshless *m, int i, const int **list) {
+  if (list) *list = m->nbr + m->start[i];
+  return m->start[i + 1] - m->start[i];
+}
+int tb_meshless_active(const tb_meshless *m, int i) { return m->active[i]; }
