@@ -153,6 +153,7 @@ static const struct {
     {"pbd_stiffness", tb_tests_pbd_stiffness},
     {"lod", tb_tests_lod},
     {"vvs_refine", tb_tests_vvs_refine},
+    {"metaball", tb_tests_metaball},
     {"softbody", tb_tests_softbody},
     {"butterfly", tb_tests_butterfly},
     {"sph", tb_tests_sph},
