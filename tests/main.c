@@ -155,6 +155,8 @@ static const struct {
     {"vvs_refine", tb_tests_vvs_refine},
     {"softbody", tb_tests_softbody},
     {"butterfly", tb_tests_butterfly},
+    {"fold", tb_tests_fold},
+    {"fold_tri", tb_tests_fold_tri},
 };
 
 static int selected(const char *id, int argc, char **argv) {

@@ -85,5 +85,7 @@ extern const tb_test_case tb_tests_lod[];
 extern const tb_test_case tb_tests_vvs_refine[];
 extern const tb_test_case tb_tests_softbody[];
 extern const tb_test_case tb_tests_butterfly[];
+extern const tb_test_case tb_tests_fold[];
+extern const tb_test_case tb_tests_fold_tri[];
 
 #endif
