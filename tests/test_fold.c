@@ -350,6 +350,18 @@ static void test_side(void) {
   tb_fold_nearest(&f, tb_v3(2.07, -0.17, 1), &nr);
   TB_CHECK(nr.piece == 0 && nr.s == 1.0);
   TB_CHECK(tb_fold_side(&f, tb_v3(2.07, -0.17, 1)) == 1);
+  tb_fold_free(&f);
+  /* A sharp fold (135 degrees back): beyond its tip, where the crease is
+   * nearest, piece 0's normal alone says -1; the pseudo-normal +1 (outside
+   * the V, as piece 1's normal says). Inside the V: -1. */
+  const tb_vec3 v[3] = {{0, 0, 0}, {2, 0, 0}, {1, 1, 0}};
+  TB_CHECK(tb_fold_init(&f, v, 3, tb_v3(0, 0, 2), NULL) == 0);
+  tb_fold_nearest(&f, tb_v3(2.7, 0.6, 1), &nr);
+  TB_CHECK(nr.piece == 0 && nr.s == 1.0);
+  TB_CHECK(tb_fold_side(&f, tb_v3(2.7, 0.6, 1)) == 1);
+  TB_CHECK(tb_fold_side(&f, tb_v3(1.5, 0.2, 1)) == -1);
+  tb_fold_free(&f);
+  fold_a(&f);
   /* Each side of a crossing segment's ends differ. */
   tb_rng rng = tb_rng_seed(7);
   int checked = 0;

@@ -179,6 +179,15 @@ static void test_degenerate(void) {
   const tb_vec3 td[3] = {{1, 0, 2}, {0, -1, 3}, {0, 1, 3}};
   const want w8[1] = {{1, 0, 2, 1, 0, 0, VX, 0, 0, DE}};
   expect_cut("touching the depth edge", 0, td, 1, 1, w8, 0);
+  /* Piece 1 runs along the triangle's edge v0-v1 (the line y = x - 2, with
+   * inexact coordinates): piece 0 enters through v2-v0 at 17/24 of the way
+   * from v2, the crease (2, 0) lies on v0-v1 at 7/16 from v0, then the cut
+   * follows the edge to v1. */
+  const tb_vec3 ae[3] = {{1.3, -0.7, 1}, {2.9, 0.9, 1}, {1.1, 1.7, 1}};
+  const want w9[3] = {{1.1 + 0.2 * 17 / 24, 0, 1, 17.0 / 24, 0, 7.0 / 24, ED, 1, 0, 0},
+                      {2, 0, 1, 0.5625, 0.4375, 0, ED, 2, 0, CR},
+                      {2.9, 0.9, 1, 0, 1, 0, VX, 1, 1, 0}};
+  expect_cut("along a triangle edge", 0, ae, 3, 1, w9, 0);
   /* Zero-area triangles: nothing computed. */
   tb_fold f;
   make_fold(&f, 0);
