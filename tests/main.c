@@ -158,6 +158,8 @@ static const struct {
     {"butterfly", tb_tests_butterfly},
     {"sph", tb_tests_sph},
     {"meshless", tb_tests_meshless},
+    {"fold", tb_tests_fold},
+    {"fold_tri", tb_tests_fold_tri},
 };
 
 static int selected(const char *id, int argc, char **argv) {

@@ -88,5 +88,7 @@ extern const tb_test_case tb_tests_softbody[];
 extern const tb_test_case tb_tests_butterfly[];
 extern const tb_test_case tb_tests_sph[];
 extern const tb_test_case tb_tests_meshless[];
+extern const tb_test_case tb_tests_fold[];
+extern const tb_test_case tb_tests_fold_tri[];
 
 #endif
