@@ -61,10 +61,22 @@ int poles(const tb_vec3 *p, const tb_vec3 *n, int np, tb_vec3 *pole, double *pol
       int ord[4] = {0, 1, 2, 3};
       std::sort(ord, ord + 4,
                 [&](int a, int b) { return c->vertex(a)->info() < c->vertex(b)->info(); });
-      Point q =
-          K::Construct_circumcenter_3()(c->vertex(ord[0])->point(), c->vertex(ord[1])->point(),
-                                        c->vertex(ord[2])->point(), c->vertex(ord[3])->point());
-      tb_vec3 cq = tb_v3(q.x(), q.y(), q.z());
+      const Point &a = c->vertex(ord[0])->point(), &b = c->vertex(ord[1])->point(),
+                  &e = c->vertex(ord[2])->point(), &f = c->vertex(ord[3])->point();
+      // The circumcentre a + (|u|^2 v x w + |v|^2 w x u + |w|^2 u x v) /
+      // (2 u . v x w), u, v, w the edges from a; a flat cell (the geodesic
+      // sphere has cospherical samples on a plane) has none: skipped
+      // (CGAL's own construction asserts on it in a debug build).
+      if (K::Orientation_3()(a, b, e, f) == CGAL::COPLANAR) continue;
+      tb_vec3 pa = tb_v3(a.x(), a.y(), a.z()), u = tb_sub(tb_v3(b.x(), b.y(), b.z()), pa),
+              v = tb_sub(tb_v3(e.x(), e.y(), e.z()), pa),
+              w = tb_sub(tb_v3(f.x(), f.y(), f.z()), pa);
+      double den = 2 * tb_dot(u, tb_cross(v, w));
+      if (!(den != 0)) continue;
+      tb_vec3 num = tb_add(
+          tb_add(tb_scale(tb_cross(v, w), tb_dot(u, u)), tb_scale(tb_cross(w, u), tb_dot(v, v))),
+          tb_scale(tb_cross(u, v), tb_dot(w, w)));
+      tb_vec3 cq = tb_add(pa, tb_scale(num, 1 / den));
       tb_vec3 d = tb_sub(cq, p[i]);
       if (tb_dot(d, n[i]) >= 0 || !tb_isfinite3(cq)) continue;
       double r = tb_len(d);
