@@ -165,14 +165,14 @@ static tb_sphere_coverage check_pack(const tb_mesh *m, int count, int expect_n) 
     TB_CHECK(memcmp(s.c, s2.c, (size_t)s.n * sizeof *s.c) == 0);
     TB_CHECK(memcmp(s.r, s2.r, (size_t)s.n * sizeof *s.r) == 0);
   }
-  tb_surface S;
-  TB_CHECK(tb_surface_init(&S, m, "surface", &err) == 0);
+  tb_closed_surface S;
+  TB_CHECK(tb_closed_surface_init(&S, m, "surface", &err) == 0);
   for (int i = 0; i < s.n; i++) {
-    TB_CHECK_MSG(tb_surface_inside(&S, s.c[i]), "centre %d outside", i);
+    TB_CHECK_MSG(tb_closed_surface_inside(&S, s.c[i]), "centre %d outside", i);
     TB_CHECK_NEAR(s.r[i], brute_distance(m, s.c[i]), 1e-9);
     if (i > 0) TB_CHECK(s.r[i] <= s.r[i - 1] || st.alpha < 1); /* largest first in pass 1 */
   }
-  tb_surface_free(&S);
+  tb_closed_surface_free(&S);
   TB_CHECK_MSG(tb_sphere_coverage_of(m, "surface", &s, 48, &cov, &err) == 0, "%s", err.msg);
   TB_CHECK(cov.volume > 0 && cov.volume <= 1 && cov.centres_outside == 0);
   TB_CHECK(cov.max_protrusion <= 1e-12);

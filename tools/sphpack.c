@@ -87,12 +87,12 @@ static int sample(const tb_mesh *m, double orient, int want, uint64_t seed, tb_v
 
 /* Candidates: the inner poles inside the surface, radius the distance to
  * it, sorted largest first, duplicates dropped. Returns how many. */
-static int candidates(const tb_surface *S, const tb_vec3 *pole, const double *pole_r, int np,
+static int candidates(const tb_closed_surface *S, const tb_vec3 *pole, const double *pole_r, int np,
                       cand *c) {
   int nc = 0;
   for (int i = 0; i < np; i++) {
-    if (!(pole_r[i] > 0) || !tb_surface_inside(S, pole[i])) continue;
-    double d = tb_surface_distance(S, pole[i]);
+    if (!(pole_r[i] > 0) || !tb_closed_surface_inside(S, pole[i])) continue;
+    double d = tb_closed_surface_distance(S, pole[i]);
     if (d > 0) c[nc++] = (cand){pole[i], d};
   }
   qsort(c, (size_t)nc, sizeof *c, cand_cmp);
@@ -140,11 +140,11 @@ int tb_sphere_pack(const tb_mesh *surf, const char *name, const tb_sphpack_def *
                         def->samples);
   tb_mesh tris = *surf; /* the triangles only, also of a tet mesh */
   tris.ntet = 0, tris.tet = NULL;
-  tb_surface S;
-  if (tb_surface_init(&S, &tris, name, err)) return -1;
+  tb_closed_surface S;
+  if (tb_closed_surface_init(&S, &tris, name, err)) return -1;
   double vol = tb_mesh_volume(&tris);
   if (!(fabs(vol) > 0)) {
-    tb_surface_free(&S);
+    tb_closed_surface_free(&S);
     return tb_error_set(err, name, 0, "the surface encloses no volume");
   }
   int want = def->samples;
@@ -171,7 +171,7 @@ int tb_sphere_pack(const tb_mesh *surf, const char *name, const tb_sphpack_def *
   if (rc) tb_spheres_free(out);
   if (stats) *stats = st;
   free(p), free(n), free(pole), free(pole_r), free(c);
-  tb_surface_free(&S);
+  tb_closed_surface_free(&S);
   return rc;
 }
 
@@ -181,14 +181,14 @@ int tb_sphere_coverage_of(const tb_mesh *surf, const char *name, const tb_sphere
   if (grid < 4 || grid > 2000) return tb_error_set(err, name, 0, "grid %d not in [4, 2000]", grid);
   tb_mesh tris = *surf;
   tris.ntet = 0, tris.tet = NULL;
-  tb_surface S;
-  if (tb_surface_init(&S, &tris, name, err)) return -1;
+  tb_closed_surface S;
+  if (tb_closed_surface_init(&S, &tris, name, err)) return -1;
   int nused;
   int *used = used_vertices(&tris, &nused);
   double *z = malloc(((size_t)tris.ntri + 1) * sizeof *z);
   if (!used || !z) {
     free(used), free(z);
-    tb_surface_free(&S);
+    tb_closed_surface_free(&S);
     return tb_error_set(err, name, 0, "out of memory");
   }
   tb_vec3 lo, hi;
@@ -199,7 +199,7 @@ int tb_sphere_coverage_of(const tb_mesh *surf, const char *name, const tb_sphere
   for (int i = 0; i < nx; i++)
     for (int j = 0; j < ny; j++) {
       double px = lo.x + (i + 0.51234) * h, py = lo.y + (j + 0.53719) * h;
-      int nc = tb_surface_column(&S, px, py, z), below = 0;
+      int nc = tb_closed_surface_column(&S, px, py, z), below = 0;
       for (int k = 0; k < nz; k++) {
         tb_vec3 q = tb_v3(px, py, lo.z + (k + 0.52711) * h);
         while (below < nc && z[below] < q.z) below++;
@@ -231,11 +231,12 @@ int tb_sphere_coverage_of(const tb_mesh *surf, const char *name, const tb_sphere
   cov->max_protrusion = -INFINITY;
   for (int m = 0; m < s->n; m++) {
     sv += 4.0 / 3.0 * M_PI * s->r[m] * s->r[m] * s->r[m];
-    cov->centres_outside += !tb_surface_inside(&S, s->c[m]);
-    cov->max_protrusion = fmax(cov->max_protrusion, s->r[m] - tb_surface_distance(&S, s->c[m]));
+    cov->centres_outside += !tb_closed_surface_inside(&S, s->c[m]);
+    cov->max_protrusion =
+        fmax(cov->max_protrusion, s->r[m] - tb_closed_surface_distance(&S, s->c[m]));
   }
   cov->sphere_volume = vol > 0 ? sv / vol : 0;
   free(used), free(z);
-  tb_surface_free(&S);
+  tb_closed_surface_free(&S);
   return 0;
 }

@@ -10,7 +10,8 @@
 
 #include "tb_sphpack.h"
 
-int tb_surface_init(tb_surface *s, const tb_mesh *m, const char *name, tb_error *err) {
+int tb_closed_surface_init(tb_closed_surface *s, const tb_mesh *m, const char *name,
+                           tb_error *err) {
   memset(s, 0, sizeof *s);
   if (m->ntri < 4) return tb_error_set(err, name, 0, "%d triangles: not a closed surface", m->ntri);
   tb_mesh_topo t = tb_mesh_topology(m);
@@ -30,7 +31,7 @@ int tb_surface_init(tb_surface *s, const tb_mesh *m, const char *name, tb_error 
   return 0;
 }
 
-void tb_surface_free(tb_surface *s) {
+void tb_closed_surface_free(tb_closed_surface *s) {
   tb_bvh_free(&s->bvh);
   memset(s, 0, sizeof *s);
 }
@@ -45,7 +46,7 @@ static double box_dist2(tb_aabb b, tb_vec3 p) {
   return d;
 }
 
-double tb_surface_distance(const tb_surface *s, tb_vec3 p) {
+double tb_closed_surface_distance(const tb_closed_surface *s, tb_vec3 p) {
   const tb_bvh *b = &s->bvh;
   int stack[256], top = 0;
   double best = DBL_MAX;
@@ -86,7 +87,7 @@ static int owns(tb_vec3 a, tb_vec3 b) { return b.y < a.y || (b.y == a.y && b.x <
 
 /* 1 and *z the height of the crossing when the vertical line through (px,
  * py) passes through triangle t (0 for triangles seen edge-on). */
-static int crosses(const tb_surface *s, int t, double px, double py, double *z) {
+static int crosses(const tb_closed_surface *s, int t, double px, double py, double *z) {
   const int *v = s->tri + 3 * t;
   tb_vec3 p0 = s->x[v[0]], p1 = s->x[v[1]], p2 = s->x[v[2]];
   if ((px < p0.x && px < p1.x && px < p2.x) || (px > p0.x && px > p1.x && px > p2.x) ||
@@ -109,7 +110,7 @@ static int crosses(const tb_surface *s, int t, double px, double py, double *z) 
   return 1;
 }
 
-int tb_surface_inside(const tb_surface *s, tb_vec3 p) {
+int tb_closed_surface_inside(const tb_closed_surface *s, tb_vec3 p) {
   int n = 0;
   double z;
   for (int t = 0; t < s->ntri; t++)
@@ -119,7 +120,7 @@ int tb_surface_inside(const tb_surface *s, tb_vec3 p) {
 
 /* Heights where the vertical line through (px, py) crosses the surface,
  * ascending, into z (room for ntri); returns how many. */
-int tb_surface_column(const tb_surface *s, double px, double py, double *z) {
+int tb_closed_surface_column(const tb_closed_surface *s, double px, double py, double *z) {
   int n = 0;
   for (int t = 0; t < s->ntri; t++)
     if (crosses(s, t, px, py, &z[n])) {

@@ -30,26 +30,26 @@
 #include "tb_spheres.h"
 
 /* ---- a closed surface for distance and inside queries ---- */
-typedef struct tb_surface {
+typedef struct tb_closed_surface {
   const tb_vec3 *x; /* the mesh's, not owned */
   const int *tri;
   int ntri;
   tb_bvh bvh; /* AABB hierarchy for the distance */
-} tb_surface;
+} tb_closed_surface;
 
 /* Checks that m's triangles form a closed, oriented 2-manifold (errors are
  * "NAME: reason") and builds the hierarchy. */
-int tb_surface_init(tb_surface *s, const tb_mesh *m, const char *name, tb_error *err);
-void tb_surface_free(tb_surface *s);
+int tb_closed_surface_init(tb_closed_surface *s, const tb_mesh *m, const char *name, tb_error *err);
+void tb_closed_surface_free(tb_closed_surface *s);
 /* Exact (up to rounding) distance from p to the nearest triangle. */
-double tb_surface_distance(const tb_surface *s, tb_vec3 p);
+double tb_closed_surface_distance(const tb_closed_surface *s, tb_vec3 p);
 /* 1 when p is inside: odd number of crossings of the ray from p along +z
  * (a point-in-triangle test in the xy plane with a tie rule that gives a
  * ray through a shared edge or vertex to exactly one of the triangles). */
-int tb_surface_inside(const tb_surface *s, tb_vec3 p);
+int tb_closed_surface_inside(const tb_closed_surface *s, tb_vec3 p);
 /* The heights, ascending, where the vertical line through (px, py) crosses
  * the surface (same rule), into z (room for ntri); returns how many. */
-int tb_surface_column(const tb_surface *s, double px, double py, double *z);
+int tb_closed_surface_column(const tb_closed_surface *s, double px, double py, double *z);
 
 /* ---- the packing ---- */
 typedef struct tb_sphpack_def {
