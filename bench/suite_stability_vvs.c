@@ -290,8 +290,9 @@ static int edges_table(tb_suite *su, const vgrid *g, const tb_mesh *mesh, const 
 static int charts(tb_suite *su, const vgrid *g, const tb_vvs_linear *p, tb_error *err) {
   for (int integ = 0; integ < 2; integ++) {
     double sc = scale_of(p, integ), dt = 0.01;
-    char base[48], vars[1600];
+    char base[48], vars[1600], alpha[32] = "";
     snprintf(base, sizeof base, "map_msm-vvs-%s", integ_key[integ]);
+    if (!integ) snprintf(alpha, sizeof alpha, ", alpha %g", p->alpha); /* the scene's */
     snprintf(vars, sizeof vars,
              "title='msm-vvs (%s%s), sphere-press, dt %g: stability over %g s'; "
              "xlabel='node damping kd (N s/m)'; logx=0; ylabel='spring stiffness ks (N/m)'; "
@@ -299,9 +300,9 @@ static int charts(tb_suite *su, const vgrid *g, const tb_vvs_linear *p, tb_error
              "regiontitle='the paper: kd < %g, ks < %g'; "
              "curve='((%.10g - %.10g * (x + %.10g)) * %.10g - %.10g) / %.10g'; "
              "curvetitle='predicted edge (ks %.4g at kd %g)'",
-             integ_label[integ], integ ? "" : ", alpha 50", dt, g->duration, integ_key[integ],
-             g->nkd > 12 ? 1.8 : 3.0, PAPER_KD, PAPER_KS, PAPER_KD, PAPER_KS, limit_of(integ),
-             2 * sc * dt / p->mass, p->kd_v, p->mass / (sc * dt * dt), p->ks_v, p->lambda,
+             integ_label[integ], alpha, dt, g->duration, integ_key[integ], g->nkd > 12 ? 1.8 : 3.0,
+             PAPER_KD, PAPER_KS, PAPER_KD, PAPER_KS, limit_of(integ), 2 * sc * dt / p->mass,
+             p->kd_v, p->mass / (sc * dt * dt), p->ks_v, p->lambda,
              tb_vvs_ks_limit(p, integ, dt, DEF_KD), DEF_KD);
     if (tb_suite_chart_vars(su, "chart_map.gp", "map_msm-vvs.csv", base, vars, err)) return -1;
     tb_suite_caption(su, base,
