@@ -30,31 +30,13 @@
  * x = sum_s w_s (c_s + R_s (x0 - c0_s)), so a rigid motion of the spheres
  * moves it rigidly. Removing a sphere renormalises the weights of its
  * vertices over their other spheres, or binds them anew. */
-#include "tb_metaball.h"
+#include "metaball_priv.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "tb_model.h"
-
-struct tb_metaball {
-  tb_metaball_settings set;
-  int n;
-  tb_vec3 *c0, *c, *p, *v; /* rest, current and predicted centres, velocities */
-  double *r, *m, *w;       /* radii, masses, 1 / mass (0 when fixed or removed) */
-  unsigned char *alive, *fixed;
-  int nl, *link;         /* alive links: 2 nl sphere pairs */
-  double *len0;          /* their rest lengths */
-  int *cstart, *cmember; /* unit constraint i: members cmember[cstart[i] .. cstart[i+1]) */
-  tb_vec3 *cm0;          /* its rest centre of mass over the alive members */
-  tb_mat3 *rot;          /* its rotation at the last step (the sphere's) */
-  int nv;                /* the skin */
-  tb_vec3 *x0, *x;
-  int (*bind)[3];
-  double (*bw)[3];
-  int nfallback;
-};
 
 void tb_metaball_settings_default(tb_metaball_settings *s) {
   s->density = 1, s->stretch = 1, s->unit = 0.5, s->damping = 1, s->sigma = 1, s->overlap = 1;
