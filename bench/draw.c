@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "tb_draw.h"
+#include "tb_meshgen.h"
 #include "tb_sm.h"
 
 const float tb_draw_body_rgb[3] = {0.86f, 0.45f, 0.40f},
@@ -97,4 +98,46 @@ int tb_draw_contacts(tb_renderer *r, const tb_sim *s) {
   if (tri) tb_renderer_mesh(r, &m);
   free(tri);
   return n;
+}
+
+/* One geodesic sphere of 42 vertices at the origin with radius 1, made
+ * once per call (cheap), instanced into one mesh. */
+int tb_draw_spheres(tb_renderer *r, int n, const tb_vec3 *c, const double *rad,
+                    const unsigned char *show, double scale, const float rgb[3], tb_error *err) {
+  tb_mesh unit;
+  if (tb_geosphere(42, 1.0, &unit, err)) return -1;
+  int count = 0;
+  for (int i = 0; i < n; i++) count += !show || show[i];
+  size_t nv = (size_t)count * (size_t)unit.nv, nt = (size_t)count * (size_t)unit.ntri;
+  tb_vec3 *x = malloc(sizeof(tb_vec3) * (nv ? nv : 1));
+  int *tri = malloc(sizeof(int) * 3 * (nt ? nt : 1));
+  if (!x || !tri) {
+    free(x), free(tri), tb_mesh_free(&unit);
+    return tb_error_set(err, "draw", 0, "out of memory (%d spheres)", count);
+  }
+  int k = 0;
+  for (int i = 0; i < n; i++) {
+    if (show && !show[i]) continue;
+    for (int v = 0; v < unit.nv; v++) x[k * unit.nv + v] = tb_madd(c[i], scale * rad[i], unit.x[v]);
+    for (int t = 0; t < 3 * unit.ntri; t++) tri[3 * k * unit.ntri + t] = k * unit.nv + unit.tri[t];
+    k++;
+  }
+  tb_render_mesh m = {.nv = (int)nv,
+                      .ntri = (int)nt,
+                      .x = x,
+                      .tri = tri,
+                      .rgb = {rgb[0], rgb[1], rgb[2]},
+                      .flat = 0};
+  if (count) tb_renderer_mesh(r, &m);
+  free(x), free(tri), tb_mesh_free(&unit);
+  return 0;
+}
+
+void tb_draw_links(tb_renderer *r, int n, const int *pairs, const tb_vec3 *c, const float rgb[3],
+                   float width) {
+  tb_vec3 *ends = malloc(sizeof(tb_vec3) * 2 * (size_t)(n > 0 ? n : 1));
+  if (!ends) return;
+  for (int e = 0; e < 2 * n; e++) ends[e] = c[pairs[e]];
+  tb_renderer_lines(r, n, ends, rgb, width);
+  free(ends);
 }

@@ -29,4 +29,13 @@ int tb_draw_structure(tb_renderer *r, const tb_sim *s, tb_error *err);
  * in red over the surface; returns how many. */
 int tb_draw_contacts(tb_renderer *r, const tb_sim *s);
 
+/* Spheres (centres c, radii rad scaled by scale; only those with show[i]
+ * != 0 when show is not NULL) as shaded balls of one colour: the metaball
+ * model's volume. */
+int tb_draw_spheres(tb_renderer *r, int n, const tb_vec3 *c, const double *rad,
+                    const unsigned char *show, double scale, const float rgb[3], tb_error *err);
+/* n links (2n indices into c) as lines: the spheres' stretch constraints. */
+void tb_draw_links(tb_renderer *r, int n, const int *pairs, const tb_vec3 *c, const float rgb[3],
+                   float width);
+
 #endif
