@@ -106,4 +106,11 @@ typedef enum tb_beam_split { TB_SPLIT_KUHN = 0, TB_SPLIT_SYMMETRIC = 1 } tb_beam
 int tb_beam_with_split(double lx, double ly, double lz, int nx, int ny, int nz, tb_beam_split split,
                        tb_mesh *out, tb_error *err);
 
+/* ---- exact vertex count (tools/remesh_count.c) ---- */
+/* Splits the longest edges (new vertex on the curve the end normals define)
+ * or collapses the shortest (link condition, no flipped triangle) until the
+ * closed, oriented 2-manifold m has exactly target vertices. Returns the
+ * number of operations, or -1 with err ("remesh: reason"). */
+int tb_remesh_to_count(tb_mesh *m, int target, tb_error *err);
+
 #endif
