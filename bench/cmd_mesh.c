@@ -167,6 +167,22 @@ static int write_edges(const char *path, const tb_mesh *m, tb_error *err) {
   return 0;
 }
 
+/* `--KEY VALUE` for a setting KEY of g (dashes for underscores: --surface-verts 8128 is --set
+ * surface_verts=8128). Returns 1 when applied, 0 when a is no setting of g, -1 on a bad value. */
+static int setting_option(const tb_generator *g, const char *a, const char *v, double *p) {
+  char kv[256];
+  size_t len = strlen(a);
+  if (strncmp(a, "--", 2) || len < 3 || len + strlen(v) >= sizeof kv) return 0;
+  for (size_t i = 2; i <= len; i++) kv[i - 2] = a[i] == '-' ? '_' : a[i];
+  for (int k = 0; k < TB_GEN_MAX_PARAMS && g->params[k].key; k++)
+    if (!strcmp(g->params[k].key, kv)) {
+      strcat(kv, "=");
+      strcat(kv, v);
+      return tb_generator_set(g, p, kv) ? -1 : 1;
+    }
+  return 0;
+}
+
 static int mesh_generate(int argc, char **argv) {
   const char *name = argv[0], *out = NULL, *part = NULL;
   int stats = 0;
@@ -188,8 +204,13 @@ static int mesh_generate(int argc, char **argv) {
     else if (!strcmp(a, "--set") && i + 1 < argc) {
       if (tb_generator_set(g, p, argv[++i])) return TB_EXIT_INPUT;
     } else {
-      fprintf(stderr, "tissuebench mesh %s: unknown or incomplete option '%s'\n", name, a);
-      return TB_EXIT_INPUT;
+      int set = i + 1 < argc ? setting_option(g, a, argv[i + 1], p) : 0;
+      if (set < 0) return TB_EXIT_INPUT;
+      if (set == 0) {
+        fprintf(stderr, "tissuebench mesh %s: unknown or incomplete option '%s'\n", name, a);
+        return TB_EXIT_INPUT;
+      }
+      i++;
     }
   }
   tb_mesh_part which = TB_PART_DEFAULT;
@@ -203,7 +224,9 @@ static int mesh_generate(int argc, char **argv) {
   }
   tb_gen_result r;
   tb_error err;
-  if (tb_generator_run(g, p, &r, &err)) {
+  int bad = which == TB_PART_SURFACE ? tb_generator_run_surface(g, p, &r, &err)
+                                     : tb_generator_run(g, p, &r, &err);
+  if (bad) {
     fprintf(stderr, "tissuebench mesh %s: %s\n", name, err.msg);
     return TB_EXIT_FAIL;
   }

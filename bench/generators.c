@@ -1,6 +1,8 @@
 /* The generator table behind `tissuebench mesh NAME` and the meshes suite:
- * liver (thesis §2.5), instrument, geodesic sphere (Bao 2006 table 1) and
- * cantilever beam, each with its settings and the documents' counts. */
+ * liver (thesis §2.5), instrument, geodesic sphere (Bao 2006 table 1),
+ * cantilever beam and the metaball patent's spleen, gallbladder and steak
+ * (its table 1, tools/organs.c), each with its settings and the documents'
+ * counts. */
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -20,10 +22,55 @@ static int liver_run(const double *p, tb_gen_result *r, tb_error *err) {
   return tb_liver_tets(&d, &r->surface, &r->volume, err);
 }
 static int liver_paper(const double *p, tb_gen_counts *c, const char **src) {
-  (void)p;
+  if ((int)p[0] == tb_organ_find("liver")->verts) {
+    *c = (tb_gen_counts){(int)p[0], 0, 0, 0, 0, 0};
+    *src = "metaball patent, table 1";
+    return 1;
+  }
   *c = (tb_gen_counts){725, 1448, 1206, 4230, 9313, 6288};
   *src = "thesis §2.5 (Amira marching cubes; QTetraMesher)";
   return 1;
+}
+
+/* --part surface: no TetGen, the vertex count exact */
+static int liver_surface(const double *p, tb_gen_result *r, tb_error *err) {
+  tb_liver_def d = tb_liver_default_def();
+  d.surface_verts = (int)p[0], d.tet_verts = (int)p[1], d.tets = (int)p[2], d.length = p[3];
+  d.noise = p[4];
+  d.seed = (uint64_t)p[5];
+  return tb_liver_surface_exact(&d, &r->surface, err);
+}
+
+/* ---- the metaball patent's organs (settings: verts, seed) ---- */
+static int organ_run(const char *name, const double *p, tb_gen_result *r, tb_error *err) {
+  return tb_organ_surface(name, (int)p[0], (uint64_t)p[1], &r->surface, err);
+}
+static int organ_paper(const char *name, tb_gen_counts *c, const char **src) {
+  memset(c, 0, sizeof *c);
+  c->surface_verts = tb_organ_find(name)->verts;
+  *src = "metaball patent, table 1";
+  return 1;
+}
+static int spleen_run(const double *p, tb_gen_result *r, tb_error *err) {
+  return organ_run("spleen", p, r, err);
+}
+static int spleen_paper(const double *p, tb_gen_counts *c, const char **src) {
+  (void)p;
+  return organ_paper("spleen", c, src);
+}
+static int gallbladder_run(const double *p, tb_gen_result *r, tb_error *err) {
+  return organ_run("gallbladder", p, r, err);
+}
+static int gallbladder_paper(const double *p, tb_gen_counts *c, const char **src) {
+  (void)p;
+  return organ_paper("gallbladder", c, src);
+}
+static int steak_run(const double *p, tb_gen_result *r, tb_error *err) {
+  return organ_run("steak", p, r, err);
+}
+static int steak_paper(const double *p, tb_gen_counts *c, const char **src) {
+  (void)p;
+  return organ_paper("steak", c, src);
 }
 
 /* ---- instrument ---- */
@@ -73,7 +120,8 @@ static const tb_generator generators[] = {
       {"noise", 0.08, 0, "grey-value noise amplitude (relative to tissue)", NULL},
       {"seed", 1, 1, "noise seed", NULL}},
      liver_run,
-     liver_paper},
+     liver_paper,
+     liver_surface},
     {"instrument",
      "grasper: shaft + lower jaw tube and hinged upper jaw tube (2 closed parts)",
      {{"length", 15, 0, "shaft length", NULL},
@@ -84,12 +132,14 @@ static const tb_generator generators[] = {
       {"shaft_rings", 24, 1, "rings of the shaft + lower jaw", NULL},
       {"jaw_rings", 15, 1, "rings of the upper jaw", NULL}},
      instrument_run,
-     instrument_paper},
+     instrument_paper,
+     NULL},
     {"sphere",
      "geodesic sphere, 10 f^2 + 2 vertices (252, 1002, ...)",
      {{"verts", 252, 1, "vertices: 10 f^2 + 2", NULL}, {"radius", 1, 0, "radius", NULL}},
      sphere_run,
-     sphere_paper},
+     sphere_paper,
+     NULL},
     {"beam",
      "box cantilever, cubes split into 6 tets each",
      {{"lx", 10, 0, "length (x)", NULL},
@@ -103,6 +153,28 @@ static const tb_generator generators[] = {
        "mid-planes (even ny, nz)",
        beam_splits}},
      beam_run,
+     NULL,
+     NULL},
+    {"spleen",
+     "metaball patent's spleen: flattened crescent, hilum groove (~6 x 2.7 x 1.6)",
+     {{"verts", 1480, 1, "surface vertices, exact (patent: 1480)", NULL},
+      {"seed", 1, 1, "grey-value noise seed", NULL}},
+     spleen_run,
+     spleen_paper,
+     NULL},
+    {"gallbladder",
+     "metaball patent's gallbladder: pear-shaped sac, bent neck (~4.1 x 2.1 x 1.6)",
+     {{"verts", 1415, 1, "surface vertices, exact (patent: 1415)", NULL},
+      {"seed", 1, 1, "grey-value noise seed", NULL}},
+     gallbladder_run,
+     gallbladder_paper,
+     NULL},
+    {"steak",
+     "metaball patent's steak: irregular rounded slab (~8 x 5 x 1.55)",
+     {{"verts", 1266, 1, "surface vertices, exact (patent: 1266)", NULL},
+      {"seed", 1, 1, "outline and grey-value noise seed", NULL}},
+     steak_run,
+     steak_paper,
      NULL},
 };
 static const int ngenerators = (int)(sizeof generators / sizeof generators[0]);
@@ -172,6 +244,17 @@ int tb_generator_run(const tb_generator *g, const double *p, tb_gen_result *r, t
   memset(r, 0, sizeof *r);
   uint64_t t0 = tb_time_ns();
   int rc = g->run(p, r, err);
+  r->ms = (double)(tb_time_ns() - t0) * 1e-6;
+  if (rc) tb_gen_result_free(r);
+  return rc;
+}
+
+int tb_generator_run_surface(const tb_generator *g, const double *p, tb_gen_result *r,
+                             tb_error *err) {
+  if (!g->surface) return tb_generator_run(g, p, r, err);
+  memset(r, 0, sizeof *r);
+  uint64_t t0 = tb_time_ns();
+  int rc = g->surface(p, r, err);
   r->ms = (double)(tb_time_ns() - t0) * 1e-6;
   if (rc) tb_gen_result_free(r);
   return rc;

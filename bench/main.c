@@ -134,9 +134,13 @@ static const tb_command commands[] = {
      "  count, radius range and, with IN, the coverage of a .sph file; a bad file or surface:\n"
      "  FILE:LINE: reason (FILE: reason), exit 2\n"
      "tissuebench mesh NAME [--out FILE] [--part PART] [--stats] [--set key=value ...]\n"
-     "  NAME: liver, instrument, sphere, beam (mesh list shows their settings)\n"
+     "  NAME: liver, instrument, sphere, beam, and the metaball patent's spleen, gallbladder,\n"
+     "  steak (exactly its vertex counts; tools/organs.c) (mesh list shows their settings)\n"
+     "  --KEY VALUE  same as --set KEY=VALUE (dashes for underscores): mesh steak --verts 1266\n"
+     "               --seed 2; mesh liver --part surface --surface-verts 8128\n"
      "  --out FILE   write by extension: .obj .off .node (with .ele) .vtk; .edges for edges\n"
-     "  --part PART  liver only: tets (default), surface, faces (all tet faces), edges\n"
+     "  --part PART  liver only: tets (default), surface (no TetGen; vertex count exact),\n"
+     "               faces (all tet faces), edges\n"
      "  --stats      print the counts beside the documents' counts",
      tb_cmd_mesh},
 };

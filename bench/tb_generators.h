@@ -36,6 +36,8 @@ typedef struct tb_generator {
   int (*run)(const double *p, tb_gen_result *r, tb_error *err);
   /* the documents' counts for these settings; returns 0 when they have none */
   int (*paper)(const double *p, tb_gen_counts *c, const char **source);
+  /* the surface alone, for --part surface (NULL: run); fills r->surface */
+  int (*surface)(const double *p, tb_gen_result *r, tb_error *err);
 } tb_generator;
 
 typedef enum tb_mesh_part {
@@ -53,6 +55,11 @@ void tb_generator_defaults(const tb_generator *g, double *p);
  * prints the error and returns -1 on a bad key or value. */
 int tb_generator_set(const tb_generator *g, double *p, const char *kv);
 int tb_generator_run(const tb_generator *g, const double *p, tb_gen_result *r, tb_error *err);
+/* The surface only where the generator has a surface-only path (the liver:
+ * no TetGen, and its vertex count made exact, tb_liver_surface_exact),
+ * else tb_generator_run. */
+int tb_generator_run_surface(const tb_generator *g, const double *p, tb_gen_result *r,
+                             tb_error *err);
 void tb_gen_result_free(tb_gen_result *r);
 tb_gen_counts tb_gen_result_counts(const tb_gen_result *r);
 /* Prints our counts beside the documents' (and closed/manifold checks). */

@@ -106,4 +106,36 @@ typedef enum tb_beam_split { TB_SPLIT_KUHN = 0, TB_SPLIT_SYMMETRIC = 1 } tb_beam
 int tb_beam_with_split(double lx, double ly, double lz, int nx, int ny, int nz, tb_beam_split split,
                        tb_mesh *out, tb_error *err);
 
+/* ---- exact vertex count (tools/remesh_count.c) ---- */
+/* Splits the longest edges (new vertex on the curve the end normals define)
+ * or collapses the shortest (link condition, no flipped triangle) until the
+ * closed, oriented 2-manifold m has exactly target vertices. Returns the
+ * number of operations, or -1 with err ("remesh: reason"). */
+int tb_remesh_to_count(tb_mesh *m, int target, tb_error *err);
+
+/* ---- the metaball patent's organs (tools/organs.c) ---- */
+/* The patent's table 1 per organ and our solid's nominal size (bounding box
+ * extents x, y, z, within 10%; lengths in the liver's unit, SOFA's liver
+ * being about 10 long). */
+typedef struct tb_organ_info {
+  const char *name;
+  int verts;                /* the patent's surface vertices */
+  int spheres;              /* the patent's spheres */
+  double deform_ms, cut_ms; /* the patent's time per frame to deform and to cut */
+  double size[3];
+  const char *shape; /* how ours is made, one line */
+} tb_organ_info;
+#define TB_NORGANS 4
+/* liver, spleen, gallbladder, steak (the patent's order) */
+extern const tb_organ_info tb_organs[TB_NORGANS];
+const tb_organ_info *tb_organ_find(const char *name);
+/* The organ's closed surface with exactly verts vertices (0: the patent's
+ * count; 200 ... 50000), seeded noise (same seed, same bytes): a synthetic
+ * grey-value volume, marching cubes, the liver's clean-up, the grid spacing
+ * searched to within 5%, then tb_remesh_to_count. The liver is
+ * tb_liver_surface_exact of the default liver with these verts and seed. */
+int tb_organ_surface(const char *name, int verts, uint64_t seed, tb_mesh *out, tb_error *err);
+/* tb_liver_surface, then made exact by tb_remesh_to_count. */
+int tb_liver_surface_exact(const tb_liver_def *def, tb_mesh *surf, tb_error *err);
+
 #endif
