@@ -102,16 +102,21 @@ static int candidates(const tb_closed_surface *S, const tb_vec3 *pole, const dou
   return k;
 }
 
-/* Largest first, passes of decreasing alpha (tools/tb_sphpack.h). */
+/* Largest first, passes of decreasing alpha (tools/tb_sphpack.h); the
+ * candidates below TINY times the largest radius only when the others do
+ * not reach the count. */
+#define TINY 0.05
 static int choose(const cand *c, int nc, int count, tb_spheres *out, double *alpha_used) {
   static const double alphas[] = {1, 0.75, 0.5, 0.35, 0.25, 0.15, 0.1, 0.05, 0};
   char *taken = calloc((size_t)nc + 1, 1);
   if (!taken) return -1;
-  for (size_t a = 0; a < sizeof alphas / sizeof *alphas && out->n < count; a++) {
-    double al = alphas[a];
+  int na = (int)(sizeof alphas / sizeof *alphas);
+  double rmin = nc > 0 ? TINY * c[0].r : 0;
+  for (int a = 0; a < 2 * na && out->n < count; a++) {
+    double al = alphas[a % na];
     *alpha_used = al;
     for (int i = 0; i < nc && out->n < count; i++) {
-      if (taken[i]) continue;
+      if (taken[i] || (a < na && c[i].r < rmin)) continue;
       int near = 0;
       for (int j = 0; j < out->n && !near; j++) {
         tb_vec3 d = tb_sub(c[i].c, out->c[j]);
