@@ -13,7 +13,8 @@
  *    shape-matching constraint (Müller et al. 2005, "Meshless deformations
  *    based on shape matching"; as a PBD constraint, Macklin et al. 2014,
  *    "Unified particle physics", §5): the members move the share `unit`
- *    towards cm + R q_j, R the rotation of the polar decomposition of
+ *    towards cm + R q_j (a fixed sphere's constraint keeps its R: it
+ *    holds its neighbours' orientation, not only their distance), R the rotation of the polar decomposition of
  *    sum m_j (p_j - cm) q_jᵀ (found iteratively, rotation_of), q_j their rest offsets from the rest
  * centre of mass. Its only fixed points are rigid images of the rest shape, hence the recovery.
  * Applied once per step after the sweeps (a polar decomposition per sphere is the step's largest
@@ -258,7 +259,8 @@ static void unit_constraints(tb_metaball *m) {
       for (int r = 0; r < 3; r++)
         for (int s = 0; s < 3; s++) a.m[r][s] += m->m[j] * dv[r] * qv[s];
     }
-    tb_mat3 rot = m->cstart[i + 1] - m->cstart[i] > 1 ? rotation_of(a, m->rot[i]) : m->rot[i];
+    tb_mat3 rot = m->cstart[i + 1] - m->cstart[i] > 1 && !m->fixed[i] ? rotation_of(a, m->rot[i])
+                                                                       : m->rot[i];
     m->rot[i] = rot;
     for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
       int j = m->cmember[k];
