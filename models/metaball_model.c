@@ -90,15 +90,17 @@ typedef struct mb_model {
   tb_vec3 *cp;           /* their pushed positions */
   double *cdepth;
   int dominant_ok;
-  int *dominant;         /* per point: the sphere it holds when prescribed */
+  int *dominant; /* per point: the sphere it holds when prescribed */
 } mb_model;
 
 static void destroy(void *self) {
   mb_model *s = self;
   if (!s) return;
   tb_metaball_destroy(s->mb);
-  free(s->x), free(s->v), free(s->xold), free(s->skin0), free(s->mass), free(s->fs), free(s->cstart);
-  free(s->hold), free(s->hold0), free(s->apq), free(s->nhold), free(s->held), free(s->push), free(s->keep), free(s->cids);
+  free(s->x), free(s->v), free(s->xold), free(s->skin0), free(s->mass), free(s->fs),
+      free(s->cstart);
+  free(s->hold), free(s->hold0), free(s->apq), free(s->nhold), free(s->held), free(s->push),
+      free(s->keep), free(s->cids);
   free(s->cp), free(s->cdepth), free(s->dominant);
   free(s);
 }
@@ -137,8 +139,8 @@ static int sphere_count(const mb_settings *set, int nsurf) {
 /* Sphere masses M r^3 / sum r^3 through the density tb_metaball_create
  * uses, point masses as shares of them (see the head). */
 static int masses(mb_model *s, const tb_mesh *mesh, const tb_spheres *sp, tb_error *err) {
-  double total = s->set.node_mass > 0 ? s->set.node_mass * mesh->nv
-                                      : s->set.density * tb_mesh_volume(mesh);
+  double total =
+      s->set.node_mass > 0 ? s->set.node_mass * mesh->nv : s->set.density * tb_mesh_volume(mesh);
   if (!(total > 0) || !isfinite(total))
     return tb_error_set(err, "mesh", 0,
                         "the body's mass is %g (the surface encloses no volume: triangles "
@@ -190,8 +192,8 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   }
   double vs = 0;
   for (int i = 0; i < sp.n; i++) vs += 4.0 / 3.0 * M_PI * sp.r[i] * sp.r[i] * sp.r[i];
-  double total = s->set.node_mass > 0 ? s->set.node_mass * mesh->nv
-                                      : s->set.density * tb_mesh_volume(mesh);
+  double total =
+      s->set.node_mass > 0 ? s->set.node_mass * mesh->nv : s->set.density * tb_mesh_volume(mesh);
   tb_metaball_settings ms;
   tb_metaball_settings_default(&ms);
   ms.density = total / vs, ms.stretch = s->set.stretch, ms.unit = s->set.unit, ms.damping = 0;
@@ -216,8 +218,8 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   s->keep = malloc(sizeof(double) * N), s->cids = malloc(sizeof(int) * N);
   s->cp = malloc(sizeof(tb_vec3) * N), s->cdepth = malloc(sizeof(double) * N);
   if (!s->x || !s->v || !s->xold || !s->skin0 || !s->mass || !s->dominant || !s->fs || !s->cstart ||
-      !s->hold || !s->hold0 || !s->apq || !s->nhold || !s->held || !s->push || !s->keep || !s->cids || !s->cp ||
-      !s->cdepth)
+      !s->hold || !s->hold0 || !s->apq || !s->nhold || !s->held || !s->push || !s->keep ||
+      !s->cids || !s->cp || !s->cdepth)
     goto oom;
   memcpy(s->x, tb_metaball_skin(s->mb), sizeof(tb_vec3) * V);
   for (int v = 0; v < nv; v++) {
@@ -330,7 +332,8 @@ static int step(void *self, const tb_step *in, tb_error *err) {
     memset(s->fs, 0, sizeof(tb_vec3) * (size_t)s->ns);
     for (int v = 0; v < s->nv; v++)
       for (int q = 0; q < 3; q++)
-        if (m->bind[v][q] >= 0) s->fs[m->bind[v][q]] = tb_madd(s->fs[m->bind[v][q]], m->bw[v][q], in->force[v]);
+        if (m->bind[v][q] >= 0)
+          s->fs[m->bind[v][q]] = tb_madd(s->fs[m->bind[v][q]], m->bw[v][q], in->force[v]);
     fs = s->fs;
   }
   /* held spheres: the rigid fit of their prescribed points (see the head) */
@@ -420,8 +423,9 @@ static const tb_setting settings[] = {
 
 const tb_model_class tb_model_metaball = {
     .name = "metaball",
-    .summary = "overlapping spheres packed in the surface, PBD stretch + unit constraints, "
-               "Gaussian skin (the metaball patent, step 2)",
+    .summary =
+        "overlapping spheres packed in the surface, PBD stretch + unit constraints, "
+        "Gaussian skin (the metaball patent, step 2)",
     .settings = settings,
     .nsettings = (int)(sizeof settings / sizeof settings[0]),
     .settings_size = sizeof(mb_settings),

@@ -227,12 +227,8 @@ static void inputs(void) {
 }
 
 const tb_test_case tb_tests_metaball_model[] = {
-    {"rest_stays", rest_stays},
-    {"rigid_skin", rigid_skin},
-    {"sag_to_rest", sag_to_rest},
-    {"push_and_recover", push_and_recover},
-    {"free_fall", free_fall},
-    {"prescribed_exact", prescribed_exact},
-    {"inputs", inputs},
-    {NULL, NULL},
+    {"rest_stays", rest_stays},   {"rigid_skin", rigid_skin},
+    {"sag_to_rest", sag_to_rest}, {"push_and_recover", push_and_recover},
+    {"free_fall", free_fall},     {"prescribed_exact", prescribed_exact},
+    {"inputs", inputs},           {NULL, NULL},
 };

@@ -52,7 +52,8 @@ int main(int argc, char **argv) {
   double *ms = malloc(sizeof(double) * (size_t)steps), res = 0;
   int push = steps / 4, rest = -1;
   for (int k = 0; k < steps; k++) {
-    for (int i = m->n - 20; i < m->n; i++) f[i] = k < push ? tb_v3(0, 0, -50 * m->m[i]) : tb_v3(0, 0, 0);
+    for (int i = m->n - 20; i < m->n; i++)
+      f[i] = k < push ? tb_v3(0, 0, -50 * m->m[i]) : tb_v3(0, 0, 0);
     uint64_t t0 = tb_time_ns();
     tb_metaball_step(m, 0.01, tb_v3(0, 0, 0), f);
     ms[k] = (double)(tb_time_ns() - t0) * 1e-6;
@@ -67,9 +68,10 @@ int main(int argc, char **argv) {
   printf("liver: %d vertices, %d spheres, %d links, %d iterations, %d steps\n", m->nv, m->n, m->nl,
          iters, steps);
   printf("step incl. skin: median %.4f ms, min %.4f ms\n", ms[steps / 2], ms[0]);
-  printf("stretch residual at the push's end %.3e; frames to rest after release %d; skin's "
-         "largest offset from rest at the end %.3e\n",
-         res, rest, last);
+  printf(
+      "stretch residual at the push's end %.3e; frames to rest after release %d; skin's "
+      "largest offset from rest at the end %.3e\n",
+      res, rest, last);
   free(f), free(ms);
   tb_metaball_destroy(m);
   tb_spheres_free(&sp);
