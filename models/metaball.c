@@ -13,11 +13,12 @@
  *    shape-matching constraint (Müller et al. 2005, "Meshless deformations
  *    based on shape matching"; as a PBD constraint, Macklin et al. 2014,
  *    "Unified particle physics", §5): the members move the share `unit`
- *    towards cm + R q_j, R the rotation of the polar decomposition of
- *    sum m_j (p_j - cm) q_jᵀ (found iteratively, rotation_of), q_j their rest offsets from the rest
- * centre of mass. Its only fixed points are rigid images of the rest shape, hence the recovery.
- * Applied once per step after the sweeps (a polar decomposition per sphere is the step's largest
- * cost); its R is also the sphere's rotation for the skin;
+ *    towards cm + R q_j (a fixed sphere's constraint keeps its R: it
+ *    holds its neighbours' orientation, not only their distance), R the rotation of the polar
+ * decomposition of sum m_j (p_j - cm) q_jᵀ (found iteratively, rotation_of), q_j their rest offsets
+ * from the rest centre of mass. Its only fixed points are rigid images of the rest shape, hence the
+ * recovery. Applied once per step after the sweeps (a polar decomposition per sphere is the step's
+ * largest cost); its R is also the sphere's rotation for the skin;
  *  - energy (能量约束, the coupling to the cut's point set) is the
  *    per-sphere force input here; fixed spheres hold.
  * Then v = (p - c) / dt, damped by exp(-damping dt), c = p.
@@ -98,6 +99,47 @@ static void skin(tb_metaball *m) {
   }
 }
 
+/* Orders the links by colour (greedy, in link order: a link takes the
+ * first colour none of whose links touches its spheres), links of one
+ * colour in their old order. The sweeps stay Gauss-Seidel in this order;
+ * consecutive links then share no sphere, so a projection need not wait
+ * for the one before it (on the 570-sphere liver this more than halved
+ * the sweeps' time; same convergence: tools/metaball_timing.c). */
+static int colour_links(tb_metaball *m, int n) {
+  int nl = m->nl, ncol = 0;
+  int *col = malloc(sizeof(int) * (size_t)(nl > 0 ? nl : 1)), *start = NULL, *out = NULL;
+  unsigned char *used = NULL; /* used[c * n + s]: colour c touches sphere s */
+  int cap = 0;
+  if (!col) return -1;
+  for (int e = 0; e < nl; e++) {
+    int a = m->link[2 * e], b = m->link[2 * e + 1], c = 0;
+    while (c < ncol && (used[(size_t)c * n + a] || used[(size_t)c * n + b])) c++;
+    if (c == ncol) {
+      if (ncol == cap) {
+        cap = cap ? 2 * cap : 16;
+        unsigned char *g = realloc(used, (size_t)cap * (size_t)n);
+        if (!g) return free(col), free(used), -1;
+        used = g;
+      }
+      memset(used + (size_t)ncol * n, 0, (size_t)n), ncol++;
+    }
+    used[(size_t)c * n + a] = used[(size_t)c * n + b] = 1, col[e] = c;
+  }
+  free(used);
+  start = calloc((size_t)ncol + 1, sizeof(int)),
+  out = malloc(sizeof(int) * 2 * (size_t)(nl > 0 ? nl : 1));
+  if (!start || !out) return free(col), free(start), free(out), -1;
+  for (int e = 0; e < nl; e++) start[col[e] + 1]++;
+  for (int c = 0; c < ncol; c++) start[c + 1] += start[c];
+  for (int e = 0; e < nl; e++) {
+    int at = start[col[e]]++;
+    out[2 * at] = m->link[2 * e], out[2 * at + 1] = m->link[2 * e + 1];
+  }
+  memcpy(m->link, out, sizeof(int) * 2 * (size_t)nl);
+  free(col), free(start), free(out);
+  return 0;
+}
+
 tb_metaball *tb_metaball_create(int n, const tb_vec3 *c, const double *r, const tb_mesh *surface,
                                 const tb_metaball_settings *set, tb_error *err) {
   if (n < 1) return tb_error_set(err, "metaball", 0, "no spheres"), NULL;
@@ -143,6 +185,7 @@ tb_metaball *tb_metaball_create(int n, const tb_vec3 *c, const double *r, const 
       m->link[2 * nl] = i, m->link[2 * nl + 1] = j, nl++;
     }
   m->nl = nl;
+  if (colour_links(m, n)) goto oom;
   m->len0 = malloc(sizeof(double) * (size_t)(nl > 0 ? nl : 1));
   m->cmember = malloc(sizeof(int) * ((size_t)n + 2 * (size_t)nl));
   if (!m->len0 || !m->cmember) goto oom;
@@ -258,7 +301,8 @@ static void unit_constraints(tb_metaball *m) {
       for (int r = 0; r < 3; r++)
         for (int s = 0; s < 3; s++) a.m[r][s] += m->m[j] * dv[r] * qv[s];
     }
-    tb_mat3 rot = m->cstart[i + 1] - m->cstart[i] > 1 ? rotation_of(a, m->rot[i]) : m->rot[i];
+    tb_mat3 rot =
+        m->cstart[i + 1] - m->cstart[i] > 1 && !m->fixed[i] ? rotation_of(a, m->rot[i]) : m->rot[i];
     m->rot[i] = rot;
     for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
       int j = m->cmember[k];

@@ -283,7 +283,15 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   if (!(s->def.vmax > 0)) s->def.vmax = 100.0 * s->size / s->def.duration; /* not given */
   tb_settings all;
   tb_settings_init(&all);
+  /* another model than the file's: the file's keys it does not have belong
+   * to the file's model (sphere-press's alpha for msm-vvs) and are skipped */
+  int other = s->desc.model[0] && strcmp(mname, s->desc.model) != 0;
   for (int i = 0; i < s->desc.nmodel_set; i++) {
+    char key[64];
+    snprintf(key, sizeof key, "%.*s", (int)strcspn(s->desc.model_set[i], "="),
+             s->desc.model_set[i]);
+    double unused;
+    if (other && tb_model_setting(mname, NULL, key, &unused) < 0) continue;
     tb_settings one;
     tb_settings_init(&one);
     tb_error e2;

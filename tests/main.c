@@ -161,6 +161,7 @@ static const struct {
     {"fold", tb_tests_fold},
     {"fold_tri", tb_tests_fold_tri},
     {"organs", tb_tests_organs},
+    {"metaball_model", tb_tests_metaball_model},
 };
 
 static int selected(const char *id, int argc, char **argv) {

@@ -91,5 +91,6 @@ extern const tb_test_case tb_tests_meshless[];
 extern const tb_test_case tb_tests_fold[];
 extern const tb_test_case tb_tests_fold_tri[];
 extern const tb_test_case tb_tests_organs[];
+extern const tb_test_case tb_tests_metaball_model[];
 
 #endif

@@ -1,0 +1,80 @@
+/* Timing of one metaball deformation frame (issue 14 §5): the liver
+ * surface at 8128 vertices (tb_liver_surface), packed to 570 spheres
+ * (tb_sphere_pack), tb_metaball_step with gravity and a push on a patch,
+ * skin included. Prints links, median / min ms per step over the run and
+ * the convergence measure: the stretch links' residual
+ * max |(|c_i - c_j| - l0) / l0| after the push's last frame and the frames
+ * to rest after the release (every centre slower than 1e-4 / s).
+ *
+ *   ./build/metaball_timing [steps] [iterations]
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "metaball_priv.h"
+#include "tb_meshgen.h"
+#include "tb_sphpack.h"
+#include "tb_timer.h"
+
+static int cmp(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static double residual(const tb_metaball *m) {
+  double r = 0;
+  for (int e = 0; e < m->nl; e++) {
+    double l = tb_dist(m->c[m->link[2 * e]], m->c[m->link[2 * e + 1]]);
+    r = fmax(r, fabs(l - m->len0[e]) / m->len0[e]);
+  }
+  return r;
+}
+
+int main(int argc, char **argv) {
+  int steps = argc > 1 ? atoi(argv[1]) : 400, iters = argc > 2 ? atoi(argv[2]) : 10;
+  tb_error err;
+  tb_liver_def ld = tb_liver_default_def();
+  ld.surface_verts = 8128;
+  tb_mesh surf;
+  if (tb_liver_surface(&ld, &surf, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+  tb_sphpack_def pd = tb_sphpack_default_def(570);
+  tb_spheres sp = {0};
+  if (tb_sphere_pack(&surf, "liver", &pd, &sp, NULL, &err))
+    return fprintf(stderr, "%s\n", err.msg), 1;
+  tb_metaball_settings set;
+  tb_metaball_settings_default(&set);
+  set.iterations = iters;
+  tb_metaball *m = tb_metaball_create(sp.n, sp.c, sp.r, &surf, &set, &err);
+  if (!m) return fprintf(stderr, "%s\n", err.msg), 1;
+  for (int i = 0; i < 10; i++) tb_metaball_fix(m, i, 1); /* the largest ten hold it */
+  tb_vec3 *f = calloc((size_t)m->n, sizeof(tb_vec3));
+  double *ms = malloc(sizeof(double) * (size_t)steps), res = 0;
+  int push = steps / 4, rest = -1;
+  for (int k = 0; k < steps; k++) {
+    for (int i = m->n - 20; i < m->n; i++)
+      f[i] = k < push ? tb_v3(0, 0, -50 * m->m[i]) : tb_v3(0, 0, 0);
+    uint64_t t0 = tb_time_ns();
+    tb_metaball_step(m, 0.01, tb_v3(0, 0, 0), f);
+    ms[k] = (double)(tb_time_ns() - t0) * 1e-6;
+    if (k == push - 1) res = residual(m);
+    double vmax = 0;
+    for (int i = 0; i < m->n; i++) vmax = fmax(vmax, tb_len(m->v[i]));
+    if (k >= push && rest < 0 && vmax < 1e-4) rest = k - push + 1;
+  }
+  double last = 0;
+  for (int v = 0; v < m->nv; v++) last = fmax(last, tb_dist(m->x[v], m->x0[v]));
+  qsort(ms, (size_t)steps, sizeof(double), cmp);
+  printf("liver: %d vertices, %d spheres, %d links, %d iterations, %d steps\n", m->nv, m->n, m->nl,
+         iters, steps);
+  printf("step incl. skin: median %.4f ms, min %.4f ms\n", ms[steps / 2], ms[0]);
+  printf(
+      "stretch residual at the push's end %.3e; frames to rest after release %d; skin's "
+      "largest offset from rest at the end %.3e\n",
+      res, rest, last);
+  free(f), free(ms);
+  tb_metaball_destroy(m);
+  tb_spheres_free(&sp);
+  tb_mesh_free(&surf);
+  return 0;
+}
