@@ -160,6 +160,7 @@ static const struct {
     {"meshless", tb_tests_meshless},
     {"fold", tb_tests_fold},
     {"fold_tri", tb_tests_fold_tri},
+    {"metaball_cut", tb_tests_metaball_cut},
 };
 
 static int selected(const char *id, int argc, char **argv) {
