@@ -82,7 +82,6 @@
 #include "metaball_priv.h"
 #include "tb_fold.h"
 #include "tb_meshless.h"
-#include "tb_sphpack.h"
 
 void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s) {
   s->spacing = 0.3, s->per_sphere = 0, s->min_dist = 0.6;

@@ -391,7 +391,6 @@ static void liver_timing(void) {
   for (int i = 0; i < sp.n; i++) lo = tb_vmin(lo, sp.c[i]), hi = tb_vmax(hi, sp.c[i]);
   tb_metaball_cut_settings cs;
   tb_metaball_cut_settings_default(&cs);
-  cs.coupling = getenv("TB_COUPLING") ? atof(getenv("TB_COUPLING")) : 1;
   cs.per_sphere = 40; /* radii from a few hundredths to about one */
   if (!m || tb_metaball_cut_begin(m, &cs, &err)) goto done;
   double xm = 0.5 * (lo.x + hi.x), top = hi.z + 2, depth = hi.z - lo.z + 4;
@@ -399,7 +398,7 @@ static void liver_timing(void) {
   for (int k = 0; k <= 20; k++)
     path[k] = tb_v3(xm + 0.05 * (k % 2), lo.y - 2 + k * (hi.y - lo.y + 4) / 20, top);
   double frame_ms = 0, worst = 0;
-  int frames = 0;
+  int frames = 0, substeps = 0;
   for (int k = 1; k <= 20; k++) {
     tb_fold f;
     if (tb_fold_init(&f, path, k + 1, tb_v3(0, 0, -depth), &err)) break;
@@ -411,9 +410,7 @@ static void liver_timing(void) {
     TB_CHECK_MSG(!rc, "frame %d: %s (%d substeps)", k, err.msg, tb_metaball_cut_substeps(m));
     if (rc) goto done;
     frame_ms += ms, worst = fmax(worst, ms), frames++;
-    if (getenv("TB_DEBUG_CUT"))
-      printf("frame %d: %d points, %d substeps, %.2f ms\n", k, tb_metaball_cut_points(m, NULL),
-             tb_metaball_cut_substeps(m), ms);
+    substeps = tb_metaball_cut_substeps(m);
   }
   tb_metaball_cut_report rep;
   uint64_t t0 = tb_time_ns();
@@ -422,10 +419,11 @@ static void liver_timing(void) {
   TB_CHECK_MSG(rc == 0, "%s", err.msg);
   printf(
       "  liver %d vertices, %d spheres: cut frames %.2f ms mean, %.2f ms worst (advance + "
-      "cut_step, %d points); cut_end %.1f ms: %d removed (r %.3f) -> %d created (r %.3f), "
+      "cut_step, %d points, %d meshless substeps a frame at the end); cut_end %.1f ms: %d removed "
+      "(r %.3f) -> %d created (r %.3f), "
       "%d uncovered\n",
-      surf.nv, sp.n, frame_ms / frames, worst, rep.points, end_ms, rep.removed, rep.removed_r,
-      rep.created, rep.created_r, rep.uncovered);
+      surf.nv, sp.n, frame_ms / frames, worst, rep.points, substeps, end_ms, rep.removed,
+      rep.removed_r, rep.created, rep.created_r, rep.uncovered);
   TB_CHECK(rep.removed > 0 && rep.created > 0);
 done:
   tb_metaball_destroy(m);
