@@ -46,6 +46,7 @@ void tb_metaball_settings_default(tb_metaball_settings *s) {
 
 void tb_metaball_destroy(tb_metaball *m) {
   if (!m) return;
+  tb_metaball_cut_release(m);
   free(m->c0), free(m->c), free(m->p), free(m->v), free(m->r), free(m->m), free(m->w);
   free(m->alive), free(m->fixed), free(m->link), free(m->len0), free(m->cstart), free(m->cmember);
   free(m->cm0), free(m->rot), free(m->x0), free(m->x), free(m->bind), free(m->bw);
@@ -61,6 +62,34 @@ static void rest_centre(tb_metaball *m, int i) {
     if (m->alive[j]) mass += m->m[j], s = tb_madd(s, m->m[j], m->c0[j]);
   }
   m->cm0[i] = mass > 0 ? tb_scale(s, 1 / mass) : m->c0[i];
+}
+
+/* The links' rest lengths and the unit constraints from the links: unit
+ * constraint i holds the sphere, then its linked spheres in link order;
+ * each with its rest centre of mass. Replaces len0 and cmember; the links
+ * are first ordered by colour (colour_links). */
+static int colour_links(tb_metaball *m, int n);
+static int build_units(tb_metaball *m) {
+  int n = m->n, nl = m->nl;
+  if (colour_links(m, n)) return -1;
+  free(m->len0), free(m->cmember);
+  m->len0 = malloc(sizeof(double) * (size_t)(nl > 0 ? nl : 1));
+  m->cmember = malloc(sizeof(int) * ((size_t)n + 2 * (size_t)nl));
+  int *deg = calloc((size_t)n, sizeof(int));
+  if (!m->len0 || !m->cmember || !deg) return free(deg), -1;
+  for (int e = 0; e < nl; e++)
+    m->len0[e] = tb_dist(m->c0[m->link[2 * e]], m->c0[m->link[2 * e + 1]]);
+  for (int e = 0; e < 2 * nl; e++) deg[m->link[e]]++;
+  m->cstart[0] = 0;
+  for (int i = 0; i < n; i++) m->cstart[i + 1] = m->cstart[i] + deg[i] + 1;
+  for (int i = 0; i < n; i++) m->cmember[m->cstart[i]] = i, deg[i] = 1;
+  for (int e = 0; e < nl; e++) {
+    int a = m->link[2 * e], b = m->link[2 * e + 1];
+    m->cmember[m->cstart[a] + deg[a]++] = b, m->cmember[m->cstart[b] + deg[b]++] = a;
+  }
+  free(deg);
+  for (int i = 0; i < n; i++) rest_centre(m, i);
+  return 0;
 }
 
 /* Vertex v bound anew over the alive spheres (see the head). */
@@ -185,24 +214,7 @@ tb_metaball *tb_metaball_create(int n, const tb_vec3 *c, const double *r, const 
       m->link[2 * nl] = i, m->link[2 * nl + 1] = j, nl++;
     }
   m->nl = nl;
-  if (colour_links(m, n)) goto oom;
-  m->len0 = malloc(sizeof(double) * (size_t)(nl > 0 ? nl : 1));
-  m->cmember = malloc(sizeof(int) * ((size_t)n + 2 * (size_t)nl));
-  if (!m->len0 || !m->cmember) goto oom;
-  for (int e = 0; e < nl; e++) m->len0[e] = tb_dist(c[m->link[2 * e]], c[m->link[2 * e + 1]]);
-  /* unit constraint i: the sphere and its linked spheres, ascending */
-  int *deg = calloc(N, sizeof(int));
-  if (!deg) goto oom;
-  for (int e = 0; e < 2 * nl; e++) deg[m->link[e]]++;
-  m->cstart[0] = 0;
-  for (int i = 0; i < n; i++) m->cstart[i + 1] = m->cstart[i] + deg[i] + 1;
-  for (int i = 0; i < n; i++) m->cmember[m->cstart[i]] = i, deg[i] = 1;
-  for (int e = 0; e < nl; e++) {
-    int a = m->link[2 * e], b = m->link[2 * e + 1];
-    m->cmember[m->cstart[a] + deg[a]++] = b, m->cmember[m->cstart[b] + deg[b]++] = a;
-  }
-  free(deg);
-  for (int i = 0; i < n; i++) rest_centre(m, i); /* members: i, then its links' order */
+  if (build_units(m)) goto oom;
   if (surface) {
     memcpy(m->x0, surface->x, sizeof(tb_vec3) * (size_t)m->nv);
     for (int v = 0; v < m->nv; v++) bind_vertex(m, v);
@@ -212,6 +224,52 @@ tb_metaball *tb_metaball_create(int n, const tb_vec3 *c, const double *r, const 
 oom:
   tb_metaball_destroy(m);
   return tb_error_set(err, "metaball", 0, "out of memory (%d spheres)", n), NULL;
+}
+
+/* ---- growing the model (the cut's new spheres; metaball_priv.h) ---- */
+
+int tb_metaball_add(tb_metaball *m, int k, const tb_vec3 *c0, const tb_vec3 *c, const tb_mat3 *rot,
+                    const double *r, const tb_vec3 *v) {
+  size_t N = (size_t)m->n + (size_t)k;
+#define TB_GROW(field, type)                            \
+  do {                                                  \
+    type *grown_ = realloc(m->field, sizeof(type) * N); \
+    if (!grown_) return -1;                             \
+    m->field = grown_;                                  \
+  } while (0)
+  TB_GROW(c0, tb_vec3);
+  TB_GROW(c, tb_vec3);
+  TB_GROW(p, tb_vec3);
+  TB_GROW(v, tb_vec3);
+  TB_GROW(cm0, tb_vec3);
+  TB_GROW(r, double);
+  TB_GROW(m, double);
+  TB_GROW(w, double);
+  TB_GROW(alive, unsigned char);
+  TB_GROW(fixed, unsigned char);
+  TB_GROW(rot, tb_mat3);
+#undef TB_GROW
+  int *cs = realloc(m->cstart, sizeof(int) * (N + 1));
+  if (!cs) return -1;
+  m->cstart = cs;
+  for (int q = 0; q < k; q++) {
+    int i = m->n + q;
+    m->c0[i] = c0[q], m->c[i] = m->p[i] = c[q], m->v[i] = v ? v[q] : tb_v3(0, 0, 0);
+    m->r[i] = r[q], m->m[i] = m->set.density * 4.0 / 3.0 * M_PI * r[q] * r[q] * r[q];
+    m->w[i] = m->m[i] > 0 ? 1 / m->m[i] : 0;
+    m->alive[i] = 1, m->fixed[i] = 0, m->rot[i] = rot ? rot[q] : tb_m3_identity();
+  }
+  m->n = (int)N;
+  return build_units(m);
+}
+
+int tb_metaball_set_links(tb_metaball *m, int nl, const int *pairs) {
+  int *link = malloc(sizeof(int) * 2 * (size_t)(nl > 0 ? nl : 1));
+  if (!link) return -1;
+  memcpy(link, pairs, sizeof(int) * 2 * (size_t)nl);
+  free(m->link);
+  m->link = link, m->nl = nl;
+  return build_units(m);
 }
 
 void tb_metaball_fix(tb_metaball *m, int i, int fixed) {

@@ -4,6 +4,7 @@
 #ifndef TB_METABALL_PRIV_H
 #define TB_METABALL_PRIV_H
 
+#include "tb_fold.h"
 #include "tb_metaball.h"
 
 struct tb_metaball {
@@ -22,6 +23,47 @@ struct tb_metaball {
   int (*bind)[3];
   double (*bw)[3];
   int nfallback;
+  struct tb_metaball_cut *cut; /* the cut's state (models/metaball_cut.c), NULL when none */
 };
+
+/* The cut's state (models/metaball_cut.c, metaball_repack.c). */
+typedef struct tb_metaball_cut {
+  tb_metaball_cut_settings set;
+  int cutting, has_fold;
+  tb_fold fold;     /* the last folded plane given (kept after the cut for the skin) */
+  tb_vec3 flo, fhi; /* its bounding box */
+  double spacing;   /* the shared grid's spacing, or the smallest per-sphere one */
+  double density;
+  double omega;      /* the point set's largest free frequency (rad/s) */
+  int last_substeps; /* meshless steps in the last frame */
+  tb_vec3 glo;       /* the shared grid's origin */
+  int np, pcap;
+  tb_vec3 *X, *x, *held; /* points: rest, current (at the last advance), held position */
+  double *vol;
+  int *gen, *driver;                 /* the sphere each came from; the sphere driving it */
+  int nrem, rcap, *removed, *pstart; /* removed sphere k: points pstart[k] .. pstart[k+1] */
+  double rsum;                       /* sum of the removed radii */
+  struct tb_meshless *ml;
+  int nd, *ids; /* driven points, and the per-frame buffers */
+  tb_vec3 *fx0, *fx1, *fx, *fpts, *fsph, *fel;
+  double *ks; /* per sphere: the stiffness of its coupling to the points */
+} tb_metaball_cutstate;
+
+/* The cut test handed to the point set (ctx: the cut state). */
+int tb_metaball_cut_crosses(void *ctx, tb_vec3 a, tb_vec3 b);
+/* Frees the points and the per-frame buffers (keeps the fold). */
+void tb_metaball_cut_free_points(tb_metaball_cutstate *c);
+
+/* Appends k alive, free spheres (rest centres c0, current centres c,
+ * rotations rot and velocities v, NULL: identity and zero; radii r), with
+ * no links; their unit constraints hold only themselves until
+ * tb_metaball_set_links. Returns 0, or -1 out of memory. */
+int tb_metaball_add(tb_metaball *m, int k, const tb_vec3 *c0, const tb_vec3 *c, const tb_mat3 *rot,
+                    const double *r, const tb_vec3 *v);
+/* Replaces the links by nl pairs (rest lengths from the rest centres) and
+ * rebuilds the unit constraints from them. Returns 0, or -1 out of memory. */
+int tb_metaball_set_links(tb_metaball *m, int nl, const int *pairs);
+/* Frees the cut's state (models/metaball_cut.c); tb_metaball_destroy calls it. */
+void tb_metaball_cut_release(tb_metaball *m);
 
 #endif

@@ -59,4 +59,85 @@ int tb_metaball_fallbacks(const tb_metaball *m);
  * returns how many. */
 int tb_metaball_binding(const tb_metaball *m, int v, int sphere[3], double weight[3]);
 
+/* ---- cutting (models/metaball_cut.c; the patent's step 3 (1)-(4)) ----
+ * Spheres the blade's folded plane touches turn into points of a meshless
+ * body (models/tb_meshless.h) that never links across the cut; points
+ * inside spheres still alive follow them and push back on them; when the
+ * blade leaves, the points become spheres again, on the medial axis of
+ * their boundary. Between tb_metaball_cut_begin and tb_metaball_cut_end run
+ * tb_metaball_cut_step instead of tb_metaball_step. */
+struct tb_fold;
+struct tb_meshless;
+
+typedef struct tb_metaball_cut_settings {
+  double spacing;  /* the shared grid's spacing over the smallest radius (uniform sampling) */
+  int per_sphere;  /* > 0: about this many points per sphere instead, spacing from each radius */
+  double min_dist; /* per_sphere: no point closer than min_dist x its spacing to another */
+  double E, nu;    /* the point set's Young's modulus and Poisson ratio */
+  double density;  /* its mass per volume; 0: the spheres' */
+  double damping;  /* per second, the point set's velocity decay */
+  double coupling; /* share of the point set's elastic force on driven points fed to spheres */
+  int substeps;    /* meshless steps per frame; 0: from the explicit bound (cfl) */
+  double cfl;      /* substep = cfl x 2 / the point set's largest free frequency */
+  double boundary_angle;  /* degrees: the patent's cone about a point's normal */
+  double boundary_offset; /* neighbour-centroid offset over mean neighbour distance */
+} tb_metaball_cut_settings;
+
+/* spacing 0.3, per_sphere 0, min_dist 0.6, E 1000, nu 0.3, density 0,
+ * damping 2, coupling 1, substeps 0, cfl 0.5, boundary_angle 45,
+ * boundary_offset 0.25. */
+void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s);
+
+/* Starts a cut (no points yet). Fails when a cut is running or on bad
+ * settings. */
+int tb_metaball_cut_begin(tb_metaball *m, const tb_metaball_cut_settings *s, tb_error *err);
+/* The blade's folded plane so far (copied): spheres it newly touches become
+ * points and are removed; the point set is rebuilt, its links re-cut.
+ * Returns the spheres turned into points by this call, or -1 (err). */
+int tb_metaball_cut_advance(tb_metaball *m, const struct tb_fold *f, tb_error *err);
+/* One frame of the cut phase: the spheres (tb_metaball_step with the point
+ * set's force on them added to `force`, which may be NULL), then the point
+ * set in substeps with its driven points following their spheres. Allocates
+ * nothing. 0, or -1 (err: no cut running, or the point set blew up). */
+int tb_metaball_cut_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_vec3 *force,
+                         tb_error *err);
+
+typedef struct tb_metaball_cut_report {
+  int removed, created;        /* spheres turned into points; spheres made from them */
+  double removed_r, created_r; /* their mean radii */
+  int points, boundary;        /* points at the end, of which on the boundary */
+  int candidates;              /* Voronoi poles accepted as centres */
+  int uncovered;               /* points no sphere reaches (within a spacing) */
+  int dropped;                 /* new spheres that overlapped no other one, removed */
+} tb_metaball_cut_report;
+
+/* The blade has left: new spheres on the medial axis of the boundary
+ * points, linked to overlapping spheres except across the cut; the points
+ * go. rep may be NULL. 0, or -1 (err). */
+int tb_metaball_cut_end(tb_metaball *m, tb_metaball_cut_report *rep, tb_error *err);
+
+/* 1 between cut_begin and cut_end. */
+int tb_metaball_cutting(const tb_metaball *m);
+/* The point set's current positions (NULL when none); returns their count. */
+int tb_metaball_cut_points(const tb_metaball *m, const tb_vec3 **x);
+/* The point set itself (NULL when none), e.g. for its links. */
+const struct tb_meshless *tb_metaball_cut_meshless(const tb_metaball *m);
+/* Meshless steps the last tb_metaball_cut_step took. */
+int tb_metaball_cut_substeps(const tb_metaball *m);
+/* Point i's sphere driving it (-1: free, -2: held where a fixed sphere was). */
+int tb_metaball_cut_driver(const tb_metaball *m, int i);
+/* 1 when sphere i has not been removed. */
+int tb_metaball_alive(const tb_metaball *m, int i);
+
+/* Replaces the skin by nv >= the old count vertices at current positions x
+ * (a surface cutter keeps the old vertices first). Vertices past the old
+ * count and those with rebind[v] != 0 (rebind may be NULL) are bound anew
+ * at the current configuration: the spheres with the smallest k = d / r in
+ * [1, 2] on current positions, and a rest offset so that the skin formula
+ * gives x exactly; side[v] = +1 or -1 (side may be NULL) restricts them to
+ * spheres whose centre is on that side of the last cut's folded plane.
+ * The others keep their binding. 0, or -1 (err). */
+int tb_metaball_set_skin(tb_metaball *m, int nv, const tb_vec3 *x, const signed char *side,
+                         const unsigned char *rebind, tb_error *err);
+
 #endif

@@ -1,0 +1,438 @@
+/* The volume side of the metaball patent's cut (CN doc. 12722810, step 3
+ * (1)-(4), "从元球到点集再到元球"; issue 14 §3; tb_metaball.h):
+ *
+ * (1) Spheres to points. Spheres the blade's folded plane touches
+ * (tb_fold_sphere at their current centres) turn into points and are removed
+ * logically (tb_metaball_remove). Sampling, as the patent offers: a uniform
+ * grid over the organ's rest bounding box shared by all spheres, spacing a
+ * fraction of the smallest radius (a grid point belongs to the first
+ * converted sphere containing it); or, for very unequal radii, about N
+ * points per sphere on its own lattice (spacing r (4 pi / 3 N)^(1/3)),
+ * dropping lattice points closer than min_dist x spacing to points already
+ * taken (the patent's minimum distance in overlaps). A point's rest position
+ * is the lattice point X; its current one c + R (X - c0) by its sphere's
+ * motion (R: the sphere's unit-constraint rotation).
+ *
+ * (2) The point set is the simplified meshless body of models/meshless.c,
+ * rebuilt over all points whenever spheres are converted (velocities of
+ * earlier points restart at zero: the meshless module sets no velocities),
+ * its links cut at the current positions by the whole fold so far (created
+ * uncut, then tb_meshless_relink). The fold grows each frame: every advance
+ * re-cuts the links.
+ *
+ * (3) Coupling. A point whose rest position lies inside a sphere still alive
+ * (searched among the spheres its own sphere was linked to; the deepest,
+ * smallest d / r) is driven by it: its position is prescribed to
+ * c + R (X - c0), interpolated linearly over the frame's substeps. Points of
+ * a fixed sphere inside no alive sphere are held. Back from points to
+ * spheres, the "energy constraint" (能量约束) is read as the gradient of the
+ * point set's elastic energy U with respect to each sphere's position: the
+ * driven points move with their sphere, so -dU/dc_s = sum over its driven
+ * points p of f_p, the elastic force on p (tb_meshless_forces), which is
+ * added, times `coupling`, to the sphere's force in tb_metaball_step (the
+ * patent says only that small motions of the points return to the spheres
+ * by energy constraints; rotations are not fed back). Explicitly that force
+ * blows a light sphere up (k_s dt^2 / m_s >> 1 for a small sphere on a stiff
+ * point set), so it enters linearly implicitly, one backward-Euler step of
+ * the coupling stiffness k_s (Baraff & Witkin 1998, "Large steps in cloth
+ * simulation", for one degree of freedom): with b = dt^2 k_s / m_s, G the
+ * sphere's other forces and v its velocity, F_eff = (F - b G - b m_s v / dt)
+ * / (1 + b), which keeps every equilibrium (F = -G, v = 0) and is stable
+ * for any k_s; k_s is the change of F when the sphere's driven points move
+ * (finite differences, see max_frequency). The meshless body is
+ * explicit (stable for dt omega < 2): substeps of at most cfl x 2 / omega,
+ * omega its largest free frequency, found by power iteration on finite
+ * differences of its forces whenever its points or links change (a fixed
+ * p-wave bound is not enough: a nearly flat stencil is far stiffer).
+ *
+ * (4) Points back to spheres (cut_end). Boundary points: a point with no
+ * neighbour inside the cone of half-angle boundary_angle about its normal
+ * (the patent's normal, from its generating sphere's centre, here the
+ * centroid of that sphere's points now, to the point), or whose neighbour
+ * centroid is off by more than boundary_offset of its mean neighbour
+ * distance (the patent's test alone misses a cut face on the far side of
+ * the centre); points with fewer than 4 neighbours too; points with none
+ * are strays and ignored. The outward normal is minus the neighbour-centroid
+ * direction. The inner Voronoi poles of the boundary points (CGAL,
+ * tb_voronoi_poles) are the medial axis; a pole is a candidate when its
+ * radius (the distance to the nearest boundary point: its Delaunay ball is
+ * empty) is at least one spacing, it lies within one spacing of some point
+ * (inside the cloud) and its segment to its sample does not cross the fold.
+ * Largest first, in passes with alpha = 1, 0.5, 0.25, 0, a candidate is
+ * taken when its centre is not within alpha R of a sphere taken (centre C,
+ * radius R) and it reaches a point not yet covered (within its radius plus
+ * a spacing, the points' own extent; points driven by alive spheres count as covered); stop
+ * when every point is covered. The patent's "or to the spheres already
+ * placed" as the radius would make tangent spheres, which do not link: here
+ * the placed spheres only space the centres. A new sphere's rest centre and
+ * rotation come from the rigid fit (rest to current) of the points inside
+ * it on its side of the cut. Links: the old ones kept (unless they cross
+ * the fold), new ones between a new sphere and any alive sphere overlapping
+ * it at rest whose centre segment (current) does not cross the fold; then
+ * the unit constraints are rebuilt. A new sphere left with no link (a
+ * small one in a corner) would float free: it is removed again (dropped).
+ *
+ * Skin (step 3 (5), re-binding): tb_metaball_set_skin binds vertices at the
+ * current configuration, with the rest offset x0 solving
+ * sum_s w_s (c_s + R_s (x0 - c0_s)) = x, so the skin reproduces x. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "metaball_priv.h"
+#include "tb_fold.h"
+#include "tb_meshless.h"
+
+void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s) {
+  s->spacing = 0.3, s->per_sphere = 0, s->min_dist = 0.6;
+  s->E = 1000, s->nu = 0.3, s->density = 0, s->damping = 2, s->coupling = 1;
+  s->substeps = 0, s->cfl = 0.5, s->boundary_angle = 45, s->boundary_offset = 0.25;
+}
+
+void tb_metaball_cut_free_points(tb_metaball_cutstate *c) {
+  tb_meshless_destroy(c->ml);
+  free(c->X), free(c->x), free(c->held), free(c->vol), free(c->gen), free(c->driver);
+  free(c->removed), free(c->pstart), free(c->ids), free(c->fx0), free(c->fx1), free(c->fx);
+  free(c->fpts), free(c->fsph), free(c->fel), free(c->ks);
+  c->ks = NULL, c->fel = NULL, c->ml = NULL, c->X = c->x = c->held = NULL, c->vol = NULL,
+  c->gen = c->driver = NULL;
+  c->removed = c->pstart = c->ids = NULL, c->fx0 = c->fx1 = c->fx = c->fpts = c->fsph = NULL;
+  c->np = c->pcap = c->nrem = c->rcap = c->nd = 0, c->rsum = 0;
+}
+
+void tb_metaball_cut_release(tb_metaball *m) {
+  if (!m->cut) return;
+  tb_metaball_cut_free_points(m->cut);
+  tb_fold_free(&m->cut->fold);
+  free(m->cut);
+  m->cut = NULL;
+}
+
+int tb_metaball_cut_begin(tb_metaball *m, const tb_metaball_cut_settings *s, tb_error *err) {
+  if (m->cut && m->cut->cutting) return tb_error_set(err, "metaball cut", 0, "a cut is running");
+  if (!(s->E > 0) || !(s->nu > -1 && s->nu < 0.5) || !(s->density >= 0) || !(s->damping >= 0) ||
+      !(s->coupling >= 0) || s->substeps < 0 || !(s->cfl > 0 && s->cfl <= 1) ||
+      !(s->boundary_angle > 0 && s->boundary_angle <= 90) || !(s->boundary_offset > 0) ||
+      s->per_sphere < 0 || s->per_sphere > 100000 || !(s->min_dist >= 0 && s->min_dist <= 1) ||
+      (s->per_sphere == 0 && !(s->spacing > 0 && s->spacing <= 1)))
+    return tb_error_set(err, "metaball cut", 0,
+                        "bad settings (E > 0, -1 < nu < 1/2, spacing in (0, 1], cfl in (0, 1], "
+                        "boundary_angle in (0, 90], the rest >= 0)");
+  if (!m->cut && !(m->cut = calloc(1, sizeof *m->cut)))
+    return tb_error_set(err, "metaball cut", 0, "out of memory");
+  tb_metaball_cutstate *c = m->cut;
+  tb_metaball_cut_free_points(c);
+  c->set = *s, c->density = s->density > 0 ? s->density : m->set.density;
+  double rmin = INFINITY, rmax = 0;
+  tb_vec3 lo = tb_v3(INFINITY, INFINITY, INFINITY);
+  for (int i = 0; i < m->n; i++) {
+    if (!m->alive[i]) continue;
+    rmin = fmin(rmin, m->r[i]), rmax = fmax(rmax, m->r[i]);
+    lo = tb_vmin(lo, tb_sub(m->c0[i], tb_v3(m->r[i], m->r[i], m->r[i])));
+  }
+  if (!(rmax > 0)) return tb_error_set(err, "metaball cut", 0, "no sphere left to cut");
+  c->glo = lo;
+  if (s->per_sphere > 0) {
+    c->spacing = rmin * cbrt(4 * M_PI / (3.0 * s->per_sphere));
+  } else {
+    c->spacing = s->spacing * rmin;
+    double most = 4.0 / 3.0 * M_PI * pow(rmax / c->spacing, 3);
+    if (most > 2e6)
+      return tb_error_set(err, "metaball cut", 0,
+                          "the shared grid puts %.3g points in the largest sphere (radii %g to "
+                          "%g): use per_sphere",
+                          most, rmin, rmax);
+  }
+  c->cutting = 1;
+  return 0;
+}
+
+/* ---- (1) spheres to points ---- */
+
+static int push_point(tb_metaball_cutstate *c, tb_vec3 X, tb_vec3 x, double vol, int gen) {
+  if (c->np == c->pcap) {
+    int cap = c->pcap ? 2 * c->pcap : 1024;
+    tb_vec3 *a = realloc(c->X, sizeof(tb_vec3) * (size_t)cap);
+    if (a) c->X = a;
+    tb_vec3 *b = realloc(c->x, sizeof(tb_vec3) * (size_t)cap);
+    if (b) c->x = b;
+    double *v = realloc(c->vol, sizeof(double) * (size_t)cap);
+    if (v) c->vol = v;
+    int *g = realloc(c->gen, sizeof(int) * (size_t)cap);
+    if (g) c->gen = g;
+    if (!a || !b || !v || !g) return -1;
+    c->pcap = cap;
+  }
+  c->X[c->np] = X, c->x[c->np] = x, c->vol[c->np] = vol, c->gen[c->np++] = gen;
+  return 0;
+}
+
+/* 1 when X is already taken by a sphere converted before (shared grid: it
+ * lies in one; per sphere: a point of one is closer than dmin). */
+static int taken(const tb_metaball *m, const tb_metaball_cutstate *c, int s, tb_vec3 X,
+                 double dmin) {
+  for (int k = 0; k < c->nrem; k++) {
+    int j = c->removed[k];
+    if (!(tb_dist(m->c0[s], m->c0[j]) < m->r[s] + m->r[j] + dmin)) continue;
+    if (c->set.per_sphere == 0) {
+      if (tb_dist(X, m->c0[j]) <= m->r[j]) return 1;
+      continue;
+    }
+    for (int p = c->pstart[k]; p < c->pstart[k + 1]; p++)
+      if (tb_dist(X, c->X[p]) < dmin) return 1;
+  }
+  return 0;
+}
+
+/* Sphere s's points (see the head), appended; s is recorded as removed. */
+static int convert(tb_metaball *m, tb_metaball_cutstate *c, int s) {
+  if (c->nrem + 1 >= c->rcap) {
+    int cap = c->rcap ? 2 * c->rcap : 64;
+    int *a = realloc(c->removed, sizeof(int) * (size_t)cap);
+    if (a) c->removed = a;
+    int *b = realloc(c->pstart, sizeof(int) * (size_t)(cap + 1));
+    if (b) c->pstart = b;
+    if (!a || !b) return -1;
+    c->rcap = cap;
+  }
+  double r = m->r[s],
+         h = c->set.per_sphere > 0 ? r * cbrt(4 * M_PI / (3.0 * c->set.per_sphere)) : c->spacing;
+  double dmin = c->set.per_sphere > 0 ? c->set.min_dist * h : 0;
+  tb_vec3 o = c->set.per_sphere > 0 ? m->c0[s] : tb_madd(c->glo, 0.5, tb_v3(h, h, h));
+  int lo[3], hi[3];
+  for (int a = 0; a < 3; a++) {
+    lo[a] = (int)floor((tb_comp(m->c0[s], a) - r - tb_comp(o, a)) / h);
+    hi[a] = (int)ceil((tb_comp(m->c0[s], a) + r - tb_comp(o, a)) / h);
+  }
+  c->pstart[c->nrem] = c->np;
+  for (int k = lo[2]; k <= hi[2]; k++)
+    for (int j = lo[1]; j <= hi[1]; j++)
+      for (int i = lo[0]; i <= hi[0]; i++) {
+        tb_vec3 X = tb_add(o, tb_v3(i * h, j * h, k * h));
+        if (tb_dist(X, m->c0[s]) > r || taken(m, c, s, X, dmin)) continue;
+        tb_vec3 x = tb_add(m->c[s], tb_m3_mulv(m->rot[s], tb_sub(X, m->c0[s])));
+        if (push_point(c, X, x, h * h * h, s)) return -1;
+      }
+  c->removed[c->nrem++] = s, c->pstart[c->nrem] = c->np, c->rsum += r;
+  tb_metaball_remove(m, s);
+  return 0;
+}
+
+/* The meshless cut test: a quick box reject, then the exact segment test. */
+int tb_metaball_cut_crosses(void *ctx, tb_vec3 a, tb_vec3 b) {
+  const tb_metaball_cutstate *c = ctx;
+  tb_vec3 lo = tb_vmin(a, b), hi = tb_vmax(a, b);
+  if (lo.x > c->fhi.x || lo.y > c->fhi.y || lo.z > c->fhi.z || hi.x < c->flo.x || hi.y < c->flo.y ||
+      hi.z < c->flo.z)
+    return 0;
+  return tb_fold_segment(&c->fold, a, b, NULL);
+}
+
+static int copy_fold(tb_metaball_cutstate *c, const tb_fold *f, tb_error *err) {
+  tb_fold_free(&c->fold);
+  c->has_fold = 0;
+  if (tb_fold_init(&c->fold, f->p, f->count, f->depth, err)) return -1;
+  c->flo = c->fold.p[0], c->fhi = c->fold.p[0];
+  for (int i = 0; i < c->fold.count; i++) {
+    c->flo = tb_vmin(c->flo, tb_vmin(c->fold.p[i], c->fold.q[i]));
+    c->fhi = tb_vmax(c->fhi, tb_vmax(c->fold.p[i], c->fold.q[i]));
+  }
+  c->has_fold = 1;
+  return 0;
+}
+
+/* Each point's driver (see the head) and the per-frame buffers. */
+static int drive(tb_metaball *m, tb_metaball_cutstate *c) {
+  int *d = realloc(c->driver, sizeof(int) * (size_t)c->np);
+  tb_vec3 *hp = realloc(c->held, sizeof(tb_vec3) * (size_t)c->np);
+  if (d) c->driver = d;
+  if (hp) c->held = hp;
+  if (!d || !hp) return -1;
+  int nd = 0;
+  for (int p = 0; p < c->np; p++) {
+    int g = c->gen[p], best = -1;
+    double kb = INFINITY;
+    for (int q = m->cstart[g]; q < m->cstart[g + 1]; q++) {
+      int s = m->cmember[q];
+      double k = tb_dist(c->X[p], m->c0[s]) / m->r[s];
+      if (m->alive[s] && k <= 1 && k < kb) kb = k, best = s;
+    }
+    if (best < 0 && m->fixed[g]) best = -2, c->held[p] = c->x[p];
+    c->driver[p] = best, nd += best != -1;
+  }
+  free(c->ids), free(c->fx0), free(c->fx1), free(c->fx), free(c->fpts), free(c->fsph), free(c->fel),
+      free(c->ks);
+  size_t D = (size_t)(nd > 0 ? nd : 1);
+  c->ids = malloc(sizeof(int) * D), c->fx0 = malloc(sizeof(tb_vec3) * D);
+  c->fx1 = malloc(sizeof(tb_vec3) * D), c->fx = malloc(sizeof(tb_vec3) * D);
+  c->fpts = malloc(sizeof(tb_vec3) * (size_t)c->np),
+  c->fsph = malloc(sizeof(tb_vec3) * (size_t)m->n);
+  c->fel = malloc(sizeof(tb_vec3) * (size_t)m->n), c->ks = calloc((size_t)m->n, sizeof(double));
+  if (!c->ids || !c->fx0 || !c->fx1 || !c->fx || !c->fpts || !c->fsph || !c->fel || !c->ks)
+    return -1;
+  c->nd = 0;
+  for (int p = 0; p < c->np; p++)
+    if (c->driver[p] != -1) c->ids[c->nd++] = p;
+  return 0;
+}
+
+/* The point set's largest angular frequency: power iteration on M^-1 K over
+ * the points not driven, K from forward differences of the
+ * forces (tb_meshless_forces) at a displacement of 1e-6 spacing, from a
+ * fixed start vector, 40 iterations; then each driving sphere's coupling
+ * stiffness k_s the same way. The positions are restored. */
+static int max_frequency(tb_metaball_cutstate *c, int nsph) {
+  int n = c->np;
+  tb_vec3 *u = malloc(sizeof(tb_vec3) * (size_t)n), *f1 = malloc(sizeof(tb_vec3) * (size_t)n);
+  tb_vec3 *xs = malloc(sizeof(tb_vec3) * (size_t)n);
+  if (!u || !f1 || !xs) return free(u), free(f1), free(xs), -1;
+  const tb_vec3 *x = tb_meshless_positions(c->ml);
+  memcpy(c->x, x, sizeof(tb_vec3) * (size_t)n);
+  tb_meshless_forces(c->ml, c->fpts);
+  for (int i = 0; i < n; i++)
+    u[i] = c->driver[i] != -1 ? tb_v3(0, 0, 0)
+                              : tb_v3(1 + i % 3, 2 - (i * 7) % 5, 1 - (i * 13) % 4 * 0.5);
+  double eps = 1e-6 * c->spacing, lam = 0;
+  for (int it = 0; it < 40; it++) {
+    double un = 0;
+    for (int i = 0; i < n; i++) un += tb_dot(u[i], u[i]);
+    if (!(un > 0)) break;
+    un = sqrt(un);
+    for (int i = 0; i < n; i++) xs[i] = tb_madd(c->x[i], eps / un, u[i]);
+    tb_meshless_set_positions(c->ml, xs);
+    tb_meshless_forces(c->ml, f1);
+    double an = 0;
+    for (int i = 0; i < n; i++) {
+      u[i] = c->driver[i] != -1
+                 ? tb_v3(0, 0, 0)
+                 : tb_scale(tb_sub(f1[i], c->fpts[i]), -1 / tb_meshless_mass(c->ml, i));
+      an += tb_dot(u[i], u[i]);
+    }
+    lam = sqrt(an) / eps;
+  }
+  c->omega = sqrt(lam);
+  /* each driving sphere's coupling stiffness: its driven points moved by
+   * eps along (1, 1, 1) / sqrt 3, the change of their summed force */
+  tb_vec3 dir = tb_scale(tb_v3(1, 1, 1), eps / sqrt(3.0));
+  for (int s = 0; s < nsph; s++) c->ks[s] = 0;
+  for (int k = 0; k < c->nd; k++) {
+    int s = c->driver[c->ids[k]];
+    if (s < 0 || c->ks[s] != 0) continue;
+    memcpy(xs, c->x, sizeof(tb_vec3) * (size_t)n);
+    for (int q = k; q < c->nd; q++)
+      if (c->driver[c->ids[q]] == s) xs[c->ids[q]] = tb_add(xs[c->ids[q]], dir);
+    tb_meshless_set_positions(c->ml, xs);
+    tb_meshless_forces(c->ml, f1);
+    tb_vec3 df = tb_v3(0, 0, 0);
+    for (int q = k; q < c->nd; q++)
+      if (c->driver[c->ids[q]] == s) df = tb_add(df, tb_sub(f1[c->ids[q]], c->fpts[c->ids[q]]));
+    c->ks[s] = fmax(tb_len(df) / eps, 1e-300);
+  }
+  tb_meshless_set_positions(c->ml, c->x);
+  free(u), free(f1), free(xs);
+  return 0;
+}
+
+static int total_links(const tb_meshless *ml) {
+  int n = tb_meshless_count(ml), sum = 0;
+  for (int i = 0; i < n; i++) sum += tb_meshless_neighbours(ml, i, NULL);
+  return sum;
+}
+
+int tb_metaball_cut_advance(tb_metaball *m, const tb_fold *f, tb_error *err) {
+  tb_metaball_cutstate *c = m->cut;
+  if (!c || !c->cutting) return tb_error_set(err, "metaball cut", 0, "no cut running");
+  if (!f || f->count < 2) return tb_error_set(err, "metaball cut", 0, "no folded plane");
+  if (copy_fold(c, f, err)) return -1;
+  int np0 = c->np, converted = 0;
+  if (c->ml) memcpy(c->x, tb_meshless_positions(c->ml), sizeof(tb_vec3) * (size_t)np0);
+  for (int s = 0; s < m->n; s++) {
+    if (!m->alive[s] || !tb_fold_sphere(&c->fold, m->c[s], m->r[s], NULL)) continue;
+    if (convert(m, c, s)) return tb_error_set(err, "metaball cut", 0, "out of memory");
+    converted++;
+  }
+  if (converted) {
+    tb_meshless_destroy(c->ml);
+    c->ml = NULL;
+    if (c->np < 2)
+      return tb_error_set(err, "metaball cut", 0, "the spheres cut gave %d points", c->np);
+    c->ml =
+        tb_meshless_create(c->np, c->X, c->vol, c->set.E, c->set.nu, c->density, NULL, NULL, err);
+    if (!c->ml) return -1;
+    tb_meshless_set_damping(c->ml, c->set.damping);
+    tb_meshless_set_positions(c->ml, c->x);
+    if (drive(m, c)) return tb_error_set(err, "metaball cut", 0, "out of memory");
+  }
+  if (!c->ml) return converted;
+  int before = total_links(c->ml);
+  tb_meshless_relink(c->ml, tb_metaball_cut_crosses, c, err);
+  if ((converted || total_links(c->ml) != before) && max_frequency(c, m->n))
+    return tb_error_set(err, "metaball cut", 0, "out of memory");
+  return converted;
+}
+
+/* ---- (3) the coupled frame ---- */
+
+static tb_vec3 follow(const tb_metaball *m, const tb_metaball_cutstate *c, int p) {
+  int s = c->driver[p];
+  if (s < 0) return c->held[p];
+  return tb_add(m->c[s], tb_m3_mulv(m->rot[s], tb_sub(c->X[p], m->c0[s])));
+}
+
+int tb_metaball_cut_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_vec3 *force,
+                         tb_error *err) {
+  tb_metaball_cutstate *c = m->cut;
+  if (!c || !c->cutting) return tb_error_set(err, "metaball cut", 0, "no cut running");
+  if (!(dt > 0)) return tb_error_set(err, "metaball cut", 0, "dt must be positive");
+  if (!c->ml) {
+    tb_metaball_step(m, dt, gravity, force);
+    return 0;
+  }
+  tb_meshless_forces(c->ml, c->fpts);
+  for (int i = 0; i < m->n; i++) c->fsph[i] = force ? force[i] : tb_v3(0, 0, 0);
+  const tb_vec3 *x = tb_meshless_positions(c->ml);
+  for (int k = 0; k < c->nd; k++) c->fx0[k] = x[c->ids[k]];
+  for (int s = 0; s < m->n; s++) c->fel[s] = tb_v3(0, 0, 0);
+  for (int k = 0; k < c->nd; k++) {
+    int p = c->ids[k], s = c->driver[p];
+    if (s >= 0) c->fel[s] = tb_madd(c->fel[s], c->set.coupling, c->fpts[p]);
+  }
+  for (int s = 0; s < m->n; s++) { /* linearly implicit: F_eff = (F - b G - b m v / dt) / (1 + b) */
+    if (!m->alive[s] || m->fixed[s] || c->ks[s] == 0) continue;
+    double b = dt * dt * c->set.coupling * c->ks[s] * m->w[s];
+    tb_vec3 G = tb_madd(c->fsph[s], m->m[s], gravity);
+    tb_vec3 f = tb_madd(tb_madd(c->fel[s], -b, G), -b * m->m[s] / dt, m->v[s]);
+    c->fsph[s] = tb_add(c->fsph[s], tb_scale(f, 1 / (1 + b)));
+  }
+  tb_metaball_step(m, dt, gravity, c->fsph);
+  for (int k = 0; k < c->nd; k++) c->fx1[k] = follow(m, c, c->ids[k]);
+  int K = c->set.substeps;
+  if (K == 0) K = (int)fmin(ceil(dt * c->omega / (2 * c->set.cfl)), 1e6);
+  if (K < 1) K = 1;
+  c->last_substeps = K;
+  for (int j = 1; j <= K; j++) {
+    double t = (double)j / K;
+    for (int k = 0; k < c->nd; k++) c->fx[k] = tb_lerp(c->fx0[k], c->fx1[k], t);
+    if (tb_meshless_step(c->ml, dt / K, gravity, c->nd, c->ids, c->fx, err)) return -1;
+  }
+  return 0;
+}
+
+/* ---- getters ---- */
+
+int tb_metaball_cutting(const tb_metaball *m) { return m->cut && m->cut->cutting; }
+int tb_metaball_cut_points(const tb_metaball *m, const tb_vec3 **x) {
+  const tb_metaball_cutstate *c = m->cut;
+  int has = c && c->cutting && c->ml;
+  if (x) *x = has ? tb_meshless_positions(c->ml) : NULL;
+  return has ? c->np : 0;
+}
+const tb_meshless *tb_metaball_cut_meshless(const tb_metaball *m) {
+  return m->cut && m->cut->cutting ? m->cut->ml : NULL;
+}
+int tb_metaball_cut_driver(const tb_metaball *m, int i) {
+  const tb_metaball_cutstate *c = m->cut;
+  return c && c->ml && i >= 0 && i < c->np ? c->driver[i] : -1;
+}
+int tb_metaball_alive(const tb_metaball *m, int i) { return i >= 0 && i < m->n && m->alive[i]; }
+int tb_metaball_cut_substeps(const tb_metaball *m) { return m->cut ? m->cut->last_substeps : 0; }
