@@ -160,6 +160,7 @@ static const struct {
     {"meshless", tb_tests_meshless},
     {"fold", tb_tests_fold},
     {"fold_tri", tb_tests_fold_tri},
+    {"cut_surface", tb_tests_cut_surface},
 };
 
 static int selected(const char *id, int argc, char **argv) {

@@ -90,5 +90,6 @@ extern const tb_test_case tb_tests_sph[];
 extern const tb_test_case tb_tests_meshless[];
 extern const tb_test_case tb_tests_fold[];
 extern const tb_test_case tb_tests_fold_tri[];
+extern const tb_test_case tb_tests_cut_surface[];
 
 #endif
