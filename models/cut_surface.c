@@ -74,38 +74,28 @@ static int grow(void **a, int *cap, int need, size_t size) {
 
 /* ---- topology utilities ---- */
 
-typedef struct dedge {
-  int64_t key; /* a * nv + b for the directed edge a -> b */
-  int tri;
-} dedge;
+/* Outgoing directed edges per vertex (CSR): for vertex a, out[start[a] .. start[a+1]) are
+ * the triangles t with a corner k at a, stored as 3 t + k; the edge runs a -> tri[3t+(k+1)%3]. */
+typedef struct vstar {
+  int *start, *out;
+} vstar;
 
-static int cmp_dedge(const void *pa, const void *pb) {
-  const dedge *a = pa, *b = pb;
-  if (a->key != b->key) return a->key < b->key ? -1 : 1;
-  return (a->tri > b->tri) - (a->tri < b->tri);
+static int vstar_build(vstar *vs, int nv, int ntri, const int *tri) {
+  vs->start = calloc((size_t)nv + 2, sizeof *vs->start);
+  vs->out = malloc((size_t)(3 * ntri + 1) * sizeof *vs->out);
+  if (!vs->start || !vs->out) return -1;
+  for (int i = 0; i < 3 * ntri; i++) vs->start[tri[i] + 2]++;
+  for (int v = 0; v < nv; v++) vs->start[v + 2] += vs->start[v + 1];
+  for (int i = 0; i < 3 * ntri; i++) vs->out[vs->start[tri[i] + 1]++] = i;
+  return 0;
 }
+static void vstar_free(vstar *vs) { free(vs->start), free(vs->out); }
 
-/* Directed edges sorted; returns the array (3 ntri) or NULL. */
-static dedge *sorted_edges(int nv, int ntri, const int *tri) {
-  dedge *e = malloc((size_t)(3 * ntri + 1) * sizeof *e);
-  if (!e) return NULL;
-  for (int t = 0; t < ntri; t++)
-    for (int k = 0; k < 3; k++)
-      e[3 * t + k].key = (int64_t)tri[3 * t + k] * nv + tri[3 * t + (k + 1) % 3],
-                e[3 * t + k].tri = t;
-  qsort(e, (size_t)3 * ntri, sizeof *e, cmp_dedge);
-  return e;
-}
-
-static int find_edge(const dedge *e, int n, int64_t key) {
-  int lo = 0, hi = n - 1;
-  while (lo <= hi) {
-    int mid = (lo + hi) / 2;
-    if (e[mid].key == key) return e[mid].tri;
-    if (e[mid].key < key)
-      lo = mid + 1;
-    else
-      hi = mid - 1;
+/* The corner 3 t + k whose edge runs a -> b, the first in triangle order; -1 when none. */
+static int find_edge(const vstar *vs, const int *tri, int a, int b) {
+  for (int i = vs->start[a]; i < vs->start[a + 1]; i++) {
+    int h = vs->out[i];
+    if (tri[h - h % 3 + (h % 3 + 1) % 3] == b) return h;
   }
   return -1;
 }
@@ -118,34 +108,27 @@ int tb_cut_is_closed_manifold(int nv, int ntri, const int *tri) {
     const int *c = tri + 3 * t;
     if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) return 0;
   }
-  dedge *e = sorted_edges(nv, ntri, tri);
-  int *deg = calloc((size_t)nv, sizeof *deg), *first = malloc((size_t)nv * sizeof *first);
-  int ok = e && deg && first, n = 3 * ntri;
-  for (int i = 0; ok && i + 1 < n; i++) ok = e[i].key != e[i + 1].key;
-  for (int i = 0; ok && i < n; i++) {
-    int a = (int)(e[i].key / nv), b = (int)(e[i].key % nv);
-    ok = find_edge(e, n, (int64_t)b * nv + a) >= 0;
+  vstar vs;
+  int ok = vstar_build(&vs, nv, ntri, tri) == 0;
+  /* every directed edge once, its reverse present */
+  for (int h = 0; ok && h < 3 * ntri; h++) {
+    int a = tri[h], b = tri[h - h % 3 + (h % 3 + 1) % 3];
+    ok = find_edge(&vs, tri, a, b) == h && find_edge(&vs, tri, b, a) >= 0;
   }
-  for (int v = 0; v < nv && ok; v++) first[v] = -1;
-  for (int t = 0; t < ntri && ok; t++)
-    for (int k = 0; k < 3; k++) {
-      int v = tri[3 * t + k];
-      deg[v]++;
-      if (first[v] < 0) first[v] = t;
-    }
-  /* The link of v: from a triangle (v, w, ..), the one running w -> v is the next around v. */
+  /* The link of v: from the corner (v, w, ..), the triangle running w -> v is the next around
+   * v; the walk must visit every corner of v. */
   for (int v = 0; v < nv && ok; v++) {
-    if (first[v] < 0) continue;
-    int t = first[v], steps = 0;
+    int deg = vs.start[v + 1] - vs.start[v];
+    if (!deg) continue;
+    int h0 = vs.out[vs.start[v]], h = h0, steps = 0;
     do {
-      int k = tri[3 * t] == v ? 0 : (tri[3 * t + 1] == v ? 1 : 2);
-      int w = tri[3 * t + (k + 1) % 3];
-      t = find_edge(e, n, (int64_t)w * nv + v);
+      int w = tri[h - h % 3 + (h % 3 + 1) % 3], g = find_edge(&vs, tri, w, v);
+      h = g < 0 ? -1 : g - g % 3 + (g % 3 + 1) % 3; /* the corner of v in that triangle */
       steps++;
-    } while (t >= 0 && t != first[v] && steps <= deg[v]);
-    ok = t == first[v] && steps == deg[v];
+    } while (h >= 0 && h != h0 && steps <= deg);
+    ok = h == h0 && steps == deg;
   }
-  free(e), free(deg), free(first);
+  vstar_free(&vs);
   return ok;
 }
 
@@ -513,6 +496,49 @@ static int corner_vertex(cutter *c, int which) { /* which = 2 i (+1 for q_i) */
   return c->corner_id[which];
 }
 
+/* The grid (i / ns, j / nt) of piece k: points inside the organ's box, farther than minsep
+ * from every constraint (only the grid points in each constraint's reach are measured:
+ * lines of constant s lie |e| sin(angle(e, D)) apart per unit of s) and from the points
+ * after nfixed (the caller's). */
+static int grid_points(cutter *c, int k, int ns, int nt, double minsep, cpt *pt, int *np,
+                       int nfixed, const int *sg, int nseg) {
+  const tb_fold *f = c->f;
+  double el = tb_len(f->piece[k].e), dl = tb_len(f->depth);
+  double sine = tb_len(tb_cross(f->piece[k].e, f->depth)) / (el * dl);
+  int ms = (int)ceil(minsep / (el * sine) * ns) + 1, mt = (int)ceil(minsep / (dl * sine) * nt) + 1;
+  int nextra = *np;
+  unsigned char *bad = calloc((size_t)(ns + 1) * (nt + 1), 1);
+  if (!bad) return NOMEM;
+  for (int j = 0; j < nseg; j++) {
+    const cpt *a = &pt[sg[2 * j]], *b = &pt[sg[2 * j + 1]];
+    tb_vec3 A = piece_point(f, k, a->s, a->t), B = piece_point(f, k, b->s, b->t);
+    int i0 = (int)floor(fmin(a->s, b->s) * ns) - ms, i1 = (int)ceil(fmax(a->s, b->s) * ns) + ms;
+    int j0 = (int)floor(fmin(a->t, b->t) * nt) - mt, j1 = (int)ceil(fmax(a->t, b->t) * nt) + mt;
+    i0 = i0 < 1 ? 1 : i0, j0 = j0 < 1 ? 1 : j0, i1 = i1 > ns - 1 ? ns - 1 : i1;
+    j1 = j1 > nt - 1 ? nt - 1 : j1;
+    for (int jj = j0; jj <= j1; jj++)
+      for (int ii = i0; ii <= i1; ii++)
+        if (!bad[ii + (ns + 1) * jj] &&
+            seg_dist(piece_point(f, k, (double)ii / ns, (double)jj / nt), A, B) < minsep)
+          bad[ii + (ns + 1) * jj] = 1;
+  }
+  tb_vec3 lo = c->x[0], hi = c->x[0];
+  for (int v = 1; v < c->nv; v++) lo = tb_vmin(lo, c->x[v]), hi = tb_vmax(hi, c->x[v]);
+  for (int jj = 1; jj < nt; jj++)
+    for (int ii = 1; ii < ns; ii++) {
+      if (bad[ii + (ns + 1) * jj]) continue;
+      double s = (double)ii / ns, t = (double)jj / nt;
+      tb_vec3 X = piece_point(f, k, s, t);
+      int ok =
+          X.x >= lo.x && X.y >= lo.y && X.z >= lo.z && X.x <= hi.x && X.y <= hi.y && X.z <= hi.z;
+      for (int m = nfixed; m < nextra && ok; m++)
+        ok = tb_dist(X, piece_point(f, k, pt[m].s, pt[m].t)) >= minsep;
+      if (ok) pt[*np].id = -1, pt[*np].s = s, pt[*np].t = t, pt[*np].side = -1, (*np)++;
+    }
+  free(bad);
+  return OK;
+}
+
 static int crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
   const tb_fold *f = c->f;
   double el = tb_len(f->piece[k].e), dl = tb_len(f->depth);
@@ -592,30 +618,23 @@ static int crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack
   }
   /* Steiner points: the caller's, then the grid; away from the constraints and each other. */
   double minsep = 0.5 * (c->spacing > 0 ? c->spacing : c->h);
-  for (int pass = 0; pass < 2; pass++) {
-    int count = pass == 0 ? c->nextra : (ns > 1 && nt > 1 ? (ns - 1) * (nt - 1) : 0);
-    for (int i = 0; i < count; i++) {
-      double s, t;
-      if (pass == 0) {
-        tb_fold_near nr;
-        tb_fold_nearest(f, c->extra[i], &nr);
-        if (nr.piece != k || !(nr.s > 0 && nr.s < 1 && nr.t > 0 && nr.t < 1)) continue;
-        s = nr.s, t = nr.t;
-      } else {
-        s = (double)(1 + i % (ns - 1)) / ns, t = (double)(1 + i / (ns - 1)) / nt;
-      }
-      tb_vec3 X = piece_point(f, k, s, t);
-      int ok = 1;
-      for (int j = 0; j < nseg && ok; j++) {
-        const cpt *a = &pt[sg[2 * j]], *b = &pt[sg[2 * j + 1]];
-        ok = seg_dist(X, piece_point(f, k, a->s, a->t), piece_point(f, k, b->s, b->t)) >= minsep;
-      }
-      for (int j = nfixed; j < np && ok; j++)
-        ok = tb_dist(X, piece_point(f, k, pt[j].s, pt[j].t)) >= minsep;
-      if (!ok) continue;
-      pt[np].id = -1, pt[np].s = s, pt[np].t = t, pt[np].side = -1, np++;
+  for (int i = 0; i < c->nextra; i++) {
+    tb_fold_near nr;
+    tb_fold_nearest(f, c->extra[i], &nr);
+    if (nr.piece != k || !(nr.s > 0 && nr.s < 1 && nr.t > 0 && nr.t < 1)) continue;
+    tb_vec3 X = piece_point(f, k, nr.s, nr.t);
+    int ok = 1;
+    for (int j = 0; j < nseg && ok; j++) {
+      const cpt *a = &pt[sg[2 * j]], *b = &pt[sg[2 * j + 1]];
+      ok = seg_dist(X, piece_point(f, k, a->s, a->t), piece_point(f, k, b->s, b->t)) >= minsep;
     }
+    for (int j = nfixed; j < np && ok; j++)
+      ok = tb_dist(X, piece_point(f, k, pt[j].s, pt[j].t)) >= minsep;
+    if (ok) pt[np].id = -1, pt[np].s = nr.s, pt[np].t = nr.t, pt[np].side = -1, np++;
   }
+  if (ns > 1 && nt > 1 && (rc = grid_points(c, k, ns, nt, minsep, pt, &np, nfixed, sg, nseg)) != OK)
+    goto done;
+  rc = NOMEM;
   xy = malloc((size_t)2 * np * sizeof *xy);
   if (!xy) goto done;
   for (int i = 0; i < np; i++) xy[2 * i] = pt[i].s * el, xy[2 * i + 1] = pt[i].t * dl;
@@ -958,22 +977,17 @@ static void cutter_free(cutter *c) {
   free(c->split), free(c->corner_id);
 }
 
-/* Half-edge pairs of a closed surface, from the sorted directed edges. */
+/* Half-edge pairs of a closed surface. */
 static int make_pairs(cutter *c) {
-  dedge *e = sorted_edges(c->nv, c->ntri, c->tri);
+  vstar vs = {NULL, NULL};
   c->pair = malloc((size_t)3 * c->ntri * sizeof *c->pair);
-  if (!e || !c->pair) {
-    free(e);
+  if (!c->pair || vstar_build(&vs, c->nv, c->ntri, c->tri)) {
+    vstar_free(&vs);
     return NOMEM;
   }
-  for (int t = 0; t < c->ntri; t++)
-    for (int k = 0; k < 3; k++) {
-      int a = c->tri[3 * t + k], b = c->tri[3 * t + (k + 1) % 3];
-      int u = find_edge(e, 3 * c->ntri, (int64_t)b * c->nv + a), j = 0;
-      while (c->tri[3 * u + (j + 1) % 3] != a) j++;
-      c->pair[3 * t + k] = 3 * u + j;
-    }
-  free(e);
+  for (int h = 0; h < 3 * c->ntri; h++)
+    c->pair[h] = find_edge(&vs, c->tri, c->tri[h - h % 3 + (h % 3 + 1) % 3], c->tri[h]);
+  vstar_free(&vs);
   return OK;
 }
 
