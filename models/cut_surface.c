@@ -545,7 +545,7 @@ static int crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack
   int ns = 0, nt = 0;
   if (c->spacing > 0) {
     ns = (int)ceil(el / c->spacing), nt = (int)ceil(dl / c->spacing);
-    if ((double)ns * nt > 4e6) ns = nt = 0; /* a blade far larger than the organ's grain */
+    if ((double)ns * nt > 1e6) ns = nt = 0; /* a blade far larger than the organ's grain */
   }
   int cap = c->nvr + 4 + (ns + 1) * (nt + 1) + c->nextra;
   cpt *pt = malloc((size_t)cap * sizeof *pt);

@@ -384,6 +384,14 @@ static void test_layout_and_options(void) {
   TB_CHECK_MSG(tb_cut_surface(s.nv, s.x, s.ntri, s.tri, &f, &d, &r, &err) == 0, "%s", err.msg);
   check_valid("extra points", &s, &r);
   TB_CHECK(r.components_after == 1);
+  /* some extra points became crack vertices, at their projections onto the fold */
+  int used = 0;
+  for (int i = 0; i < 40; i++) {
+    tb_fold_near nr;
+    tb_fold_nearest(&f, extra[i], &nr);
+    for (int v = s.nv; v < r.nv; v++) used += tb_dist(r.x[v], nr.point) <= 1e-12;
+  }
+  TB_CHECK_MSG(used >= 10, "%d extra points used", used);
   tb_cut_result_free(&r);
   d.extra = NULL, d.nextra = 0, d.spacing = -1; /* no grid: the crack from the cut vertices */
   TB_CHECK_MSG(tb_cut_surface(s.nv, s.x, s.ntri, s.tri, &f, &d, &r, &err) == 0, "%s", err.msg);
