@@ -163,6 +163,7 @@ static const struct {
     {"organs", tb_tests_organs},
     {"metaball_model", tb_tests_metaball_model},
     {"metaball_cut", tb_tests_metaball_cut},
+    {"cut_surface", tb_tests_cut_surface},
 };
 
 static int selected(const char *id, int argc, char **argv) {
