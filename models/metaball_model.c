@@ -65,12 +65,16 @@
 #include <string.h>
 
 #include "metaball_priv.h"
+#include "tb_cut_surface.h"
+#include "tb_fold.h"
 #include "tb_model.h"
 #include "tb_sphpack.h"
 
 typedef struct mb_settings {
   double density, node_mass, stretch, unit, damping, sigma, overlap;
   int iterations, spheres, samples, seed;
+  int cut_points; /* points per converted sphere */
+  double cut_E;   /* the point set's Young's modulus */
 } mb_settings;
 
 typedef struct mb_model {
@@ -90,7 +94,11 @@ typedef struct mb_model {
   tb_vec3 *cp;           /* their pushed positions */
   double *cdepth;
   int dominant_ok;
-  int *dominant; /* per point: the sphere it holds when prescribed */
+  int *dominant;          /* per point: the sphere it holds when prescribed */
+  int ntri, *tri;         /* the current surface over the points */
+  unsigned long version;  /* changes with every cut that changes the surface */
+  int cutting, have_fold; /* a cut is running; its folded plane exists (2+ path points) */
+  tb_fold fold;           /* the blade's folded plane so far */
 } mb_model;
 
 static void destroy(void *self) {
@@ -101,7 +109,8 @@ static void destroy(void *self) {
       free(s->cstart);
   free(s->hold), free(s->hold0), free(s->apq), free(s->nhold), free(s->held), free(s->push),
       free(s->keep), free(s->cids);
-  free(s->cp), free(s->cdepth), free(s->dominant);
+  free(s->cp), free(s->cdepth), free(s->dominant), free(s->tri);
+  if (s->have_fold) tb_fold_free(&s->fold);
   free(s);
 }
 
@@ -136,36 +145,40 @@ static int sphere_count(const mb_settings *set, int nsurf) {
   return (int)(n < 40 ? 40 : n > 600 ? 600 : n);
 }
 
-/* Sphere masses M r^3 / sum r^3 through the density tb_metaball_create
- * uses, point masses as shares of them (see the head). */
-static int masses(mb_model *s, const tb_mesh *mesh, const tb_spheres *sp, tb_error *err) {
-  double total =
-      s->set.node_mass > 0 ? s->set.node_mass * mesh->nv : s->set.density * tb_mesh_volume(mesh);
-  if (!(total > 0) || !isfinite(total))
-    return tb_error_set(err, "mesh", 0,
-                        "the body's mass is %g (the surface encloses no volume: triangles "
-                        "facing inward?)",
-                        total);
-  double *W = calloc((size_t)sp->n, sizeof(double));
+/* Point masses as shares of the alive spheres' masses (see the head): a
+ * sphere no point is bound to gives its mass to the point nearest its
+ * centre. Also each point's dominant sphere (the bound one nearest at
+ * rest), which a prescribed point holds. */
+static int share_masses(mb_model *s, tb_error *err) {
+  tb_metaball *m = s->mb;
+  double *W = calloc((size_t)m->n, sizeof(double));
   if (!W) return tb_error_set(err, "metaball", 0, "out of memory");
-  const double *ms = s->mb->m;
   for (int v = 0; v < s->nv; v++)
     for (int q = 0; q < 3; q++)
-      if (s->mb->bind[v][q] >= 0) W[s->mb->bind[v][q]] += s->mb->bw[v][q];
+      if (m->bind[v][q] >= 0) W[m->bind[v][q]] += m->bw[v][q];
   memset(s->mass, 0, sizeof(double) * (size_t)s->nv);
   for (int v = 0; v < s->nv; v++)
     for (int q = 0; q < 3; q++) {
-      int b = s->mb->bind[v][q];
-      if (b >= 0) s->mass[v] += ms[b] * s->mb->bw[v][q] / W[b];
+      int b = m->bind[v][q];
+      if (b >= 0) s->mass[v] += m->m[b] * m->bw[v][q] / W[b];
     }
-  for (int b = 0; b < sp->n; b++) { /* a sphere no point is bound to */
-    if (W[b] > 0) continue;
+  for (int b = 0; b < m->n; b++) {
+    if (W[b] > 0 || !m->alive[b]) continue;
     int at = 0;
     for (int v = 1; v < s->nv; v++)
-      if (tb_dist(mesh->x[v], sp->c[b]) < tb_dist(mesh->x[at], sp->c[b])) at = v;
-    s->mass[at] += ms[b];
+      if (tb_dist(s->x[v], m->c[b]) < tb_dist(s->x[at], m->c[b])) at = v;
+    s->mass[at] += m->m[b];
   }
   free(W);
+  for (int v = 0; v < s->nv; v++) {
+    const int *bs = m->bind[v];
+    int b = 0;
+    for (int q = 1; q < 3; q++)
+      if (bs[q] >= 0 &&
+          (bs[b] < 0 || tb_dist(m->x0[v], m->c0[bs[q]]) < tb_dist(m->x0[v], m->c0[bs[b]])))
+        b = q;
+    s->dominant[v] = bs[b];
+  }
   return 0;
 }
 
@@ -203,7 +216,7 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
     goto fail;
   }
   s->mb = tb_metaball_create(sp.n, sp.c, sp.r, &surf, &ms, err);
-  free(tri), tri = NULL;
+  s->tri = tri, s->ntri = ntri, tri = NULL;
   if (!s->mb) goto fail;
   int nv = s->nv = mesh->nv, ns = s->ns = sp.n;
   size_t V = (size_t)nv, N = (size_t)ns;
@@ -222,14 +235,7 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
       !s->cids || !s->cp || !s->cdepth)
     goto oom;
   memcpy(s->x, tb_metaball_skin(s->mb), sizeof(tb_vec3) * V);
-  for (int v = 0; v < nv; v++) {
-    int b = 0; /* the bound sphere whose centre is nearest */
-    const int *bs = s->mb->bind[v];
-    for (int q = 1; q < 3; q++)
-      if (bs[q] >= 0 && tb_dist(mesh->x[v], sp.c[bs[q]]) < tb_dist(mesh->x[v], sp.c[bs[b]])) b = q;
-    s->dominant[v] = bs[b];
-  }
-  if (masses(s, mesh, &sp, err)) goto fail;
+  if (share_masses(s, err)) goto fail;
   tb_spheres_free(&sp);
   return s;
 oom:
@@ -366,12 +372,17 @@ static int step(void *self, const tb_step *in, tb_error *err) {
     s->nhold[b] = m->fixed[b] ? 2 : 1; /* 2: fixed before */
     m->v[b] = tb_scale(tb_sub(at, m->c[b]), 1 / dt), m->c[b] = at, m->fixed[b] = 1;
   }
-  tb_metaball_step(m, dt, in->gravity, fs);
+  int rc = 0;
+  if (tb_metaball_cutting(m))
+    rc = tb_metaball_cut_step(m, dt, in->gravity, fs, err);
+  else
+    tb_metaball_step(m, dt, in->gravity, fs);
   for (int k = 0; k < nh; k++) {
     int b = s->held[k];
     m->fixed[b] = s->nhold[b] == 2, s->nhold[b] = 0;
     if (m->fixed[b]) m->v[b] = tb_v3(0, 0, 0);
   }
+  if (rc) return -1;
   damp(s, dt);
   if (in->ground) ground(s, in->ground, dt);
   memcpy(s->x, m->x, sizeof(tb_vec3) * (size_t)s->nv);
@@ -398,6 +409,129 @@ static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const t
   }
 }
 
+/* ---- cutting (the patent's step 3; tb_model.h's tb_cut_event) ---- */
+
+/* Every per-point array for nv points and per-sphere array for ns spheres
+ * (new entries zero); 0 or -1. */
+static int grow(mb_model *s, int nv, int ns) {
+  size_t V = (size_t)nv, N = (size_t)ns;
+#define GROW(f, count, old)                                              \
+  do {                                                                   \
+    void *g = realloc(s->f, sizeof *s->f * (count));                     \
+    if (!g) return -1;                                                   \
+    s->f = g;                                                            \
+    if ((count) > (size_t)(old))                                         \
+      memset(s->f + (old), 0, sizeof *s->f * ((count) - (size_t)(old))); \
+  } while (0)
+  GROW(x, V, s->nv);
+  GROW(v, V, s->nv);
+  GROW(xold, V, s->nv);
+  GROW(skin0, V, s->nv);
+  GROW(mass, V, s->nv);
+  GROW(dominant, V, s->nv);
+  GROW(fs, N, s->ns);
+  GROW(cstart, N, s->ns);
+  GROW(hold, N, s->ns);
+  GROW(hold0, N, s->ns);
+  GROW(apq, N, s->ns);
+  GROW(nhold, N, s->ns);
+  GROW(held, N, s->ns);
+  GROW(push, N, s->ns);
+  GROW(keep, N, s->ns);
+  GROW(cids, N, s->ns);
+  GROW(cp, N, s->ns);
+  GROW(cdepth, N, s->ns);
+#undef GROW
+  return 0;
+}
+
+/* The blade has left: the spheres from the points (tb_metaball_cut_end),
+ * the surface split and closed by the folded plane (tb_cut_surface), the
+ * new and changed vertices skinned anew on their side, points, masses and
+ * the surface replaced. */
+static int cut_end(mb_model *s, tb_cut_stats *st, tb_error *err) {
+  tb_metaball *m = s->mb;
+  tb_metaball_cut_report rep;
+  if (tb_metaball_cut_end(m, &rep, err)) return -1;
+  if (st)
+    st->removed = rep.removed, st->created = rep.created, st->removed_r = rep.removed_r,
+    st->created_r = rep.created_r, st->points = rep.points, st->uncovered = rep.uncovered;
+  if (!s->have_fold) return 0; /* the blade never moved */
+  tb_cut_result cr;
+  if (tb_cut_surface(s->nv, s->x, s->ntri, s->tri, &s->fold, NULL, &cr, err)) return -1;
+  int rc = 0, old = s->nv;
+  signed char *side = malloc((size_t)cr.nv);
+  unsigned char *rebind = calloc((size_t)cr.nv, 1);
+  if (!side || !rebind || grow(s, cr.nv, m->n)) {
+    rc = tb_error_set(err, "metaball", 0, "out of memory (cut: %d points)", cr.nv);
+    goto done;
+  }
+  for (int v = 0; v < cr.nv; v++) side[v] = (signed char)cr.side[v];
+  for (int k = 0; k < cr.nreskin; k++) rebind[cr.reskin[k]] = 1;
+  if ((rc = tb_metaball_set_skin(m, cr.nv, cr.x, side, rebind, err))) goto done;
+  for (int v = old; v < cr.nv; v++) { /* a copy moves on as its original did */
+    int o = cr.origin[v];
+    s->v[v] = o >= 0 && o < old ? s->v[o] : tb_v3(0, 0, 0);
+  }
+  s->nv = cr.nv, s->ns = m->n;
+  memcpy(s->x, m->x, sizeof(tb_vec3) * (size_t)s->nv);
+  if ((rc = share_masses(s, err))) goto done;
+  free(s->tri);
+  s->tri = cr.tri, s->ntri = cr.ntri, cr.tri = NULL;
+  if (cr.cut) s->version++;
+  if (st)
+    st->split_tris = cr.split_tris, st->crack_tris = cr.crack_tris, st->new_points = cr.nv - old,
+    st->components = cr.components_after;
+done:
+  free(side), free(rebind);
+  tb_cut_result_free(&cr);
+  return rc;
+}
+
+static int cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *err) {
+  mb_model *s = self;
+  tb_metaball *m = s->mb;
+  if (ev->kind == TB_CUT_BEGIN) {
+    if (s->cutting) return tb_error_set(err, "metaball", 0, "a cut is already running");
+    tb_metaball_cut_settings cs;
+    tb_metaball_cut_settings_default(&cs);
+    cs.per_sphere = s->set.cut_points, cs.E = s->set.cut_E;
+    if (tb_metaball_cut_begin(m, &cs, err)) return -1;
+    s->cutting = 1;
+    return 0;
+  }
+  if (!s->cutting) return tb_error_set(err, "metaball", 0, "no cut is running (BEGIN first)");
+  if (ev->kind == TB_CUT_MOVE) {
+    tb_fold f;
+    if (tb_fold_init(&f, ev->path, ev->npath, ev->depth, err)) return -1;
+    if (s->have_fold) tb_fold_free(&s->fold);
+    s->fold = f, s->have_fold = 1;
+    return tb_metaball_cut_advance(m, &s->fold, err) < 0 ? -1 : 0;
+  }
+  s->cutting = 0;
+  int rc = cut_end(s, st, err);
+  if (s->have_fold) tb_fold_free(&s->fold), s->have_fold = 0;
+  if (st)
+    st->components = st->components ? st->components : tb_cut_components(s->nv, s->ntri, s->tri);
+  return rc;
+}
+
+static int npoints(const void *self) { return ((const mb_model *)self)->nv; }
+
+static tb_surface surface(const void *self) {
+  const mb_model *s = self;
+  tb_surface su = {s->nv, s->ntri, s->x, s->tri, s->version, s->mb->x0};
+  return su;
+}
+
+static tb_model_spheres spheres(const void *self) {
+  const mb_model *s = self;
+  const int *links;
+  int nl = tb_metaball_links(s->mb, &links);
+  tb_model_spheres out = {s->mb->n, nl, s->mb->c, s->mb->r, s->mb->alive, links};
+  return out;
+}
+
 #define S mb_settings
 static const tb_setting settings[] = {
     TB_SETTINGS_MASS(S, 0.0),
@@ -418,6 +552,10 @@ static const tb_setting settings[] = {
     TB_SETTING_I(S, samples, 0, 0, 10000000,
                  "surface samples of the packing (0: max(vertices, 20 spheres, 4000))"),
     TB_SETTING_I(S, seed, 1, 0, 2147483647, "seed of the packing's area-weighted samples"),
+    TB_SETTING_I(S, cut_points, 40, 4, 10000,
+                 "cut: points a sphere the blade touches turns into (the patent's second mode)"),
+    TB_SETTING_R(S, cut_E, 1000.0, 0.0, HUGE_VAL, TB_OPEN_LO,
+                 "cut: Young's modulus of the meshless point set"),
 };
 #undef S
 
@@ -437,6 +575,10 @@ const tb_model_class tb_model_metaball = {
     .destroy = destroy,
     .masses = point_masses,
     .correct = correct,
+    .npoints = npoints,
+    .surface = surface,
+    .cut = cut,
+    .spheres = spheres,
     .own_ground = 1,
     .surface_mesh = 1,
 };

@@ -15,7 +15,7 @@ extern const tb_model_class tb_model_msm, tb_model_fem, tb_model_fem_corot, tb_m
 
 const tb_model_class *const tb_model_classes[] = {
     &tb_model_msm,      &tb_model_fem,       &tb_model_fem_corot, &tb_model_sm,
-    &tb_model_pbd_stvk, &tb_model_xpbd_stvk, &tb_model_msm_vvs, &tb_model_metaball};
+    &tb_model_pbd_stvk, &tb_model_xpbd_stvk, &tb_model_msm_vvs,   &tb_model_metaball};
 const int tb_model_count = (int)(sizeof tb_model_classes / sizeof tb_model_classes[0]);
 
 const tb_model_class *tb_model_find(const char *name) {
@@ -263,6 +263,16 @@ tb_surface tb_model_surface(const tb_model *m) {
 void tb_model_correct(tb_model *m, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
   m->cls->correct(m->self, n, ids, x, v);
 }
+int tb_model_cut(tb_model *m, const tb_cut_event *ev, tb_cut_stats *stats, tb_error *err) {
+  if (stats) memset(stats, 0, sizeof *stats);
+  if (!m->cls->cut)
+    return tb_error_set(err, m->cls->name, 0, "the %s model cannot be cut", m->cls->name);
+  if (ev->kind == TB_CUT_MOVE && (ev->npath < 2 || !ev->path))
+    return tb_error_set(err, m->cls->name, 0, "a cut's path needs 2 points or more, not %d",
+                        ev->npath);
+  return m->cls->cut(m->self, ev, stats, err);
+}
+int tb_model_can_cut(const tb_model *m) { return m->cls->cut != NULL; }
 void tb_model_destroy(tb_model *m) {
   if (m->cls && m->self) m->cls->destroy(m->self);
   free(m->tri);

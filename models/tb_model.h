@@ -119,6 +119,43 @@ typedef struct tb_surface {
   const tb_vec3 *x0;
 } tb_surface;
 
+/* ---- cutting ----
+ * A scalpel whose edge has moved along path[0 .. npath) with the blade's
+ * fixed depth vector (the folded plane of collision/tb_fold.h: piece k is
+ * path[k] + s (path[k+1] - path[k]) + t depth, s, t in [0, 1]). BEGIN starts
+ * a cut; MOVE gives the whole path so far (npath >= 2; the blade's position
+ * last); the steps between MOVEs run the cut phase; END says the blade has
+ * left: the model's volume and surface are split and closed, so npoints
+ * may grow and the surface's version changes. */
+typedef enum { TB_CUT_BEGIN = 0, TB_CUT_MOVE = 1, TB_CUT_END = 2 } tb_cut_kind;
+typedef struct tb_cut_event {
+  tb_cut_kind kind;
+  int npath;
+  const tb_vec3 *path;
+  tb_vec3 depth;
+} tb_cut_event;
+/* What a cut did, filled at END (counts are 0 where a model has no such
+ * thing). */
+typedef struct tb_cut_stats {
+  int removed, created;        /* volume elements (spheres) removed; made anew */
+  double removed_r, created_r; /* their mean radii */
+  int points, uncovered;       /* the intermediate point set; points no new sphere covers */
+  int split_tris, crack_tris;  /* surface triangles split; crack triangles made */
+  int new_points;              /* points (surface vertices) added */
+  int components;              /* connected pieces of the surface after the cut */
+} tb_cut_stats;
+
+/* Spheres of a sphere-based model, for pictures: n centres and radii,
+ * alive flags (removed spheres keep their index), nlinks links (2 nlinks
+ * indices). */
+typedef struct tb_model_spheres {
+  int n, nlinks;
+  const tb_vec3 *c;
+  const double *r;
+  const unsigned char *alive;
+  const int *links;
+} tb_model_spheres;
+
 typedef struct tb_model_class {
   const char *name;
   const char *summary;
@@ -155,6 +192,11 @@ typedef struct tb_model_class {
   /* 1: create also takes a closed triangle surface without tets (the
    * surface models); scenes refuse a surface mesh for the others. */
   int surface_mesh;
+  /* Cutting (NULL: the model cannot be cut): one event; stats (may be
+   * NULL) is filled at END. */
+  int (*cut)(void *self, const tb_cut_event *ev, tb_cut_stats *stats, tb_error *err);
+  /* The model's spheres (NULL: it has none), for pictures. */
+  tb_model_spheres (*spheres)(const void *self);
 } tb_model_class;
 
 /* The table of models (models/model.c). */
@@ -194,6 +236,11 @@ const double *tb_model_masses(const tb_model *m);
 int tb_model_npoints(const tb_model *m);
 tb_surface tb_model_surface(const tb_model *m);
 void tb_model_correct(tb_model *m, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v);
+/* A cut event (see tb_cut_event); an error for a model that cannot be cut,
+ * an event out of order, or a path with fewer than 2 points at MOVE. */
+int tb_model_cut(tb_model *m, const tb_cut_event *ev, tb_cut_stats *stats, tb_error *err);
+/* 1 when the model's class can be cut. */
+int tb_model_can_cut(const tb_model *m);
 void tb_model_destroy(tb_model *m);
 
 /* ---- helpers the models share (models/model_util.c) ---- */

@@ -162,6 +162,7 @@ static const struct {
     {"fold_tri", tb_tests_fold_tri},
     {"organs", tb_tests_organs},
     {"metaball_model", tb_tests_metaball_model},
+    {"organ_cut", tb_tests_organ_cut},
     {"metaball_cut", tb_tests_metaball_cut},
     {"cut_surface", tb_tests_cut_surface},
 };

@@ -93,6 +93,7 @@ extern const tb_test_case tb_tests_fold[];
 extern const tb_test_case tb_tests_fold_tri[];
 extern const tb_test_case tb_tests_organs[];
 extern const tb_test_case tb_tests_metaball_model[];
+extern const tb_test_case tb_tests_organ_cut[];
 extern const tb_test_case tb_tests_cut_surface[];
 
 #endif
