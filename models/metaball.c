@@ -35,6 +35,9 @@
 
 #include <math.h>
 #include <stdlib.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <string.h>
 
 #include "tb_model.h"
@@ -50,10 +53,13 @@ void tb_metaball_destroy(tb_metaball *m) {
   free(m->c0), free(m->c), free(m->p), free(m->v), free(m->r), free(m->m), free(m->w);
   free(m->alive), free(m->fixed), free(m->link), free(m->len0), free(m->cstart), free(m->cmember);
   free(m->cm0), free(m->rot), free(m->x0), free(m->x), free(m->bind), free(m->bw);
+  free(m->em), free(m->eq), free(m->smq), free(m->wf), free(m->xo);
   free(m);
 }
 
-/* Unit constraint i's rest centre of mass over its alive members. */
+/* Unit constraint i's rest centre of mass over its alive members, and its
+ * members' flat data for the step: mass (0 once removed), rest offset from
+ * that centre, and their mass-weighted sum. */
 static void rest_centre(tb_metaball *m, int i) {
   double mass = 0;
   tb_vec3 s = tb_v3(0, 0, 0);
@@ -62,6 +68,12 @@ static void rest_centre(tb_metaball *m, int i) {
     if (m->alive[j]) mass += m->m[j], s = tb_madd(s, m->m[j], m->c0[j]);
   }
   m->cm0[i] = mass > 0 ? tb_scale(s, 1 / mass) : m->c0[i];
+  m->smq[i] = tb_v3(0, 0, 0);
+  for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
+    int j = m->cmember[k];
+    m->em[k] = m->alive[j] ? m->m[j] : 0, m->eq[k] = tb_sub(m->c0[j], m->cm0[i]);
+    m->smq[i] = tb_madd(m->smq[i], m->em[k], m->eq[k]);
+  }
 }
 
 /* The links' rest lengths and the unit constraints from the links: unit
@@ -72,11 +84,15 @@ static int colour_links(tb_metaball *m, int n);
 static int build_units(tb_metaball *m) {
   int n = m->n, nl = m->nl;
   if (colour_links(m, n)) return -1;
-  free(m->len0), free(m->cmember);
+  free(m->len0), free(m->cmember), free(m->em), free(m->eq), free(m->smq), free(m->wf);
+  size_t entries = (size_t)n + 2 * (size_t)nl;
   m->len0 = malloc(sizeof(double) * (size_t)(nl > 0 ? nl : 1));
-  m->cmember = malloc(sizeof(int) * ((size_t)n + 2 * (size_t)nl));
+  m->cmember = malloc(sizeof(int) * entries);
+  m->em = malloc(sizeof(double) * entries), m->eq = malloc(sizeof(tb_vec3) * entries);
+  m->smq = malloc(sizeof(tb_vec3) * (size_t)n), m->wf = malloc(sizeof(double) * (size_t)n);
   int *deg = calloc((size_t)n, sizeof(int));
-  if (!m->len0 || !m->cmember || !deg) return free(deg), -1;
+  if (!m->len0 || !m->cmember || !m->em || !m->eq || !m->smq || !m->wf || !deg)
+    return free(deg), -1;
   for (int e = 0; e < nl; e++)
     m->len0[e] = tb_dist(m->c0[m->link[2 * e]], m->c0[m->link[2 * e + 1]]);
   for (int e = 0; e < 2 * nl; e++) deg[m->link[e]]++;
@@ -113,15 +129,24 @@ static void bind_vertex(tb_metaball *m, int v) {
     sum += m->bw[v][q];
   }
   for (int q = 0; q < 3; q++) m->bw[v][q] = sum > 0 ? m->bw[v][q] / sum : (q == 0);
+  tb_metaball_bind_offsets(m, v);
 }
 
+void tb_metaball_bind_offsets(tb_metaball *m, int v) {
+  for (int q = 0; q < 3; q++) {
+    int s = m->bind[v][q];
+    m->xo[v][q] = s >= 0 ? tb_sub(m->x0[v], m->c0[s]) : tb_v3(0, 0, 0);
+  }
+}
+
+/* x = sum_s w_s (c_s + R_s (x0 - c0_s)), the offsets x0 - c0_s stored. */
 static void skin(tb_metaball *m) {
   for (int v = 0; v < m->nv; v++) {
     tb_vec3 x = tb_v3(0, 0, 0);
     for (int q = 0; q < 3; q++) {
       int s = m->bind[v][q];
       if (s < 0) continue;
-      tb_vec3 o = tb_m3_mulv(m->rot[s], tb_sub(m->x0[v], m->c0[s]));
+      tb_vec3 o = tb_m3_mulv(m->rot[s], m->xo[v][q]);
       x = tb_madd(x, m->bw[v][q], tb_add(m->c[s], o));
     }
     m->x[v] = x;
@@ -190,10 +215,12 @@ tb_metaball *tb_metaball_create(int n, const tb_vec3 *c, const double *r, const 
   m->rot = malloc(sizeof(tb_mat3) * N);
   m->x0 = malloc(sizeof(tb_vec3) * V), m->x = malloc(sizeof(tb_vec3) * V);
   m->bind = malloc(sizeof *m->bind * V), m->bw = malloc(sizeof *m->bw * V);
+  m->xo = malloc(sizeof *m->xo * V);
   int cap = 64, nl = 0;
   m->link = malloc(sizeof(int) * 2 * (size_t)cap);
   if (!m->c0 || !m->c || !m->p || !m->v || !m->r || !m->m || !m->w || !m->alive || !m->fixed ||
-      !m->cstart || !m->cm0 || !m->rot || !m->x0 || !m->x || !m->bind || !m->bw || !m->link)
+      !m->cstart || !m->cm0 || !m->rot || !m->x0 || !m->x || !m->bind || !m->bw || !m->xo ||
+      !m->link)
     goto oom;
   memcpy(m->c0, c, sizeof(tb_vec3) * N), memcpy(m->c, c, sizeof(tb_vec3) * N);
   memcpy(m->r, r, sizeof(double) * N);
@@ -339,35 +366,92 @@ static tb_mat3 rotation_of(tb_mat3 a, tb_mat3 r) {
 }
 
 /* The unit constraints (see the head), in sphere order; each sphere's
- * rotation is its own constraint's. */
+ * rotation is its own constraint's. One pass over the members gives the
+ * centre of mass and A = sum_j m_j (p_j - cm) q_j^T: with d_j = p_j - p_i
+ * (the sphere's own, which keeps A free of the organ's distance from the
+ * origin), cm = p_i + sum m_j d_j / M and A = sum m_j d_j q_j^T - (cm -
+ * p_i) (sum m_j q_j)^T, the last sum 0 but for rounding (rest_centre). */
 static void unit_constraints(tb_metaball *m) {
+  const int *member = m->cmember;
+  const double *em = m->em, *wf = m->wf;
+  const tb_vec3 *eq = m->eq;
+  tb_vec3 *p = m->p;
+  double unit = m->set.unit;
   for (int i = 0; i < m->n; i++) {
     if (!m->alive[i]) continue;
-    double mass = 0;
-    tb_vec3 cm = tb_v3(0, 0, 0);
-    for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
-      int j = m->cmember[k];
-      if (m->alive[j]) mass += m->m[j], cm = tb_madd(cm, m->m[j], m->p[j]);
-    }
-    cm = tb_scale(cm, 1 / mass);
-    tb_mat3 a = {{{0}}};
-    for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
-      int j = m->cmember[k];
-      if (!m->alive[j]) continue;
-      tb_vec3 d = tb_sub(m->p[j], cm), q = tb_sub(m->c0[j], m->cm0[i]);
-      double dv[3] = {d.x, d.y, d.z}, qv[3] = {q.x, q.y, q.z};
+    int k0 = m->cstart[i], k1 = m->cstart[i + 1];
+    tb_vec3 pi = p[i];
+    double mass = 0, a[3][3] = {{0}};
+    tb_vec3 sd = tb_v3(0, 0, 0);
+    for (int k = k0; k < k1; k++) {
+      tb_vec3 md = tb_scale(tb_sub(p[member[k]], pi), em[k]);
+      double dv[3] = {md.x, md.y, md.z};
+      mass += em[k], sd = tb_add(sd, md);
       for (int r = 0; r < 3; r++)
-        for (int s = 0; s < 3; s++) a.m[r][s] += m->m[j] * dv[r] * qv[s];
+        a[r][0] += dv[r] * eq[k].x, a[r][1] += dv[r] * eq[k].y, a[r][2] += dv[r] * eq[k].z;
     }
-    tb_mat3 rot =
-        m->cstart[i + 1] - m->cstart[i] > 1 && !m->fixed[i] ? rotation_of(a, m->rot[i]) : m->rot[i];
+    tb_vec3 rel = tb_scale(sd, 1 / mass), cm = tb_add(pi, rel);
+    double rv[3] = {rel.x, rel.y, rel.z};
+    tb_mat3 A;
+    for (int r = 0; r < 3; r++) {
+      A.m[r][0] = a[r][0] - rv[r] * m->smq[i].x, A.m[r][1] = a[r][1] - rv[r] * m->smq[i].y;
+      A.m[r][2] = a[r][2] - rv[r] * m->smq[i].z;
+    }
+    tb_mat3 rot = k1 - k0 > 1 && !m->fixed[i] ? rotation_of(A, m->rot[i]) : m->rot[i];
     m->rot[i] = rot;
-    for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
-      int j = m->cmember[k];
-      if (!m->alive[j] || m->w[j] == 0 || m->fixed[j]) continue;
-      tb_vec3 goal = tb_add(cm, tb_m3_mulv(rot, tb_sub(m->c0[j], m->cm0[i])));
-      m->p[j] = tb_madd(m->p[j], m->set.unit, tb_sub(goal, m->p[j]));
+    for (int k = k0; k < k1; k++) {
+      int j = member[k];
+      if (wf[j] == 0) continue; /* fixed or removed */
+      tb_vec3 goal = tb_add(cm, tb_m3_mulv(rot, eq[k]));
+      p[j] = tb_madd(p[j], unit, tb_sub(goal, p[j]));
     }
+  }
+}
+
+/* One link's distance constraint (stiffness `stretch`, inverse masses wf). */
+static void stretch_link(tb_vec3 *p, const double *wf, int a, int b, double len0, double stretch) {
+  double wa = wf[a], wb = wf[b];
+  if (wa + wb == 0) return;
+  tb_vec3 d = tb_sub(p[b], p[a]);
+  double l = tb_len(d);
+  if (!(l > 0)) return;
+  double s = stretch * (l - len0) / ((wa + wb) * l);
+  p[a] = tb_madd(p[a], wa * s, d), p[b] = tb_madd(p[b], -wb * s, d);
+}
+
+/* The stretch sweeps: Gauss-Seidel in link order. Two consecutive links
+ * sharing no sphere (the rule within a colour, colour_links) are projected
+ * together, their square roots and divisions in one SSE2 instruction each
+ * (correctly rounded like the scalar ones: the same numbers). */
+static void stretch_sweeps(tb_metaball *m) {
+  const int *L = m->link;
+  const double *len0 = m->len0, *wf = m->wf;
+  tb_vec3 *p = m->p;
+  double stretch = m->set.stretch;
+  int nl = m->nl;
+  for (int it = 0; it < m->set.iterations; it++) {
+    int e = 0;
+#ifdef __SSE2__
+    for (; e + 1 < nl; e += 2) {
+      int a0 = L[2 * e], b0 = L[2 * e + 1], a1 = L[2 * e + 2], b1 = L[2 * e + 3];
+      double w0 = wf[a0] + wf[b0], w1 = wf[a1] + wf[b1];
+      tb_vec3 d0 = tb_sub(p[b0], p[a0]), d1 = tb_sub(p[b1], p[a1]);
+      double q0 = tb_dot(d0, d0), q1 = tb_dot(d1, d1);
+      if (a0 == a1 || a0 == b1 || b0 == a1 || b0 == b1 || !(w0 > 0 && w1 > 0) ||
+          !(q0 > 0 && q1 > 0)) { /* shared sphere, or a link to skip: one at a time */
+        stretch_link(p, wf, a0, b0, len0[e], stretch);
+        e--;
+        continue;
+      }
+      __m128d l = _mm_sqrt_pd(_mm_set_pd(q1, q0));
+      __m128d num = _mm_mul_pd(_mm_set1_pd(stretch), _mm_sub_pd(l, _mm_loadu_pd(len0 + e)));
+      __m128d s = _mm_div_pd(num, _mm_mul_pd(_mm_set_pd(w1, w0), l));
+      double s0 = _mm_cvtsd_f64(s), s1 = _mm_cvtsd_f64(_mm_unpackhi_pd(s, s));
+      p[a0] = tb_madd(p[a0], wf[a0] * s0, d0), p[b0] = tb_madd(p[b0], -wf[b0] * s0, d0);
+      p[a1] = tb_madd(p[a1], wf[a1] * s1, d1), p[b1] = tb_madd(p[b1], -wf[b1] * s1, d1);
+    }
+#endif
+    for (; e < nl; e++) stretch_link(p, wf, L[2 * e], L[2 * e + 1], len0[e], stretch);
   }
 }
 
@@ -375,25 +459,16 @@ void tb_metaball_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_vec3 
   int n = m->n;
   for (int i = 0; i < n; i++) {
     if (!m->alive[i] || m->fixed[i]) {
-      m->p[i] = m->c[i];
+      m->p[i] = m->c[i], m->wf[i] = 0;
       continue;
     }
+    m->wf[i] = m->w[i];
     tb_vec3 a = gravity;
     if (force) a = tb_madd(a, m->w[i], force[i]);
     m->v[i] = tb_madd(m->v[i], dt, a);
     m->p[i] = tb_madd(m->c[i], dt, m->v[i]);
   }
-  for (int it = 0; it < m->set.iterations; it++)
-    for (int e = 0; e < m->nl; e++) { /* stretch: the rest distance */
-      int a = m->link[2 * e], b = m->link[2 * e + 1];
-      double wa = m->fixed[a] ? 0 : m->w[a], wb = m->fixed[b] ? 0 : m->w[b];
-      if (wa + wb == 0) continue;
-      tb_vec3 d = tb_sub(m->p[b], m->p[a]);
-      double l = tb_len(d);
-      if (!(l > 0)) continue;
-      double s = m->set.stretch * (l - m->len0[e]) / ((wa + wb) * l);
-      m->p[a] = tb_madd(m->p[a], wa * s, d), m->p[b] = tb_madd(m->p[b], -wb * s, d);
-    }
+  stretch_sweeps(m);
   unit_constraints(m);
   double keep = exp(-m->set.damping * dt);
   for (int i = 0; i < n; i++) {
