@@ -381,22 +381,20 @@ static void unit_constraints(tb_metaball *m) {
     if (!m->alive[i]) continue;
     int k0 = m->cstart[i], k1 = m->cstart[i + 1];
     tb_vec3 pi = p[i];
-    double mass = 0, a[3][3] = {{0}};
-    tb_vec3 sd = tb_v3(0, 0, 0);
+    /* the sums in scalars, not an array: they stay in registers */
+    double mass = 0, sx = 0, sy = 0, sz = 0;
+    double a00 = 0, a01 = 0, a02 = 0, a10 = 0, a11 = 0, a12 = 0, a20 = 0, a21 = 0, a22 = 0;
     for (int k = k0; k < k1; k++) {
-      tb_vec3 md = tb_scale(tb_sub(p[member[k]], pi), em[k]);
-      double dv[3] = {md.x, md.y, md.z};
-      mass += em[k], sd = tb_add(sd, md);
-      for (int r = 0; r < 3; r++)
-        a[r][0] += dv[r] * eq[k].x, a[r][1] += dv[r] * eq[k].y, a[r][2] += dv[r] * eq[k].z;
+      tb_vec3 md = tb_scale(tb_sub(p[member[k]], pi), em[k]), q = eq[k];
+      mass += em[k], sx += md.x, sy += md.y, sz += md.z;
+      a00 += md.x * q.x, a01 += md.x * q.y, a02 += md.x * q.z;
+      a10 += md.y * q.x, a11 += md.y * q.y, a12 += md.y * q.z;
+      a20 += md.z * q.x, a21 += md.z * q.y, a22 += md.z * q.z;
     }
-    tb_vec3 rel = tb_scale(sd, 1 / mass), cm = tb_add(pi, rel);
-    double rv[3] = {rel.x, rel.y, rel.z};
-    tb_mat3 A;
-    for (int r = 0; r < 3; r++) {
-      A.m[r][0] = a[r][0] - rv[r] * m->smq[i].x, A.m[r][1] = a[r][1] - rv[r] * m->smq[i].y;
-      A.m[r][2] = a[r][2] - rv[r] * m->smq[i].z;
-    }
+    tb_vec3 rel = tb_scale(tb_v3(sx, sy, sz), 1 / mass), cm = tb_add(pi, rel), c = m->smq[i];
+    tb_mat3 A = {{{a00 - rel.x * c.x, a01 - rel.x * c.y, a02 - rel.x * c.z},
+                  {a10 - rel.y * c.x, a11 - rel.y * c.y, a12 - rel.y * c.z},
+                  {a20 - rel.z * c.x, a21 - rel.z * c.y, a22 - rel.z * c.z}}};
     tb_mat3 rot = k1 - k0 > 1 && !m->fixed[i] ? rotation_of(A, m->rot[i]) : m->rot[i];
     m->rot[i] = rot;
     for (int k = k0; k < k1; k++) {
@@ -421,8 +419,8 @@ static void stretch_link(tb_vec3 *p, const double *wf, int a, int b, double len0
 
 /* The stretch sweeps: Gauss-Seidel in link order. Two consecutive links
  * sharing no sphere (the rule within a colour, colour_links) are projected
- * together, their square roots and divisions in one SSE2 instruction each
- * (correctly rounded like the scalar ones: the same numbers). */
+ * together, one in each lane of SSE2 registers: the scalar operations in
+ * the same order, correctly rounded, so the same numbers. */
 static void stretch_sweeps(tb_metaball *m) {
   const int *L = m->link;
   const double *len0 = m->len0, *wf = m->wf;
@@ -432,23 +430,39 @@ static void stretch_sweeps(tb_metaball *m) {
   for (int it = 0; it < m->set.iterations; it++) {
     int e = 0;
 #ifdef __SSE2__
+    const __m128d zero = _mm_setzero_pd(), k = _mm_set1_pd(stretch);
     for (; e + 1 < nl; e += 2) {
       int a0 = L[2 * e], b0 = L[2 * e + 1], a1 = L[2 * e + 2], b1 = L[2 * e + 3];
-      double w0 = wf[a0] + wf[b0], w1 = wf[a1] + wf[b1];
-      tb_vec3 d0 = tb_sub(p[b0], p[a0]), d1 = tb_sub(p[b1], p[a1]);
-      double q0 = tb_dot(d0, d0), q1 = tb_dot(d1, d1);
-      if (a0 == a1 || a0 == b1 || b0 == a1 || b0 == b1 || !(w0 > 0 && w1 > 0) ||
-          !(q0 > 0 && q1 > 0)) { /* shared sphere, or a link to skip: one at a time */
-        stretch_link(p, wf, a0, b0, len0[e], stretch);
+      __m128d wa = _mm_set_pd(wf[a1], wf[a0]), wb = _mm_set_pd(wf[b1], wf[b0]);
+      __m128d ax = _mm_loadh_pd(_mm_load_sd(&p[a0].x), &p[a1].x);
+      __m128d ay = _mm_loadh_pd(_mm_load_sd(&p[a0].y), &p[a1].y);
+      __m128d az = _mm_loadh_pd(_mm_load_sd(&p[a0].z), &p[a1].z);
+      __m128d bx = _mm_loadh_pd(_mm_load_sd(&p[b0].x), &p[b1].x);
+      __m128d by = _mm_loadh_pd(_mm_load_sd(&p[b0].y), &p[b1].y);
+      __m128d bz = _mm_loadh_pd(_mm_load_sd(&p[b0].z), &p[b1].z);
+      __m128d dx = _mm_sub_pd(bx, ax), dy = _mm_sub_pd(by, ay), dz = _mm_sub_pd(bz, az);
+      __m128d q =
+          _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
+      __m128d w = _mm_add_pd(wa, wb);
+      if (a0 == a1 || a0 == b1 || b0 == a1 || b0 == b1 ||
+          _mm_movemask_pd(_mm_and_pd(_mm_cmpgt_pd(w, zero), _mm_cmpgt_pd(q, zero))) != 3) {
+        stretch_link(p, wf, a0, b0, len0[e], stretch); /* shared sphere, or a link to skip */
         e--;
         continue;
       }
-      __m128d l = _mm_sqrt_pd(_mm_set_pd(q1, q0));
-      __m128d num = _mm_mul_pd(_mm_set1_pd(stretch), _mm_sub_pd(l, _mm_loadu_pd(len0 + e)));
-      __m128d s = _mm_div_pd(num, _mm_mul_pd(_mm_set_pd(w1, w0), l));
-      double s0 = _mm_cvtsd_f64(s), s1 = _mm_cvtsd_f64(_mm_unpackhi_pd(s, s));
-      p[a0] = tb_madd(p[a0], wf[a0] * s0, d0), p[b0] = tb_madd(p[b0], -wf[b0] * s0, d0);
-      p[a1] = tb_madd(p[a1], wf[a1] * s1, d1), p[b1] = tb_madd(p[b1], -wf[b1] * s1, d1);
+      __m128d l = _mm_sqrt_pd(q);
+      __m128d s =
+          _mm_div_pd(_mm_mul_pd(k, _mm_sub_pd(l, _mm_loadu_pd(len0 + e))), _mm_mul_pd(w, l));
+      __m128d sa = _mm_mul_pd(wa, s), sb = _mm_mul_pd(_mm_sub_pd(zero, wb), s);
+      ax = _mm_add_pd(ax, _mm_mul_pd(sa, dx)), ay = _mm_add_pd(ay, _mm_mul_pd(sa, dy));
+      az = _mm_add_pd(az, _mm_mul_pd(sa, dz)), bx = _mm_add_pd(bx, _mm_mul_pd(sb, dx));
+      by = _mm_add_pd(by, _mm_mul_pd(sb, dy)), bz = _mm_add_pd(bz, _mm_mul_pd(sb, dz));
+      _mm_storel_pd(&p[a0].x, ax), _mm_storeh_pd(&p[a1].x, ax);
+      _mm_storel_pd(&p[a0].y, ay), _mm_storeh_pd(&p[a1].y, ay);
+      _mm_storel_pd(&p[a0].z, az), _mm_storeh_pd(&p[a1].z, az);
+      _mm_storel_pd(&p[b0].x, bx), _mm_storeh_pd(&p[b1].x, bx);
+      _mm_storel_pd(&p[b0].y, by), _mm_storeh_pd(&p[b1].y, by);
+      _mm_storel_pd(&p[b0].z, bz), _mm_storeh_pd(&p[b1].z, bz);
     }
 #endif
     for (; e < nl; e++) stretch_link(p, wf, L[2 * e], L[2 * e + 1], len0[e], stretch);
