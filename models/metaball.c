@@ -35,6 +35,9 @@
 
 #include <math.h>
 #include <stdlib.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <string.h>
 
 #include "tb_model.h"
@@ -50,10 +53,13 @@ void tb_metaball_destroy(tb_metaball *m) {
   free(m->c0), free(m->c), free(m->p), free(m->v), free(m->r), free(m->m), free(m->w);
   free(m->alive), free(m->fixed), free(m->link), free(m->len0), free(m->cstart), free(m->cmember);
   free(m->cm0), free(m->rot), free(m->x0), free(m->x), free(m->bind), free(m->bw);
+  free(m->em), free(m->eq), free(m->smq), free(m->wf), free(m->xo);
   free(m);
 }
 
-/* Unit constraint i's rest centre of mass over its alive members. */
+/* Unit constraint i's rest centre of mass over its alive members, and its
+ * members' flat data for the step: mass (0 once removed), rest offset from
+ * that centre, and their mass-weighted sum. */
 static void rest_centre(tb_metaball *m, int i) {
   double mass = 0;
   tb_vec3 s = tb_v3(0, 0, 0);
@@ -62,6 +68,12 @@ static void rest_centre(tb_metaball *m, int i) {
     if (m->alive[j]) mass += m->m[j], s = tb_madd(s, m->m[j], m->c0[j]);
   }
   m->cm0[i] = mass > 0 ? tb_scale(s, 1 / mass) : m->c0[i];
+  m->smq[i] = tb_v3(0, 0, 0);
+  for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
+    int j = m->cmember[k];
+    m->em[k] = m->alive[j] ? m->m[j] : 0, m->eq[k] = tb_sub(m->c0[j], m->cm0[i]);
+    m->smq[i] = tb_madd(m->smq[i], m->em[k], m->eq[k]);
+  }
 }
 
 /* The links' rest lengths and the unit constraints from the links: unit
@@ -72,11 +84,15 @@ static int colour_links(tb_metaball *m, int n);
 static int build_units(tb_metaball *m) {
   int n = m->n, nl = m->nl;
   if (colour_links(m, n)) return -1;
-  free(m->len0), free(m->cmember);
+  free(m->len0), free(m->cmember), free(m->em), free(m->eq), free(m->smq), free(m->wf);
+  size_t entries = (size_t)n + 2 * (size_t)nl;
   m->len0 = malloc(sizeof(double) * (size_t)(nl > 0 ? nl : 1));
-  m->cmember = malloc(sizeof(int) * ((size_t)n + 2 * (size_t)nl));
+  m->cmember = malloc(sizeof(int) * entries);
+  m->em = malloc(sizeof(double) * entries), m->eq = malloc(sizeof(tb_vec3) * entries);
+  m->smq = malloc(sizeof(tb_vec3) * (size_t)n), m->wf = malloc(sizeof(double) * (size_t)n);
   int *deg = calloc((size_t)n, sizeof(int));
-  if (!m->len0 || !m->cmember || !deg) return free(deg), -1;
+  if (!m->len0 || !m->cmember || !m->em || !m->eq || !m->smq || !m->wf || !deg)
+    return free(deg), -1;
   for (int e = 0; e < nl; e++)
     m->len0[e] = tb_dist(m->c0[m->link[2 * e]], m->c0[m->link[2 * e + 1]]);
   for (int e = 0; e < 2 * nl; e++) deg[m->link[e]]++;
@@ -113,15 +129,24 @@ static void bind_vertex(tb_metaball *m, int v) {
     sum += m->bw[v][q];
   }
   for (int q = 0; q < 3; q++) m->bw[v][q] = sum > 0 ? m->bw[v][q] / sum : (q == 0);
+  tb_metaball_bind_offsets(m, v);
 }
 
+void tb_metaball_bind_offsets(tb_metaball *m, int v) {
+  for (int q = 0; q < 3; q++) {
+    int s = m->bind[v][q];
+    m->xo[v][q] = s >= 0 ? tb_sub(m->x0[v], m->c0[s]) : tb_v3(0, 0, 0);
+  }
+}
+
+/* x = sum_s w_s (c_s + R_s (x0 - c0_s)), the offsets x0 - c0_s stored. */
 static void skin(tb_metaball *m) {
   for (int v = 0; v < m->nv; v++) {
     tb_vec3 x = tb_v3(0, 0, 0);
     for (int q = 0; q < 3; q++) {
       int s = m->bind[v][q];
       if (s < 0) continue;
-      tb_vec3 o = tb_m3_mulv(m->rot[s], tb_sub(m->x0[v], m->c0[s]));
+      tb_vec3 o = tb_m3_mulv(m->rot[s], m->xo[v][q]);
       x = tb_madd(x, m->bw[v][q], tb_add(m->c[s], o));
     }
     m->x[v] = x;
@@ -190,10 +215,12 @@ tb_metaball *tb_metaball_create(int n, const tb_vec3 *c, const double *r, const 
   m->rot = malloc(sizeof(tb_mat3) * N);
   m->x0 = malloc(sizeof(tb_vec3) * V), m->x = malloc(sizeof(tb_vec3) * V);
   m->bind = malloc(sizeof *m->bind * V), m->bw = malloc(sizeof *m->bw * V);
+  m->xo = malloc(sizeof *m->xo * V);
   int cap = 64, nl = 0;
   m->link = malloc(sizeof(int) * 2 * (size_t)cap);
   if (!m->c0 || !m->c || !m->p || !m->v || !m->r || !m->m || !m->w || !m->alive || !m->fixed ||
-      !m->cstart || !m->cm0 || !m->rot || !m->x0 || !m->x || !m->bind || !m->bw || !m->link)
+      !m->cstart || !m->cm0 || !m->rot || !m->x0 || !m->x || !m->bind || !m->bw || !m->xo ||
+      !m->link)
     goto oom;
   memcpy(m->c0, c, sizeof(tb_vec3) * N), memcpy(m->c, c, sizeof(tb_vec3) * N);
   memcpy(m->r, r, sizeof(double) * N);
@@ -339,35 +366,106 @@ static tb_mat3 rotation_of(tb_mat3 a, tb_mat3 r) {
 }
 
 /* The unit constraints (see the head), in sphere order; each sphere's
- * rotation is its own constraint's. */
+ * rotation is its own constraint's. One pass over the members gives the
+ * centre of mass and A = sum_j m_j (p_j - cm) q_j^T: with d_j = p_j - p_i
+ * (the sphere's own, which keeps A free of the organ's distance from the
+ * origin), cm = p_i + sum m_j d_j / M and A = sum m_j d_j q_j^T - (cm -
+ * p_i) (sum m_j q_j)^T, the last sum 0 but for rounding (rest_centre). */
 static void unit_constraints(tb_metaball *m) {
+  const int *member = m->cmember;
+  const double *em = m->em, *wf = m->wf;
+  const tb_vec3 *eq = m->eq;
+  tb_vec3 *p = m->p;
+  double unit = m->set.unit;
   for (int i = 0; i < m->n; i++) {
     if (!m->alive[i]) continue;
-    double mass = 0;
-    tb_vec3 cm = tb_v3(0, 0, 0);
-    for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
-      int j = m->cmember[k];
-      if (m->alive[j]) mass += m->m[j], cm = tb_madd(cm, m->m[j], m->p[j]);
+    int k0 = m->cstart[i], k1 = m->cstart[i + 1];
+    tb_vec3 pi = p[i];
+    /* the sums in scalars, not an array: they stay in registers */
+    double mass = 0, sx = 0, sy = 0, sz = 0;
+    double a00 = 0, a01 = 0, a02 = 0, a10 = 0, a11 = 0, a12 = 0, a20 = 0, a21 = 0, a22 = 0;
+    for (int k = k0; k < k1; k++) {
+      tb_vec3 md = tb_scale(tb_sub(p[member[k]], pi), em[k]), q = eq[k];
+      mass += em[k], sx += md.x, sy += md.y, sz += md.z;
+      a00 += md.x * q.x, a01 += md.x * q.y, a02 += md.x * q.z;
+      a10 += md.y * q.x, a11 += md.y * q.y, a12 += md.y * q.z;
+      a20 += md.z * q.x, a21 += md.z * q.y, a22 += md.z * q.z;
     }
-    cm = tb_scale(cm, 1 / mass);
-    tb_mat3 a = {{{0}}};
-    for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
-      int j = m->cmember[k];
-      if (!m->alive[j]) continue;
-      tb_vec3 d = tb_sub(m->p[j], cm), q = tb_sub(m->c0[j], m->cm0[i]);
-      double dv[3] = {d.x, d.y, d.z}, qv[3] = {q.x, q.y, q.z};
-      for (int r = 0; r < 3; r++)
-        for (int s = 0; s < 3; s++) a.m[r][s] += m->m[j] * dv[r] * qv[s];
-    }
-    tb_mat3 rot =
-        m->cstart[i + 1] - m->cstart[i] > 1 && !m->fixed[i] ? rotation_of(a, m->rot[i]) : m->rot[i];
+    tb_vec3 rel = tb_scale(tb_v3(sx, sy, sz), 1 / mass), cm = tb_add(pi, rel), c = m->smq[i];
+    tb_mat3 A = {{{a00 - rel.x * c.x, a01 - rel.x * c.y, a02 - rel.x * c.z},
+                  {a10 - rel.y * c.x, a11 - rel.y * c.y, a12 - rel.y * c.z},
+                  {a20 - rel.z * c.x, a21 - rel.z * c.y, a22 - rel.z * c.z}}};
+    tb_mat3 rot = k1 - k0 > 1 && !m->fixed[i] ? rotation_of(A, m->rot[i]) : m->rot[i];
     m->rot[i] = rot;
-    for (int k = m->cstart[i]; k < m->cstart[i + 1]; k++) {
-      int j = m->cmember[k];
-      if (!m->alive[j] || m->w[j] == 0 || m->fixed[j]) continue;
-      tb_vec3 goal = tb_add(cm, tb_m3_mulv(rot, tb_sub(m->c0[j], m->cm0[i])));
-      m->p[j] = tb_madd(m->p[j], m->set.unit, tb_sub(goal, m->p[j]));
+    for (int k = k0; k < k1; k++) {
+      int j = member[k];
+      if (wf[j] == 0) continue; /* fixed or removed */
+      tb_vec3 goal = tb_add(cm, tb_m3_mulv(rot, eq[k]));
+      p[j] = tb_madd(p[j], unit, tb_sub(goal, p[j]));
     }
+  }
+}
+
+/* One link's distance constraint (stiffness `stretch`, inverse masses wf). */
+static void stretch_link(tb_vec3 *p, const double *wf, int a, int b, double len0, double stretch) {
+  double wa = wf[a], wb = wf[b];
+  if (wa + wb == 0) return;
+  tb_vec3 d = tb_sub(p[b], p[a]);
+  double l = tb_len(d);
+  if (!(l > 0)) return;
+  double s = stretch * (l - len0) / ((wa + wb) * l);
+  p[a] = tb_madd(p[a], wa * s, d), p[b] = tb_madd(p[b], -wb * s, d);
+}
+
+/* The stretch sweeps: Gauss-Seidel in link order. Two consecutive links
+ * sharing no sphere (the rule within a colour, colour_links) are projected
+ * together, one in each lane of SSE2 registers: the scalar operations in
+ * the same order, correctly rounded, so the same numbers. */
+static void stretch_sweeps(tb_metaball *m) {
+  const int *L = m->link;
+  const double *len0 = m->len0, *wf = m->wf;
+  tb_vec3 *p = m->p;
+  double stretch = m->set.stretch;
+  int nl = m->nl;
+  for (int it = 0; it < m->set.iterations; it++) {
+    int e = 0;
+#ifdef __SSE2__
+    const __m128d zero = _mm_setzero_pd(), k = _mm_set1_pd(stretch);
+    for (; e + 1 < nl; e += 2) {
+      int a0 = L[2 * e], b0 = L[2 * e + 1], a1 = L[2 * e + 2], b1 = L[2 * e + 3];
+      __m128d wa = _mm_set_pd(wf[a1], wf[a0]), wb = _mm_set_pd(wf[b1], wf[b0]);
+      __m128d ax = _mm_loadh_pd(_mm_load_sd(&p[a0].x), &p[a1].x);
+      __m128d ay = _mm_loadh_pd(_mm_load_sd(&p[a0].y), &p[a1].y);
+      __m128d az = _mm_loadh_pd(_mm_load_sd(&p[a0].z), &p[a1].z);
+      __m128d bx = _mm_loadh_pd(_mm_load_sd(&p[b0].x), &p[b1].x);
+      __m128d by = _mm_loadh_pd(_mm_load_sd(&p[b0].y), &p[b1].y);
+      __m128d bz = _mm_loadh_pd(_mm_load_sd(&p[b0].z), &p[b1].z);
+      __m128d dx = _mm_sub_pd(bx, ax), dy = _mm_sub_pd(by, ay), dz = _mm_sub_pd(bz, az);
+      __m128d q =
+          _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
+      __m128d w = _mm_add_pd(wa, wb);
+      if (a0 == a1 || a0 == b1 || b0 == a1 || b0 == b1 ||
+          _mm_movemask_pd(_mm_and_pd(_mm_cmpgt_pd(w, zero), _mm_cmpgt_pd(q, zero))) != 3) {
+        stretch_link(p, wf, a0, b0, len0[e], stretch); /* shared sphere, or a link to skip */
+        e--;
+        continue;
+      }
+      __m128d l = _mm_sqrt_pd(q);
+      __m128d s =
+          _mm_div_pd(_mm_mul_pd(k, _mm_sub_pd(l, _mm_loadu_pd(len0 + e))), _mm_mul_pd(w, l));
+      __m128d sa = _mm_mul_pd(wa, s), sb = _mm_mul_pd(_mm_sub_pd(zero, wb), s);
+      ax = _mm_add_pd(ax, _mm_mul_pd(sa, dx)), ay = _mm_add_pd(ay, _mm_mul_pd(sa, dy));
+      az = _mm_add_pd(az, _mm_mul_pd(sa, dz)), bx = _mm_add_pd(bx, _mm_mul_pd(sb, dx));
+      by = _mm_add_pd(by, _mm_mul_pd(sb, dy)), bz = _mm_add_pd(bz, _mm_mul_pd(sb, dz));
+      _mm_storel_pd(&p[a0].x, ax), _mm_storeh_pd(&p[a1].x, ax);
+      _mm_storel_pd(&p[a0].y, ay), _mm_storeh_pd(&p[a1].y, ay);
+      _mm_storel_pd(&p[a0].z, az), _mm_storeh_pd(&p[a1].z, az);
+      _mm_storel_pd(&p[b0].x, bx), _mm_storeh_pd(&p[b1].x, bx);
+      _mm_storel_pd(&p[b0].y, by), _mm_storeh_pd(&p[b1].y, by);
+      _mm_storel_pd(&p[b0].z, bz), _mm_storeh_pd(&p[b1].z, bz);
+    }
+#endif
+    for (; e < nl; e++) stretch_link(p, wf, L[2 * e], L[2 * e + 1], len0[e], stretch);
   }
 }
 
@@ -375,25 +473,16 @@ void tb_metaball_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_vec3 
   int n = m->n;
   for (int i = 0; i < n; i++) {
     if (!m->alive[i] || m->fixed[i]) {
-      m->p[i] = m->c[i];
+      m->p[i] = m->c[i], m->wf[i] = 0;
       continue;
     }
+    m->wf[i] = m->w[i];
     tb_vec3 a = gravity;
     if (force) a = tb_madd(a, m->w[i], force[i]);
     m->v[i] = tb_madd(m->v[i], dt, a);
     m->p[i] = tb_madd(m->c[i], dt, m->v[i]);
   }
-  for (int it = 0; it < m->set.iterations; it++)
-    for (int e = 0; e < m->nl; e++) { /* stretch: the rest distance */
-      int a = m->link[2 * e], b = m->link[2 * e + 1];
-      double wa = m->fixed[a] ? 0 : m->w[a], wb = m->fixed[b] ? 0 : m->w[b];
-      if (wa + wb == 0) continue;
-      tb_vec3 d = tb_sub(m->p[b], m->p[a]);
-      double l = tb_len(d);
-      if (!(l > 0)) continue;
-      double s = m->set.stretch * (l - m->len0[e]) / ((wa + wb) * l);
-      m->p[a] = tb_madd(m->p[a], wa * s, d), m->p[b] = tb_madd(m->p[b], -wb * s, d);
-    }
+  stretch_sweeps(m);
   unit_constraints(m);
   double keep = exp(-m->set.damping * dt);
   for (int i = 0; i < n; i++) {

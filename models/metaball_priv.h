@@ -24,6 +24,13 @@ struct tb_metaball {
   double (*bw)[3];
   int nfallback;
   struct tb_metaball_cut *cut; /* the cut's state (models/metaball_cut.c), NULL when none */
+  /* Flat data for the step (models/metaball.c), kept with the links, the
+   * unit constraints and the binding: */
+  double *em;       /* per member entry k (cmember order): its mass, 0 once removed */
+  tb_vec3 *eq;      /* its rest offset c0_j - cm0_i */
+  tb_vec3 *smq;     /* per unit constraint: sum_k em_k eq_k (0 but for rounding) */
+  double *wf;       /* per sphere, set each step: 1 / mass, 0 when fixed or removed */
+  tb_vec3 (*xo)[3]; /* per skin vertex and binding q: x0 - c0 of its sphere */
 };
 
 /* The cut's state (models/metaball_cut.c, metaball_repack.c). */
@@ -63,6 +70,9 @@ int tb_metaball_add(tb_metaball *m, int k, const tb_vec3 *c0, const tb_vec3 *c, 
 /* Replaces the links by nl pairs (rest lengths from the rest centres) and
  * rebuilds the unit constraints from them. Returns 0, or -1 out of memory. */
 int tb_metaball_set_links(tb_metaball *m, int nl, const int *pairs);
+/* Recomputes vertex v's rest offsets xo from x0 and its binding; call it
+ * after changing x0[v] or bind[v] (the skin's m->xo must hold m->nv). */
+void tb_metaball_bind_offsets(tb_metaball *m, int v);
 /* Frees the cut's state (models/metaball_cut.c); tb_metaball_destroy calls it. */
 void tb_metaball_cut_release(tb_metaball *m);
 

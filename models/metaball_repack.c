@@ -365,13 +365,18 @@ int tb_metaball_set_skin(tb_metaball *m, int nv, const tb_vec3 *x, const signed 
   if (bind) m->bind = bind;
   double(*bw)[3] = realloc(m->bw, sizeof *m->bw * V);
   if (bw) m->bw = bw;
+  tb_vec3(*xo)[3] = realloc(m->xo, sizeof *m->xo * V);
+  if (xo) m->xo = xo;
   signed char *sside = malloc((size_t)m->n);
-  if (!x0 || !xs || !bind || !bw || !sside)
+  if (!x0 || !xs || !bind || !bw || !xo || !sside)
     return free(sside), tb_error_set(err, "metaball skin", 0, "out of memory");
   for (int s = 0; s < m->n; s++)
     sside[s] = f && m->alive[s] ? (signed char)tb_fold_side(f, m->c[s]) : 0;
   for (int v = 0; v < nv; v++)
-    if (v >= m->nv || (rebind && rebind[v])) bind_current(m, v, x[v], side ? side[v] : 0, sside);
+    if (v >= m->nv || (rebind && rebind[v])) {
+      bind_current(m, v, x[v], side ? side[v] : 0, sside);
+      tb_metaball_bind_offsets(m, v);
+    }
   m->nv = nv;
   free(sside);
   return 0;

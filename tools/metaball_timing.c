@@ -1,12 +1,14 @@
-/* Timing of one metaball deformation frame (issue 14 §5): the liver
- * surface at 8128 vertices (tb_liver_surface), packed to 570 spheres
- * (tb_sphere_pack), tb_metaball_step with gravity and a push on a patch,
+/* Timing of one metaball deformation frame (issue 14 §5): the patent's
+ * liver (tb_organ_surface "liver", seed 1: exactly 8128 vertices), packed
+ * to 570 spheres (tb_sphere_pack), tb_metaball_step with a push on a patch,
  * skin included. Prints links, median / min ms per step over the run and
  * the convergence measure: the stretch links' residual
  * max |(|c_i - c_j| - l0) / l0| after the push's last frame and the frames
- * to rest after the release (every centre slower than 1e-4 / s).
+ * to rest after the release (every centre slower than 1e-4 / s). With a
+ * third argument, writes the skin's positions after the last step there
+ * (one vertex a line, %.17g) to compare two builds.
  *
- *   ./build/metaball_timing [steps] [iterations]
+ *   ./build/metaball_timing [steps] [iterations] [skin-file]
  */
 #include <math.h>
 #include <stdio.h>
@@ -33,11 +35,12 @@ static double residual(const tb_metaball *m) {
 
 int main(int argc, char **argv) {
   int steps = argc > 1 ? atoi(argv[1]) : 400, iters = argc > 2 ? atoi(argv[2]) : 10;
+  if (steps < 1 || iters < 0)
+    return fprintf(stderr, "usage: metaball_timing [steps >= 1] [iterations >= 0] [skin-file]\n"),
+           1;
   tb_error err;
-  tb_liver_def ld = tb_liver_default_def();
-  ld.surface_verts = 8128;
   tb_mesh surf;
-  if (tb_liver_surface(&ld, &surf, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+  if (tb_organ_surface("liver", 0, 1, &surf, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
   tb_sphpack_def pd = tb_sphpack_default_def(570);
   tb_spheres sp = {0};
   if (tb_sphere_pack(&surf, "liver", &pd, &sp, NULL, &err))
@@ -64,6 +67,13 @@ int main(int argc, char **argv) {
   }
   double last = 0;
   for (int v = 0; v < m->nv; v++) last = fmax(last, tb_dist(m->x[v], m->x0[v]));
+  if (argc > 3) {
+    FILE *out = fopen(argv[3], "w");
+    if (!out) return fprintf(stderr, "cannot write %s\n", argv[3]), 1;
+    for (int v = 0; v < m->nv; v++)
+      fprintf(out, "%.17g %.17g %.17g\n", m->x[v].x, m->x[v].y, m->x[v].z);
+    fclose(out);
+  }
   qsort(ms, (size_t)steps, sizeof(double), cmp);
   printf("liver: %d vertices, %d spheres, %d links, %d iterations, %d steps\n", m->nv, m->n, m->nl,
          iters, steps);
