@@ -545,7 +545,7 @@ static const tb_setting settings[] = {
                  "skin: Gaussian exp(-k^2 / (2 sigma^2)) of k = d / r"),
     TB_SETTING_R(S, overlap, 1.0, 0.0, HUGE_VAL, TB_OPEN_LO,
                  "spheres are linked when |c_i - c_j| < overlap (r_i + r_j)"),
-    TB_SETTING_I(S, iterations, 10, 1, 1000, "Gauss-Seidel sweeps of the stretch links per step"),
+    TB_SETTING_I(S, iterations, 8, 1, 1000, "Gauss-Seidel sweeps of the stretch links per step"),
     TB_SETTING_I(S, spheres, 0, 0, 100000,
                  "spheres packed into the surface (0: 570 per 8128 surface vertices, the "
                  "patent's liver, within [40, 600])"),
