@@ -21,7 +21,7 @@
 
 typedef struct opts {
   const char *view, *camera, *color, *out, *scene;
-  int w, h, ss, wireframe, structure, contacts;
+  int w, h, ss, wireframe, structure, contacts, volume;
 } opts;
 
 static int bad(const char *fmt, const char *a) {
@@ -102,8 +102,8 @@ static int frame(tb_renderer *r, tb_sim *s, const opts *o, const tb_camera *cam,
     if (!strcmp(o->color, "displacement")) tb_draw_displacement(s, value);
     for (int i = 0; i < su.nv; i++) hi = fmax(hi, value[i]);
   }
-  tb_draw_sim(r, s, value, hi, o->color, o->wireframe);
-  if (o->structure && tb_draw_structure(r, s, err)) return free(value), -1;
+  if (!o->volume) tb_draw_sim(r, s, value, hi, o->color, o->wireframe);
+  if ((o->structure || o->volume) && tb_draw_structure(r, s, err)) return free(value), -1;
   if (o->contacts) tb_draw_contacts(r, s);
   free(value);
   if (tb_renderer_write_png(r, path, err)) return -1;
@@ -167,7 +167,7 @@ static int render_mesh(const char *file, const opts *o) {
 }
 
 int tb_cmd_render(int argc, char **argv) {
-  opts o = {NULL, NULL, "none", NULL, NULL, 800, 600, 2, 0, 0, 0};
+  opts o = {NULL, NULL, "none", NULL, NULL, 800, 600, 2, 0, 0, 0, 0};
   const char *scene = NULL, *mesh = NULL, *model = NULL, *times = NULL, *size = NULL;
   long every = 0;
   int ss_given = 0;
@@ -178,8 +178,12 @@ int tb_cmd_render(int argc, char **argv) {
   tb_error err;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-    if (!strcmp(a, "--wireframe") || !strcmp(a, "--structure") || !strcmp(a, "--contacts")) {
-      *(a[2] == 'w' ? &o.wireframe : a[2] == 's' ? &o.structure : &o.contacts) = 1;
+    if (!strcmp(a, "--wireframe") || !strcmp(a, "--structure") || !strcmp(a, "--contacts") ||
+        !strcmp(a, "--volume")) {
+      *(a[2] == 'w'   ? &o.wireframe
+        : a[2] == 's' ? &o.structure
+        : a[2] == 'v' ? &o.volume
+                      : &o.contacts) = 1;
       continue;
     }
     if (!v) return bad("unknown or incomplete option '%s' (render --help)", a);

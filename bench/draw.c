@@ -59,6 +59,13 @@ void tb_draw_edges(tb_renderer *r, const tb_mesh *m, const tb_vec3 *x) {
 
 int tb_draw_structure(tb_renderer *r, const tb_sim *s, tb_error *err) {
   const tb_vec3 *x = tb_model_positions(&s->model);
+  if (s->model.cls->spheres) { /* spheres at half their radius, and their links */
+    tb_model_spheres sp = s->model.cls->spheres(s->model.self);
+    static const float dark[3] = {0.15f, 0.15f, 0.2f};
+    if (tb_draw_spheres(r, sp.n, sp.c, sp.r, sp.alive, 0.5, tb_draw_body_rgb, err)) return -1;
+    tb_draw_links(r, sp.nlinks, sp.links, sp.c, dark, 1.0f);
+    return 0;
+  }
   const char *name = s->model.cls->name;
   double mode, clusters, radius;
   if (tb_model_setting(name, &s->settings, "cluster_mode", &mode) ||

@@ -97,7 +97,9 @@ static const tb_command commands[] = {
      "                the reference solution of the loads at that time; beam, liver-stretch):\n"
      "                a colour map with its colour bar\n"
      "  --wireframe   the surface's triangle edges; --structure: the model's tet edges (sm:\n"
-     "                its clusters); --contacts: surface triangles crossing the instrument\n"
+     "                its clusters; metaball: its spheres at half size and their links);\n"
+     "                --volume: the structure alone, without the surface (the metaball\n"
+     "                patent's upper row); --contacts: surface triangles crossing the instrument\n"
      "  a scene is drawn at each time (DIR/tT.png; default: its end) or every K steps\n"
      "  (DIR/frame_NNNNN.png), with its instrument and ground. OSMesa on Mesa's softpipe\n"
      "  rasterizer: the same input gives the same bytes. Bad camera, size or times exit 2",

@@ -22,8 +22,9 @@ void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, cons
 double tb_draw_displacement(const tb_sim *s, double *value);
 /* Every tet edge of m at positions x as a thin dark line. */
 void tb_draw_edges(tb_renderer *r, const tb_mesh *m, const tb_vec3 *x);
-/* The model's structure: shape matching's clusters (each node coloured by
- * its first cluster), else the tet edges. */
+/* The model's structure: a sphere model's spheres (at half their radius)
+ * and links, shape matching's clusters (each node coloured by its first
+ * cluster), else the tet edges. */
 int tb_draw_structure(tb_renderer *r, const tb_sim *s, tb_error *err);
 /* The body's surface triangles crossing the instrument at the last step,
  * in red over the surface; returns how many. */

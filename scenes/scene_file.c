@@ -353,6 +353,29 @@ static int tool_key(parser *p, tb_scene_tool *t, const char *key, const char *va
   return mesh_key(p, &t->mesh, key, value);
 }
 
+static int cut_key(parser *p, const char *key, const char *value) {
+  tb_scene_desc *d = p->d;
+  if (!strcmp(key, "point")) {
+    if (d->ncut_point == TB_SCENE_MAX_ITEMS)
+      return fail(p, "point: more than %s path points%s", "16", "");
+    if (tb_scene_parse_list(value, d->cut_point[d->ncut_point], 3, 3) < 0)
+      return fail(p, "point: '%s' is not x,y,z%s", value, "");
+    d->ncut_point++;
+    return 1;
+  }
+  if (!strcmp(key, "depth")) {
+    if (tb_scene_parse_list(value, d->cut_depth, 3, 3) < 0)
+      return fail(p, "depth: '%s' is not dx,dy,dz%s", value, "");
+    return 1;
+  }
+  if (!strcmp(key, "start") || !strcmp(key, "stop")) {
+    if (tb_scene_parse_expr(value, key[2] == 'a' ? &d->cut_start : &d->cut_stop))
+      return fail(p, "%s: '%s' is not a time", key, value);
+    return 1;
+  }
+  return -1;
+}
+
 /* Items of repeatable sections ([fix], [fix back], [force tip], ...). */
 static void *section_item(parser *p, const char *kind, const char *section) {
   tb_scene_desc *d = p->d;
@@ -371,7 +394,7 @@ static void *section_item(parser *p, const char *kind, const char *section) {
 }
 
 static int repeatable(const char *section, const char *key) {
-  return !strcmp(key, "keyframe") ||
+  return !strcmp(key, "keyframe") || (!strcmp(section, "cut") && !strcmp(key, "point")) ||
          (strncmp(section, "scene", 5) && strncmp(section, "model", 5) &&
           strncmp(section, "mesh", 4) &&
           (!strcmp(key, "ids") || !strcmp(key, "box") || !strcmp(key, "box_fraction") ||
@@ -421,6 +444,13 @@ static int handler(void *user, const char *section, const char *key, const char 
       for (int i = 0; i < 3; i++) d->tool.motion.centre[i] = (tb_expr){0, -1};
     }
     r = tool_key(p, &d->tool, key, value);
+  } else if (!strcmp(section, "cut")) {
+    if (!d->has_cut) {
+      d->has_cut = 1, d->cut_line = (int)p->line;
+      d->cut_start = (tb_expr){0, -1}, d->cut_stop = (tb_expr){-1, -1};
+      for (int i = 0; i < 3; i++) d->cut_depth[i] = (tb_expr){0, -1};
+    }
+    r = cut_key(p, key, value);
   } else if (!strcmp(section, "output")) {
     if (!strcmp(key, "every")) {
       char *end;
@@ -453,7 +483,7 @@ static int handler(void *user, const char *section, const char *key, const char 
   } else
     return fail(p,
                 "unknown section [%s] (scene, mesh, model, fix, force, move, ground, instrument, "
-                "output)%s",
+                "cut, output)%s",
                 section, "");
   if (r == -1)
     return fail(p, "unknown key '%s' in [%s] (scenes/README.md lists the keys)", key, section);
@@ -485,6 +515,16 @@ static int check(parser *p) {
       return tb_error_set(err, d->path, d->tool.line, "[instrument] needs file = or generate =");
     if (!d->tool.motion.nkey)
       return tb_error_set(err, d->path, d->tool.line, "[instrument] has no keyframe");
+  }
+  if (d->has_cut) {
+    if (d->ncut_point < 2)
+      return tb_error_set(err, d->path, d->cut_line,
+                          "[cut] needs two or more 'point = x,y,z' lines (the blade's path), "
+                          "not %d",
+                          d->ncut_point);
+    if (d->cut_stop.param < 0 && d->cut_stop.k < 0)
+      return tb_error_set(err, d->path, d->cut_line,
+                          "[cut] needs stop = TIME (the blade at the path's last point)");
   }
   if (d->has_ground) {
     tb_scene_ground *g = &d->ground;

@@ -310,7 +310,7 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   if (tb_model_create(&s->model, mname, &s->mesh, &all, err)) goto fail;
   s->settings = all;
   s->mass = tb_model_masses(&s->model);
-  if (resolve_sets(s, err) || tb_sim_contact_setup(s, err)) goto fail;
+  if (resolve_sets(s, err) || tb_sim_contact_setup(s, err) || tb_sim_cut_setup(s, err)) goto fail;
   for (int i = 0; i < s->mesh.nv; i++) s->total_mass += s->mass[i];
   s->energy0 = s->energy = tb_model_energy(&s->model);
   s->health.ok = 1;
@@ -491,7 +491,9 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
   in.fixed = s->fixed;
   in.fixed_x = s->fixed_x;
   in.ground = s->has_ground ? &s->ground : NULL;
-  if (tb_model_step(&s->model, &in, err)) return -1;
+  if (tb_sim_cut_before(s, t, err) || tb_model_step(&s->model, &in, err) ||
+      tb_sim_cut_after(s, t, err))
+    return -1;
   int np = tb_model_npoints(&s->model);
   if (np < s->mesh.nv || (np > s->mesh.nv && (s->has_ground || s->has_tool)))
     return tb_error_set(err, s->model.cls->name, 0, "the model now has %d points, the scene %d: %s",
@@ -522,6 +524,7 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
 void tb_sim_destroy(tb_sim *s) {
   tb_model_destroy(&s->model);
   tb_sim_contact_free(s);
+  tb_sim_cut_free(s);
   tb_mesh_free(&s->mesh);
   free(s->fixed), free(s->fixed_x), free(s->force), free(s->mark), free(s->target);
   free(s->on_surface), free(s->x_prev), free(s->x_window), free(s->ids_buf), free(s->xc_buf),

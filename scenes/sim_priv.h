@@ -33,4 +33,12 @@ int tb_sim_contact_prestep(tb_sim *s, double t, tb_error *err);
 /* Poses the instrument at time t (world positions in s->tool_x). */
 void tb_sim_tool_pose(tb_sim *s, double t, tb_mat3 *R, tb_vec3 *tr);
 
+/* The scalpel (scenes/cut.c): checks and resolves [cut] after the model
+ * exists; before a step at time t (the step's end) BEGIN and MOVE; after
+ * it, END once t reaches stop. */
+int tb_sim_cut_setup(tb_sim *s, tb_error *err);
+int tb_sim_cut_before(tb_sim *s, double t, tb_error *err);
+int tb_sim_cut_after(tb_sim *s, double t, tb_error *err);
+void tb_sim_cut_free(tb_sim *s);
+
 #endif

@@ -161,8 +161,13 @@ typedef struct tb_scene_desc {
   tb_scene_ground ground;
   int has_tool;
   tb_scene_tool tool;
-  double frame_interval; /* [output] every: seconds between frames (0: 1/30 s) */
-  tb_selection probe;    /* [output] selectors: nodes whose displacement the summary reports */
+  int has_cut; /* [cut]: a scalpel along a path (models that can be cut) */
+  int cut_line, ncut_point;
+  tb_expr cut_point[TB_SCENE_MAX_ITEMS][3]; /* the blade edge's path, in order */
+  tb_expr cut_depth[3];                     /* the blade's depth vector */
+  tb_expr cut_start, cut_stop;              /* at the first point, at the last */
+  double frame_interval;                    /* [output] every: seconds between frames (0: 1/30 s) */
+  tb_selection probe; /* [output] selectors: nodes whose displacement the summary reports */
 } tb_scene_desc;
 
 /* Reads a scene file. Errors: "FILE:LINE: reason" (unknown section or key,

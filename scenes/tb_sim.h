@@ -132,6 +132,12 @@ typedef struct tb_sim {
   /* penetration: of the last step (after the contact response) and the largest over the run */
   double pen_ground, pen_tool, pen_ground_max, pen_tool_max;
   double pen_tool_before_max; /* largest depth inside the tool before the response */
+  /* the scalpel ([cut], scenes/cut.c): path, depth, times; state 0 before,
+   * 1 cutting, 2 done; the path handed last; what the cut did */
+  int cut_n, cut_state, cut_last_n;
+  tb_vec3 *cut_path, *cut_now, cut_depth, cut_last;
+  double cut_start, cut_stop;
+  tb_cut_stats cut_stats;
   /* health of the last step */
   tb_health health;
   /* the energy-growth detector (tb_sim_step) */
