@@ -51,6 +51,13 @@ static void file_errors(void) {
   expect_cli_error("force.ini", BEAM "[force tip]\nids = 3\n", 7, "needs total = or each =");
   expect_cli_error("model-key.ini", BEAM "[model]\nE = 3000\nwobble = 2\n", 8, "wobble");
   expect_cli_error("range.ini", BEAM "[model]\nnu = 0.7\n", 7, "nu");
+  /* the scalpel: a path of one point, no stop, a model that cannot be cut */
+  expect_cli_error("cut-one.ini", BEAM "[cut]\npoint = 0,0,0\nstop = 1\n", 7, "two or more 'point");
+  expect_cli_error("cut-stop.ini", BEAM "[cut]\npoint = 0,0,0\npoint = 1,0,0\n", 7, "needs stop");
+  expect_cli_error("cut-bad.ini", BEAM "[cut]\npoint = 0,0\n", 7, "point: '0,0'");
+  expect_cli_error("cut-fem.ini",
+                   BEAM "[cut]\npoint = 0,-1,-1\npoint = 0,2,-1\ndepth = 0,0,3\nstop = 0.1\n", 7,
+                   "fem model cannot be cut");
   /* the id file's own line */
   const char *ids = tb_test_file("ids.txt", "# fixed nodes\n0 1\n2 x3\n", -1);
   char text[1200];
