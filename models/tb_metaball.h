@@ -81,11 +81,12 @@ typedef struct tb_metaball_cut_settings {
   double cfl;      /* substep = cfl x 2 / the point set's largest free frequency */
   double boundary_angle;  /* degrees: the patent's cone about a point's normal */
   double boundary_offset; /* neighbour-centroid offset over mean neighbour distance */
+  double flatness;        /* point stencils with det A <= flatness (tr A / 3)^3 are inactive */
 } tb_metaball_cut_settings;
 
 /* spacing 0.3, per_sphere 0, min_dist 0.6, E 1000, nu 0.3, density 0,
- * damping 2, coupling 1, substeps 0, cfl 0.5, boundary_angle 45,
- * boundary_offset 0.25. */
+ * damping 2, coupling 1, substeps 0, cfl 0.9, boundary_angle 45,
+ * boundary_offset 0.25, flatness 0.02. */
 void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s);
 
 /* Starts a cut (no points yet). Fails when a cut is running or on bad
