@@ -14,11 +14,20 @@
  * motion (R: the sphere's unit-constraint rotation).
  *
  * (2) The point set is the simplified meshless body of models/meshless.c,
- * rebuilt over all points whenever spheres are converted (velocities of
- * earlier points restart at zero: the meshless module sets no velocities),
- * its links cut at the current positions by the whole fold so far (created
- * uncut, then tb_meshless_relink). The fold grows each frame: every advance
- * re-cuts the links.
+ * rebuilt over all points whenever spheres are converted (earlier points
+ * keep their velocities, new ones take their sphere's), its links cut at
+ * the current positions by the whole fold so far (created uncut, then
+ * tb_meshless_relink). The fold grows each frame: every advance re-cuts the
+ * links, and when the new fold extends the last one (same depth, the old
+ * path a prefix) only against the pieces the blade swept since (the last
+ * old piece and the new ones), spheres too: material that later moves
+ * across a piece the blade has left is not cut again. Each piece has its
+ * box; a link is tested exactly only against pieces whose box meets its
+ * own. Stencils with det A <= flatness (tr A / 3)^3 are inactive
+ * (tb_meshless_set_flatness; 0.02, against the module's 1e-3): the nearly
+ * flat stencils of a coarse, irregular cloud are the stiffest and alone
+ * set the explicit step (on the 570-sphere liver 0.02 cut the substeps
+ * about fourfold).
  *
  * (3) Coupling. A point whose rest position lies inside a sphere still alive
  * (searched among the spheres its own sphere was linked to; the deepest,
@@ -38,12 +47,16 @@
  * simulation", for one degree of freedom): with b = dt^2 k_s / m_s, G the
  * sphere's other forces and v its velocity, F_eff = (F - b G - b m_s v / dt)
  * / (1 + b), which keeps every equilibrium (F = -G, v = 0) and is stable
- * for any k_s; k_s is the change of F when the sphere's driven points move
- * (finite differences, see max_frequency). The meshless body is
- * explicit (stable for dt omega < 2): substeps of at most cfl x 2 / omega,
- * omega its largest free frequency, found by power iteration on finite
- * differences of its forces whenever its points or links change (a fixed
- * p-wave bound is not enough: a nearly flat stencil is far stiffer).
+ * for any k_s; k_s bounds the stiffness of the sphere's driven points moved
+ * together (tb_meshless_group_stiffness, from the stencils; an upper bound
+ * only damps the coupling more). The meshless body is explicit (stable for
+ * dt omega < 2): substeps of at most cfl x 2 / omega, omega an upper bound
+ * of its largest free frequency (tb_meshless_frequency_bound: block
+ * Gershgorin on the stencils, no iteration), both recomputed whenever its
+ * points or links change. (Until 2026-11 both came from finite differences
+ * of the forces, 40 power iterations and one force evaluation per sphere:
+ * 80% of a frame; the bound is about 1.7-2.5x the iterated value, so cfl's
+ * default went from 0.5 to 0.9.)
  *
  * (4) Points back to spheres (cut_end). Boundary points: a point with no
  * neighbour inside the cone of half-angle boundary_angle about its normal
@@ -62,7 +75,12 @@
  * taken when its centre is not within alpha R of a sphere taken (centre C,
  * radius R) and it reaches a point not yet covered (within its radius plus
  * a spacing, the points' own extent; points driven by alive spheres count as covered); stop
- * when every point is covered. The patent's "or to the spheres already
+ * when every point is covered. A last pass covers what is left: each point
+ * still uncovered, in index order, centres a sphere whose radius reaches
+ * the nearest boundary point (one to four spacings; a boundary point's own
+ * is one spacing), covering the points within it plus a spacing (the
+ * report's `filled`). Points then uncovered belong only to dropped spheres
+ * (below). The patent's "or to the spheres already
  * placed" as the radius would make tangent spheres, which do not link: here
  * the placed spheres only space the centres. A new sphere's rest centre and
  * rotation come from the rigid fit (rest to current) of the points inside

@@ -108,8 +108,10 @@ typedef struct tb_metaball_cut_report {
   double removed_r, created_r; /* their mean radii */
   int points, boundary;        /* points at the end, of which on the boundary */
   int candidates;              /* Voronoi poles accepted as centres */
-  int uncovered;               /* points no sphere reaches (within a spacing) */
+  int uncovered;               /* points no kept sphere reaches (within a spacing) */
   int dropped;                 /* new spheres that overlapped no other one, removed */
+  int filled;                  /* of the created, spheres of the last pass centred at points */
+  int driven, strays;          /* points inside alive spheres, points with no neighbour */
 } tb_metaball_cut_report;
 
 /* The blade has left: new spheres on the medial axis of the boundary
