@@ -345,10 +345,18 @@ static tb_mat3 stress(const tb_meshless *m, tb_mat3 e) {
   return e;
 }
 
-void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) {
+/* The forces; with skip != 0, the stencils whose points all have mark ==
+ * skip (all driven this step) are left out: they move no free point, so
+ * the free points' forces are the same, sums in the same order. */
+static void forces(const tb_meshless *m, tb_vec3 *f, unsigned skip) {
   memset(f, 0, sizeof(tb_vec3) * (size_t)m->n);
   for (int i = 0; i < m->n; i++) {
     if (!m->active[i]) continue;
+    if (skip && m->mark[i] == skip) {
+      int k = m->start[i];
+      while (k < m->start[i + 1] && m->mark[m->nbr[k]] == skip) k++;
+      if (k == m->start[i + 1]) continue;
+    }
     tb_mat3 J = tb_meshless_jacobian(m, i), e = tb_m3_mul(tb_m3_transpose(J), J);
     for (int a = 0; a < 3; a++) e.m[a][a] -= 1;
     for (int a = 0; a < 3; a++)
@@ -365,6 +373,8 @@ void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) {
     f[i] = tb_sub(f[i], sum);
   }
 }
+
+void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0); }
 
 double tb_meshless_energy(const tb_meshless *m) {
   double U = 0;
@@ -440,15 +450,20 @@ void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngr
 int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, const int *ids,
                      const tb_vec3 *fixed_x, tb_error *err) {
   if (!(dt > 0)) return tb_error_set(err, "meshless", 0, "dt must be positive");
-  if (++m->stamp == 0) memset(m->mark, 0, sizeof(unsigned) * (size_t)m->n), m->stamp = 1;
-  for (int k = 0; k < nfixed; k++) {
+  for (int k = 0; k < nfixed; k++)
     if (ids[k] < 0 || ids[k] >= m->n)
       return tb_error_set(err, "meshless", 0, "driven point %d out of range", ids[k]);
-    m->mark[ids[k]] = m->stamp;
+  if (++m->stamp == 0) {
+    memset(m->mark, 0, sizeof(unsigned) * (size_t)m->n), m->stamp = 1, m->fvalid = 0;
   }
+  for (int k = 0; k < nfixed; k++) m->mark[ids[k]] = m->stamp;
+  /* the last step's forces left out stencils driven then: valid unless a
+   * point driven then is free now */
+  for (int i = 0; i < m->n && m->fvalid; i++)
+    if (m->stamp > 1 && m->mark[i] == m->stamp - 1) m->fvalid = 0;
   int verlet = m->integrator == TB_MESHLESS_ALTERNATING;
   double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt;
-  if (!m->fvalid) tb_meshless_forces(m, m->f);
+  if (!m->fvalid) forces(m, m->f, m->stamp);
   for (int i = 0; i < m->n; i++) {
     if (m->mark[i] == m->stamp) continue;
     m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
@@ -462,7 +477,7 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   }
   m->fvalid = 0;
   if (verlet) {
-    tb_meshless_forces(m, m->f);
+    forces(m, m->f, m->stamp);
     m->fvalid = 1;
     for (int i = 0; i < m->n; i++) {
       if (m->mark[i] == m->stamp) continue;
