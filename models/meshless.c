@@ -33,8 +33,9 @@
  * fixed), so linear and angular momentum are conserved.
  *
  * A point whose A_i is degenerate (fewer than 3 non-coplanar neighbours, or
- * a nearly flat stencil: det A <= 1e-3 (tr A / 3)^3, the smallest
- * eigenvalue below roughly 1e-3 of the mean) is inactive: it has no strain
+ * a nearly flat stencil: det A <= c (tr A / 3)^3, c = 1e-3 by default or
+ * tb_meshless_set_flatness, the smallest eigenvalue below roughly c of the
+ * mean) is inactive: it has no strain
  * energy of its own (J = I) but still enters its neighbours' sums, or moves
  * freely when it has no active neighbour; no NaN comes from it. (A dt
  * beyond the explicit bound still blows up: tb_meshless_step reports it.)
@@ -53,7 +54,22 @@
  * and the velocity the mean of the old and new accelerations, in line with
  * the patent's remark that velocity comes out larger and displacement
  * smaller ("相对中合"). Option: symplectic Euler, v += dt a(x), x += dt v.
- * Damping multiplies v by exp(-c dt) once per step. */
+ * Damping multiplies v by exp(-c dt) once per step.
+ *
+ * Explicit stability needs dt omega < 2, omega the largest angular
+ * frequency of the free points (sqrt of the largest eigenvalue of M^-1 K,
+ * K the stiffness at rest). tb_meshless_frequency_bound bounds it without
+ * iterating: U_i = V_i psi(H_i) with H_i = sum_b u_b d_ib^T over i's
+ * stencil (b = i included, d_ii = -sum_j d_ij), and psi's Hessian in H has
+ * norm at most kappa = 2 mu + 3 lambda (the bulk mode; Green strain at
+ * rest), so the block K_ab has norm <= sum_i V_i kappa |d_ia| |d_ib| over
+ * the stencils holding a and b; block Gershgorin (Feingold & Varga 1962)
+ * then gives omega^2 <= max_a (1 / m_a) sum_i V_i kappa |d_ia| sum_b |d_ib|,
+ * b over the free points only (the driven ones are prescribed). The same
+ * bound gives a group's stiffness under a common translation t of its
+ * points (u_b = t for b in the group): H_i = t g_i^T, g_i = sum over the
+ * group's points b in i's stencil of d_ib, so the energy's curvature is at
+ * most sum_i V_i kappa |g_i|^2 (tb_meshless_group_stiffness). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -71,6 +87,7 @@ struct tb_meshless {
   unsigned *mark; /* driven this step when mark[i] == stamp */
   unsigned stamp;
   double h, lambda, mu, damping;
+  double flat; /* a stencil with det A <= flat (tr A / 3)^3 is inactive */
   int integrator, fvalid;
 };
 
@@ -207,7 +224,7 @@ static void moments(tb_meshless *m) {
         for (int b = 0; b < 3; b++) A.m[a][b] += m->w[k] * p[a] * p[b];
     }
     double tr = (A.m[0][0] + A.m[1][1] + A.m[2][2]) / 3, det = tb_m3_det(A);
-    m->active[i] = tr > 0 && det > 1e-3 * tr * tr * tr;
+    m->active[i] = tr > 0 && det > m->flat * tr * tr * tr;
     tb_mat3 inv = tb_m3_transpose(tb_m3_cofactor(A));
     for (int k = m->start[i]; k < m->start[i + 1]; k++) {
       tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
@@ -265,6 +282,7 @@ tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, d
     m->mass[i] = density * m->vol[i];
   }
   tb_lame(E, nu, &m->lambda, &m->mu);
+  m->flat = 1e-3;
   if (link(m, crosses, ctx)) goto oom;
   moments(m);
   return m;
@@ -327,10 +345,18 @@ static tb_mat3 stress(const tb_meshless *m, tb_mat3 e) {
   return e;
 }
 
-void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) {
+/* The forces; with skip != 0, the stencils whose points all have mark ==
+ * skip (all driven this step) are left out: they move no free point, so
+ * the free points' forces are the same, sums in the same order. */
+static void forces(const tb_meshless *m, tb_vec3 *f, unsigned skip) {
   memset(f, 0, sizeof(tb_vec3) * (size_t)m->n);
   for (int i = 0; i < m->n; i++) {
     if (!m->active[i]) continue;
+    if (skip && m->mark[i] == skip) {
+      int k = m->start[i];
+      while (k < m->start[i + 1] && m->mark[m->nbr[k]] == skip) k++;
+      if (k == m->start[i + 1]) continue;
+    }
     tb_mat3 J = tb_meshless_jacobian(m, i), e = tb_m3_mul(tb_m3_transpose(J), J);
     for (int a = 0; a < 3; a++) e.m[a][a] -= 1;
     for (int a = 0; a < 3; a++)
@@ -347,6 +373,8 @@ void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) {
     f[i] = tb_sub(f[i], sum);
   }
 }
+
+void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0); }
 
 double tb_meshless_energy(const tb_meshless *m) {
   double U = 0;
@@ -367,20 +395,75 @@ double tb_meshless_kinetic(const tb_meshless *m) {
   return K;
 }
 
+/* ---- stability bound and group stiffness (see the head) ---- */
+
+/* d_ib for b = the k-th entry of i's stencil, k = -1 for i itself. */
+static tb_vec3 stencil_d(const tb_meshless *m, int i, int k) {
+  if (k >= 0) return m->d[k];
+  tb_vec3 s = tb_v3(0, 0, 0);
+  for (int q = m->start[i]; q < m->start[i + 1]; q++) s = tb_sub(s, m->d[q]);
+  return s;
+}
+
+double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *driven, double *row) {
+  double kappa = 2 * m->mu + 3 * m->lambda, w2 = 0;
+  memset(row, 0, sizeof(double) * (size_t)m->n);
+  for (int i = 0; i < m->n; i++) {
+    if (!m->active[i]) continue;
+    double dii = tb_len(stencil_d(m, i, -1)), sum = driven && driven[i] ? 0 : dii;
+    for (int k = m->start[i]; k < m->start[i + 1]; k++)
+      if (!driven || !driven[m->nbr[k]]) sum += tb_len(m->d[k]);
+    double a = m->vol[i] * kappa * sum;
+    row[i] += a * dii;
+    for (int k = m->start[i]; k < m->start[i + 1]; k++) row[m->nbr[k]] += a * tb_len(m->d[k]);
+  }
+  for (int i = 0; i < m->n; i++)
+    if (!driven || !driven[i]) w2 = fmax(w2, row[i] / m->mass[i]);
+  return sqrt(w2);
+}
+
+void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngroups, double *k) {
+  double kappa = 2 * m->mu + 3 * m->lambda;
+  for (int g = 0; g < ngroups; g++) k[g] = 0;
+  for (int i = 0; i < m->n; i++) {
+    if (!m->active[i]) continue;
+    tb_vec3 dii = stencil_d(m, i, -1);
+    /* g_i per group present in the stencil: a short scan, stencils are small */
+    for (int a = -1; a < m->start[i + 1] - m->start[i]; a++) {
+      int pa = a < 0 ? i : m->nbr[m->start[i] + a], ga = group[pa], first = 1;
+      if (ga < 0 || ga >= ngroups) continue;
+      for (int b = -1; b < a && first; b++) /* only the group's first member sums */
+        first = group[b < 0 ? i : m->nbr[m->start[i] + b]] != ga;
+      if (!first) continue;
+      tb_vec3 g = tb_v3(0, 0, 0);
+      for (int b = a; b < m->start[i + 1] - m->start[i]; b++) {
+        int pb = b < 0 ? i : m->nbr[m->start[i] + b];
+        if (group[pb] == ga) g = tb_add(g, b < 0 ? dii : m->d[m->start[i] + b]);
+      }
+      k[ga] += m->vol[i] * kappa * tb_dot(g, g);
+    }
+  }
+}
+
 /* ---- time stepping ---- */
 
 int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, const int *ids,
                      const tb_vec3 *fixed_x, tb_error *err) {
   if (!(dt > 0)) return tb_error_set(err, "meshless", 0, "dt must be positive");
-  if (++m->stamp == 0) memset(m->mark, 0, sizeof(unsigned) * (size_t)m->n), m->stamp = 1;
-  for (int k = 0; k < nfixed; k++) {
+  for (int k = 0; k < nfixed; k++)
     if (ids[k] < 0 || ids[k] >= m->n)
       return tb_error_set(err, "meshless", 0, "driven point %d out of range", ids[k]);
-    m->mark[ids[k]] = m->stamp;
+  if (++m->stamp == 0) {
+    memset(m->mark, 0, sizeof(unsigned) * (size_t)m->n), m->stamp = 1, m->fvalid = 0;
   }
+  for (int k = 0; k < nfixed; k++) m->mark[ids[k]] = m->stamp;
+  /* the last step's forces left out stencils driven then: valid unless a
+   * point driven then is free now */
+  for (int i = 0; i < m->n && m->fvalid; i++)
+    if (m->stamp > 1 && m->mark[i] == m->stamp - 1) m->fvalid = 0;
   int verlet = m->integrator == TB_MESHLESS_ALTERNATING;
   double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt;
-  if (!m->fvalid) tb_meshless_forces(m, m->f);
+  if (!m->fvalid) forces(m, m->f, m->stamp);
   for (int i = 0; i < m->n; i++) {
     if (m->mark[i] == m->stamp) continue;
     m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
@@ -394,7 +477,7 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   }
   m->fvalid = 0;
   if (verlet) {
-    tb_meshless_forces(m, m->f);
+    forces(m, m->f, m->stamp);
     m->fvalid = 1;
     for (int i = 0; i < m->n; i++) {
       if (m->mark[i] == m->stamp) continue;
@@ -411,6 +494,14 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
 /* ---- settings and accessors ---- */
 
 void tb_meshless_set_damping(tb_meshless *m, double c) { m->damping = c > 0 ? c : 0; }
+void tb_meshless_set_flatness(tb_meshless *m, double c) {
+  m->flat = c > 0 ? fmin(c, 0.5) : 0;
+  moments(m);
+  m->fvalid = 0;
+}
+void tb_meshless_set_velocities(tb_meshless *m, const tb_vec3 *v) {
+  memcpy(m->v, v, sizeof(tb_vec3) * (size_t)m->n);
+}
 void tb_meshless_set_integrator(tb_meshless *m, int integrator) {
   m->integrator = integrator == TB_MESHLESS_SYMPLECTIC_EULER ? integrator : TB_MESHLESS_ALTERNATING;
 }

@@ -14,11 +14,20 @@
  * motion (R: the sphere's unit-constraint rotation).
  *
  * (2) The point set is the simplified meshless body of models/meshless.c,
- * rebuilt over all points whenever spheres are converted (velocities of
- * earlier points restart at zero: the meshless module sets no velocities),
- * its links cut at the current positions by the whole fold so far (created
- * uncut, then tb_meshless_relink). The fold grows each frame: every advance
- * re-cuts the links.
+ * rebuilt over all points whenever spheres are converted (earlier points
+ * keep their velocities, new ones take their sphere's), its links cut at
+ * the current positions by the whole fold so far (created uncut, then
+ * tb_meshless_relink). The fold grows each frame: every advance re-cuts the
+ * links, and when the new fold extends the last one (same depth, the old
+ * path a prefix) only against the pieces the blade swept since (the last
+ * old piece and the new ones), spheres too: material that later moves
+ * across a piece the blade has left is not cut again. Each piece has its
+ * box; a link is tested exactly only against pieces whose box meets its
+ * own. Stencils with det A <= flatness (tr A / 3)^3 are inactive
+ * (tb_meshless_set_flatness; 0.02, against the module's 1e-3): the nearly
+ * flat stencils of a coarse, irregular cloud are the stiffest and alone
+ * set the explicit step (on the 570-sphere liver 0.02 cut the substeps
+ * about fourfold).
  *
  * (3) Coupling. A point whose rest position lies inside a sphere still alive
  * (searched among the spheres its own sphere was linked to; the deepest,
@@ -38,12 +47,16 @@
  * simulation", for one degree of freedom): with b = dt^2 k_s / m_s, G the
  * sphere's other forces and v its velocity, F_eff = (F - b G - b m_s v / dt)
  * / (1 + b), which keeps every equilibrium (F = -G, v = 0) and is stable
- * for any k_s; k_s is the change of F when the sphere's driven points move
- * (finite differences, see max_frequency). The meshless body is
- * explicit (stable for dt omega < 2): substeps of at most cfl x 2 / omega,
- * omega its largest free frequency, found by power iteration on finite
- * differences of its forces whenever its points or links change (a fixed
- * p-wave bound is not enough: a nearly flat stencil is far stiffer).
+ * for any k_s; k_s bounds the stiffness of the sphere's driven points moved
+ * together (tb_meshless_group_stiffness, from the stencils; an upper bound
+ * only damps the coupling more). The meshless body is explicit (stable for
+ * dt omega < 2): substeps of at most cfl x 2 / omega, omega an upper bound
+ * of its largest free frequency (tb_meshless_frequency_bound: block
+ * Gershgorin on the stencils, no iteration), both recomputed whenever its
+ * points or links change. (Until 2026-11 both came from finite differences
+ * of the forces, 40 power iterations and one force evaluation per sphere:
+ * 80% of a frame; the bound is about 1.7-2.5x the iterated value, so cfl's
+ * default went from 0.5 to 0.9.)
  *
  * (4) Points back to spheres (cut_end). Boundary points: a point with no
  * neighbour inside the cone of half-angle boundary_angle about its normal
@@ -62,7 +75,12 @@
  * taken when its centre is not within alpha R of a sphere taken (centre C,
  * radius R) and it reaches a point not yet covered (within its radius plus
  * a spacing, the points' own extent; points driven by alive spheres count as covered); stop
- * when every point is covered. The patent's "or to the spheres already
+ * when every point is covered. A last pass covers what is left: each point
+ * still uncovered, in index order, centres a sphere whose radius reaches
+ * the nearest boundary point (one to four spacings; a boundary point's own
+ * is one spacing), covering the points within it plus a spacing (the
+ * report's `filled`). Points then uncovered belong only to dropped spheres
+ * (below). The patent's "or to the spheres already
  * placed" as the radius would make tangent spheres, which do not link: here
  * the placed spheres only space the centres. A new sphere's rest centre and
  * rotation come from the rigid fit (rest to current) of the points inside
@@ -86,14 +104,17 @@
 void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s) {
   s->spacing = 0.3, s->per_sphere = 0, s->min_dist = 0.6;
   s->E = 1000, s->nu = 0.3, s->density = 0, s->damping = 2, s->coupling = 1;
-  s->substeps = 0, s->cfl = 0.5, s->boundary_angle = 45, s->boundary_offset = 0.25;
+  s->substeps = 0, s->cfl = 0.9, s->boundary_angle = 45, s->boundary_offset = 0.25;
+  s->flatness = 0.02;
 }
 
 void tb_metaball_cut_free_points(tb_metaball_cutstate *c) {
   tb_meshless_destroy(c->ml);
   free(c->X), free(c->x), free(c->held), free(c->vol), free(c->gen), free(c->driver);
   free(c->removed), free(c->pstart), free(c->ids), free(c->fx0), free(c->fx1), free(c->fx);
-  free(c->fpts), free(c->fsph), free(c->fel), free(c->ks);
+  free(c->fpts), free(c->fsph), free(c->fel), free(c->ks), free(c->isdriven), free(c->row);
+  free(c->vbuf);
+  c->isdriven = NULL, c->row = NULL, c->vbuf = NULL;
   c->ks = NULL, c->fel = NULL, c->ml = NULL, c->X = c->x = c->held = NULL, c->vol = NULL,
   c->gen = c->driver = NULL;
   c->removed = c->pstart = c->ids = NULL, c->fx0 = c->fx1 = c->fx = c->fpts = c->fsph = NULL;
@@ -104,6 +125,7 @@ void tb_metaball_cut_release(tb_metaball *m) {
   if (!m->cut) return;
   tb_metaball_cut_free_points(m->cut);
   tb_fold_free(&m->cut->fold);
+  free(m->cut->plo), free(m->cut->phi);
   free(m->cut);
   m->cut = NULL;
 }
@@ -114,10 +136,11 @@ int tb_metaball_cut_begin(tb_metaball *m, const tb_metaball_cut_settings *s, tb_
       !(s->coupling >= 0) || s->substeps < 0 || !(s->cfl > 0 && s->cfl <= 1) ||
       !(s->boundary_angle > 0 && s->boundary_angle <= 90) || !(s->boundary_offset > 0) ||
       s->per_sphere < 0 || s->per_sphere > 100000 || !(s->min_dist >= 0 && s->min_dist <= 1) ||
+      !(s->flatness >= 0 && s->flatness <= 0.5) ||
       (s->per_sphere == 0 && !(s->spacing > 0 && s->spacing <= 1)))
     return tb_error_set(err, "metaball cut", 0,
                         "bad settings (E > 0, -1 < nu < 1/2, spacing in (0, 1], cfl in (0, 1], "
-                        "boundary_angle in (0, 90], the rest >= 0)");
+                        "boundary_angle in (0, 90], flatness in [0, 0.5], the rest >= 0)");
   if (!m->cut && !(m->cut = calloc(1, sizeof *m->cut)))
     return tb_error_set(err, "metaball cut", 0, "out of memory");
   tb_metaball_cutstate *c = m->cut;
@@ -136,12 +159,14 @@ int tb_metaball_cut_begin(tb_metaball *m, const tb_metaball_cut_settings *s, tb_
     c->spacing = rmin * cbrt(4 * M_PI / (3.0 * s->per_sphere));
   } else {
     c->spacing = s->spacing * rmin;
-    double most = 4.0 / 3.0 * M_PI * pow(rmax / c->spacing, 3);
-    if (most > 2e6)
+    double most = 4.0 / 3.0 * M_PI * pow(rmax / c->spacing, 3), all = 0;
+    for (int i = 0; i < m->n; i++)
+      if (m->alive[i]) all += 4.0 / 3.0 * M_PI * pow(m->r[i] / c->spacing, 3);
+    if (most > 2e6 || all > 2e6)
       return tb_error_set(err, "metaball cut", 0,
-                          "the shared grid puts %.3g points in the largest sphere (radii %g to "
-                          "%g): use per_sphere",
-                          most, rmin, rmax);
+                          "the shared grid puts %.3g points in the largest sphere and up to %.3g "
+                          "in all (radii %g to %g): use per_sphere",
+                          most, all, rmin, rmax);
   }
   c->cutting = 1;
   return 0;
@@ -218,26 +243,53 @@ static int convert(tb_metaball *m, tb_metaball_cutstate *c, int s) {
   return 0;
 }
 
-/* The meshless cut test: a quick box reject, then the exact segment test. */
+static int disjoint(tb_vec3 lo, tb_vec3 hi, tb_vec3 blo, tb_vec3 bhi) {
+  return lo.x > bhi.x || lo.y > bhi.y || lo.z > bhi.z || hi.x < blo.x || hi.y < blo.y ||
+         hi.z < blo.z;
+}
+
+/* The meshless cut test: a quick box reject against the whole fold, then
+ * per piece from piece_from on (see the head): its box, then the exact
+ * segment test on that piece alone (a one-piece view of the fold's arrays:
+ * the same triangles, so the same answer as tb_fold_segment on the fold). */
 int tb_metaball_cut_crosses(void *ctx, tb_vec3 a, tb_vec3 b) {
   const tb_metaball_cutstate *c = ctx;
   tb_vec3 lo = tb_vmin(a, b), hi = tb_vmax(a, b);
-  if (lo.x > c->fhi.x || lo.y > c->fhi.y || lo.z > c->fhi.z || hi.x < c->flo.x || hi.y < c->flo.y ||
-      hi.z < c->flo.z)
-    return 0;
-  return tb_fold_segment(&c->fold, a, b, NULL);
+  if (disjoint(lo, hi, c->flo, c->fhi)) return 0;
+  for (int k = c->piece_from; k < c->fold.npieces; k++) {
+    if (disjoint(lo, hi, c->plo[k], c->phi[k])) continue;
+    tb_fold one = {2, 1, c->fold.depth, c->fold.p + k, c->fold.q + k, c->fold.piece + k};
+    if (tb_fold_segment(&one, a, b, NULL)) return 1;
+  }
+  return 0;
 }
 
+/* Copies f with its boxes; piece_from: the first piece new since the last
+ * fold when f extends it (same depth, the old path a prefix of the new),
+ * else 0. */
 static int copy_fold(tb_metaball_cutstate *c, const tb_fold *f, tb_error *err) {
+  int from = 0;
+  if (c->has_fold && c->fold.count <= f->count &&
+      !memcmp(&c->fold.depth, &f->depth, sizeof f->depth) &&
+      !memcmp(c->fold.p, f->p, sizeof(tb_vec3) * (size_t)c->fold.count))
+    from = c->fold.npieces - 1; /* the blade's last piece again, and every new one */
   tb_fold_free(&c->fold);
   c->has_fold = 0;
   if (tb_fold_init(&c->fold, f->p, f->count, f->depth, err)) return -1;
+  int np = c->fold.npieces;
+  tb_vec3 *lo = realloc(c->plo, sizeof(tb_vec3) * (size_t)np);
+  if (lo) c->plo = lo;
+  tb_vec3 *hi = realloc(c->phi, sizeof(tb_vec3) * (size_t)np);
+  if (hi) c->phi = hi;
+  if (!lo || !hi) return tb_error_set(err, "metaball cut", 0, "out of memory");
   c->flo = c->fold.p[0], c->fhi = c->fold.p[0];
-  for (int i = 0; i < c->fold.count; i++) {
-    c->flo = tb_vmin(c->flo, tb_vmin(c->fold.p[i], c->fold.q[i]));
-    c->fhi = tb_vmax(c->fhi, tb_vmax(c->fold.p[i], c->fold.q[i]));
+  for (int k = 0; k < np; k++) {
+    const tb_vec3 *p = c->fold.p + k, *q = c->fold.q + k;
+    c->plo[k] = tb_vmin(tb_vmin(p[0], p[1]), tb_vmin(q[0], q[1]));
+    c->phi[k] = tb_vmax(tb_vmax(p[0], p[1]), tb_vmax(q[0], q[1]));
+    c->flo = tb_vmin(c->flo, c->plo[k]), c->fhi = tb_vmax(c->fhi, c->phi[k]);
   }
-  c->has_fold = 1;
+  c->piece_from = from, c->has_fold = 1;
   return 0;
 }
 
@@ -261,76 +313,31 @@ static int drive(tb_metaball *m, tb_metaball_cutstate *c) {
     c->driver[p] = best, nd += best != -1;
   }
   free(c->ids), free(c->fx0), free(c->fx1), free(c->fx), free(c->fpts), free(c->fsph), free(c->fel),
-      free(c->ks);
+      free(c->ks), free(c->isdriven), free(c->row);
   size_t D = (size_t)(nd > 0 ? nd : 1);
   c->ids = malloc(sizeof(int) * D), c->fx0 = malloc(sizeof(tb_vec3) * D);
   c->fx1 = malloc(sizeof(tb_vec3) * D), c->fx = malloc(sizeof(tb_vec3) * D);
   c->fpts = malloc(sizeof(tb_vec3) * (size_t)c->np),
   c->fsph = malloc(sizeof(tb_vec3) * (size_t)m->n);
   c->fel = malloc(sizeof(tb_vec3) * (size_t)m->n), c->ks = calloc((size_t)m->n, sizeof(double));
-  if (!c->ids || !c->fx0 || !c->fx1 || !c->fx || !c->fpts || !c->fsph || !c->fel || !c->ks)
+  c->isdriven = malloc((size_t)c->np), c->row = malloc(sizeof(double) * (size_t)c->np);
+  if (!c->ids || !c->fx0 || !c->fx1 || !c->fx || !c->fpts || !c->fsph || !c->fel || !c->ks ||
+      !c->isdriven || !c->row)
     return -1;
   c->nd = 0;
-  for (int p = 0; p < c->np; p++)
+  for (int p = 0; p < c->np; p++) {
+    c->isdriven[p] = c->driver[p] != -1;
     if (c->driver[p] != -1) c->ids[c->nd++] = p;
+  }
   return 0;
 }
 
-/* The point set's largest angular frequency: power iteration on M^-1 K over
- * the points not driven, K from forward differences of the
- * forces (tb_meshless_forces) at a displacement of 1e-6 spacing, from a
- * fixed start vector, 40 iterations; then each driving sphere's coupling
- * stiffness k_s the same way. The positions are restored. */
-static int max_frequency(tb_metaball_cutstate *c, int nsph) {
-  int n = c->np;
-  tb_vec3 *u = malloc(sizeof(tb_vec3) * (size_t)n), *f1 = malloc(sizeof(tb_vec3) * (size_t)n);
-  tb_vec3 *xs = malloc(sizeof(tb_vec3) * (size_t)n);
-  if (!u || !f1 || !xs) return free(u), free(f1), free(xs), -1;
-  const tb_vec3 *x = tb_meshless_positions(c->ml);
-  memcpy(c->x, x, sizeof(tb_vec3) * (size_t)n);
-  tb_meshless_forces(c->ml, c->fpts);
-  for (int i = 0; i < n; i++)
-    u[i] = c->driver[i] != -1 ? tb_v3(0, 0, 0)
-                              : tb_v3(1 + i % 3, 2 - (i * 7) % 5, 1 - (i * 13) % 4 * 0.5);
-  double eps = 1e-6 * c->spacing, lam = 0;
-  for (int it = 0; it < 40; it++) {
-    double un = 0;
-    for (int i = 0; i < n; i++) un += tb_dot(u[i], u[i]);
-    if (!(un > 0)) break;
-    un = sqrt(un);
-    for (int i = 0; i < n; i++) xs[i] = tb_madd(c->x[i], eps / un, u[i]);
-    tb_meshless_set_positions(c->ml, xs);
-    tb_meshless_forces(c->ml, f1);
-    double an = 0;
-    for (int i = 0; i < n; i++) {
-      u[i] = c->driver[i] != -1
-                 ? tb_v3(0, 0, 0)
-                 : tb_scale(tb_sub(f1[i], c->fpts[i]), -1 / tb_meshless_mass(c->ml, i));
-      an += tb_dot(u[i], u[i]);
-    }
-    lam = sqrt(an) / eps;
-  }
-  c->omega = sqrt(lam);
-  /* each driving sphere's coupling stiffness: its driven points moved by
-   * eps along (1, 1, 1) / sqrt 3, the change of their summed force */
-  tb_vec3 dir = tb_scale(tb_v3(1, 1, 1), eps / sqrt(3.0));
-  for (int s = 0; s < nsph; s++) c->ks[s] = 0;
-  for (int k = 0; k < c->nd; k++) {
-    int s = c->driver[c->ids[k]];
-    if (s < 0 || c->ks[s] != 0) continue;
-    memcpy(xs, c->x, sizeof(tb_vec3) * (size_t)n);
-    for (int q = k; q < c->nd; q++)
-      if (c->driver[c->ids[q]] == s) xs[c->ids[q]] = tb_add(xs[c->ids[q]], dir);
-    tb_meshless_set_positions(c->ml, xs);
-    tb_meshless_forces(c->ml, f1);
-    tb_vec3 df = tb_v3(0, 0, 0);
-    for (int q = k; q < c->nd; q++)
-      if (c->driver[c->ids[q]] == s) df = tb_add(df, tb_sub(f1[c->ids[q]], c->fpts[c->ids[q]]));
-    c->ks[s] = fmax(tb_len(df) / eps, 1e-300);
-  }
-  tb_meshless_set_positions(c->ml, c->x);
-  free(u), free(f1), free(xs);
-  return 0;
+/* The point set's stability bound and each driving sphere's coupling
+ * stiffness, both from the stencils in one pass each (the bounds of
+ * models/meshless.c's head; no iteration, no force evaluation). */
+static void stiffness(tb_metaball_cutstate *c, int nsph) {
+  c->omega = tb_meshless_frequency_bound(c->ml, c->isdriven, c->row);
+  tb_meshless_group_stiffness(c->ml, c->driver, nsph, c->ks);
 }
 
 static int total_links(const tb_meshless *ml) {
@@ -345,9 +352,25 @@ int tb_metaball_cut_advance(tb_metaball *m, const tb_fold *f, tb_error *err) {
   if (!f || f->count < 2) return tb_error_set(err, "metaball cut", 0, "no folded plane");
   if (copy_fold(c, f, err)) return -1;
   int np0 = c->np, converted = 0;
-  if (c->ml) memcpy(c->x, tb_meshless_positions(c->ml), sizeof(tb_vec3) * (size_t)np0);
+  if (c->ml) {
+    tb_vec3 *vb = realloc(c->vbuf, sizeof(tb_vec3) * (size_t)np0);
+    if (!vb) return tb_error_set(err, "metaball cut", 0, "out of memory");
+    c->vbuf = vb;
+    memcpy(c->x, tb_meshless_positions(c->ml), sizeof(tb_vec3) * (size_t)np0);
+    memcpy(c->vbuf, tb_meshless_velocities(c->ml), sizeof(tb_vec3) * (size_t)np0);
+  }
+  /* spheres: against the new pieces only (the blade is there; see the head) */
+  int from = c->piece_from;
+  tb_fold fresh = {c->fold.count - from, c->fold.npieces - from, c->fold.depth,
+                   c->fold.p + from,     c->fold.q + from,       c->fold.piece + from};
+  tb_vec3 blo = c->plo[from], bhi = c->phi[from];
+  for (int k = from; k < c->fold.npieces; k++)
+    blo = tb_vmin(blo, c->plo[k]), bhi = tb_vmax(bhi, c->phi[k]);
   for (int s = 0; s < m->n; s++) {
-    if (!m->alive[s] || !tb_fold_sphere(&c->fold, m->c[s], m->r[s], NULL)) continue;
+    tb_vec3 rr = tb_v3(m->r[s], m->r[s], m->r[s]);
+    if (!m->alive[s] || disjoint(tb_sub(m->c[s], rr), tb_add(m->c[s], rr), blo, bhi) ||
+        !tb_fold_sphere(&fresh, m->c[s], m->r[s], NULL))
+      continue;
     if (convert(m, c, s)) return tb_error_set(err, "metaball cut", 0, "out of memory");
     converted++;
   }
@@ -360,14 +383,20 @@ int tb_metaball_cut_advance(tb_metaball *m, const tb_fold *f, tb_error *err) {
         tb_meshless_create(c->np, c->X, c->vol, c->set.E, c->set.nu, c->density, NULL, NULL, err);
     if (!c->ml) return -1;
     tb_meshless_set_damping(c->ml, c->set.damping);
+    tb_meshless_set_flatness(c->ml, c->set.flatness);
     tb_meshless_set_positions(c->ml, c->x);
-    if (drive(m, c)) return tb_error_set(err, "metaball cut", 0, "out of memory");
+    tb_vec3 *vb = realloc(c->vbuf, sizeof(tb_vec3) * (size_t)c->np);
+    if (!vb || drive(m, c)) return tb_error_set(err, "metaball cut", 0, "out of memory");
+    c->vbuf = vb; /* velocities: the old points keep theirs, new ones take their sphere's */
+    for (int p = np0; p < c->np; p++) c->vbuf[p] = m->v[c->gen[p]];
+    tb_meshless_set_velocities(c->ml, c->vbuf);
+    c->piece_from = 0; /* every link is new: the whole fold */
   }
   if (!c->ml) return converted;
   int before = total_links(c->ml);
   tb_meshless_relink(c->ml, tb_metaball_cut_crosses, c, err);
-  if ((converted || total_links(c->ml) != before) && max_frequency(c, m->n))
-    return tb_error_set(err, "metaball cut", 0, "out of memory");
+  c->piece_from = 0; /* the repacking and the skin test against the whole fold */
+  if (converted || total_links(c->ml) != before) stiffness(c, m->n);
   return converted;
 }
 

@@ -54,6 +54,13 @@ typedef struct tb_metaball_cut {
   int nd, *ids; /* driven points, and the per-frame buffers */
   tb_vec3 *fx0, *fx1, *fx, *fpts, *fsph, *fel;
   double *ks; /* per sphere: the stiffness of its coupling to the points */
+  /* appended (cutspeed): per-piece boxes of the fold, the first piece the
+   * cut test looks at, and scratch for the stability bound */
+  tb_vec3 *plo, *phi;
+  int piece_from;
+  unsigned char *isdriven;
+  double *row;
+  tb_vec3 *vbuf;
 } tb_metaball_cutstate;
 
 /* The cut test handed to the point set (ctx: the cut state). */

@@ -140,7 +140,7 @@ typedef struct work {
   tb_vec3 *bp, *bn, *pole, *centre, *nc, *nc0, *nv, *vel;
   double *pole_r, *nr;
   int *list;
-  unsigned char *covered;
+  unsigned char *covered, *isb;
   tb_mat3 *nrot;
   cand *cd;
   int *pairs;
@@ -149,13 +149,14 @@ typedef struct work {
 
 static void work_free(work *w) {
   free(w->bp), free(w->bn), free(w->pole), free(w->centre), free(w->nc), free(w->nc0), free(w->nv);
-  free(w->pole_r), free(w->nr), free(w->list), free(w->covered), free(w->nrot), free(w->cd);
+  free(w->pole_r), free(w->nr), free(w->list), free(w->covered), free(w->isb), free(w->nrot),
+      free(w->cd);
   free(w->pairs), free(w->g.start), free(w->g.idx), free(w->vel);
 }
 
 /* Picks the new spheres into w->nc, w->nr; returns their count. */
 static int choose(const tb_metaball_cutstate *c, const tb_vec3 *x, work *w, int ncand,
-                  int *uncovered) {
+                  int *uncovered, int *filled) {
   static const double alpha[] = {1, 0.5, 0.25, 0};
   int nnew = 0, left = 0;
   for (int p = 0; p < c->np; p++) left += !w->covered[p];
@@ -174,6 +175,22 @@ static int choose(const tb_metaball_cutstate *c, const tb_vec3 *x, work *w, int 
       left -= fresh, w->cd[k].id = -1;
       w->nc[nnew] = cc, w->nr[nnew++] = r;
     }
+  /* the last pass: each point still uncovered, in order, centres a sphere
+   * reaching to the nearest boundary point (at least a spacing, at most
+   * four) and covers the points within its radius plus a spacing */
+  *filled = 0;
+  for (int p = 0; p < c->np && left > 0; p++) {
+    if (w->covered[p]) continue;
+    double r = 4 * c->spacing;
+    if (w->isb[p]) r = c->spacing;
+    int n = pgrid_within(&w->g, x, x[p], r, w->list);
+    for (int q = 0; q < n; q++)
+      if (w->isb[w->list[q]] && w->list[q] != p) r = fmin(r, tb_dist(x[p], x[w->list[q]]));
+    r = fmax(r, c->spacing);
+    n = pgrid_within(&w->g, x, x[p], r + c->spacing, w->list);
+    for (int q = 0; q < n; q++) left -= !w->covered[w->list[q]], w->covered[w->list[q]] = 1;
+    w->nc[nnew] = x[p], w->nr[nnew++] = r, (*filled)++;
+  }
   *uncovered = left;
   return nnew;
 }
@@ -242,12 +259,13 @@ int tb_metaball_cut_end(tb_metaball *m, tb_metaball_cut_report *rep, tb_error *e
   w.bp = malloc(sizeof(tb_vec3) * P), w.bn = malloc(sizeof(tb_vec3) * P);
   w.pole = malloc(sizeof(tb_vec3) * P), w.pole_r = malloc(sizeof(double) * P);
   w.centre = calloc((size_t)m->n, sizeof(tb_vec3)), w.list = malloc(sizeof(int) * P);
-  w.covered = calloc(P, 1), w.cd = malloc(sizeof(cand) * P), w.vel = malloc(sizeof(tb_vec3) * P);
+  w.covered = calloc(P, 1), w.isb = calloc(P, 1), w.cd = malloc(sizeof(cand) * P),
+  w.vel = malloc(sizeof(tb_vec3) * P);
   w.nc = malloc(sizeof(tb_vec3) * P), w.nc0 = malloc(sizeof(tb_vec3) * P);
   w.nr = malloc(sizeof(double) * P), w.nrot = malloc(sizeof(tb_mat3) * P);
   w.nv = malloc(sizeof(tb_vec3) * P);
-  if (!w.bp || !w.bn || !w.pole || !w.pole_r || !w.centre || !w.list || !w.covered || !w.cd ||
-      !w.nc || !w.nc0 || !w.nr || !w.nrot || !w.nv || !w.vel ||
+  if (!w.bp || !w.bn || !w.pole || !w.pole_r || !w.centre || !w.list || !w.covered || !w.isb ||
+      !w.cd || !w.nc || !w.nc0 || !w.nr || !w.nrot || !w.nv || !w.vel ||
       pgrid_build(&w.g, x, np, c->spacing))
     goto oom;
   memcpy(w.vel, tb_meshless_velocities(c->ml), sizeof(tb_vec3) * P);
@@ -260,6 +278,8 @@ int tb_metaball_cut_end(tb_metaball *m, tb_metaball_cut_report *rep, tb_error *e
   for (int p = 0; p < np; p++) {
     int b = boundary(c, x, w.centre, p, &w.bn[nb]);
     w.covered[p] = b < 0 || c->driver[p] >= 0;
+    r.strays += b < 0, r.driven += b >= 0 && c->driver[p] >= 0;
+    w.isb[p] = b > 0;
     if (b > 0) w.bp[nb++] = x[p];
   }
   r.points = np, r.boundary = nb;
@@ -276,7 +296,7 @@ int tb_metaball_cut_end(tb_metaball *m, tb_metaball_cut_report *rep, tb_error *e
   }
   qsort(w.cd, (size_t)ncand, sizeof(cand), by_radius);
   r.candidates = ncand;
-  int nnew = choose(c, x, &w, ncand, &r.uncovered), first = m->n;
+  int nfill = 0, nnew = choose(c, x, &w, ncand, &r.uncovered, &nfill), first = m->n;
   for (int j = 0; j < nnew; j++) place(c, x, &w, j);
   if (tb_metaball_add(m, nnew, w.nc0, w.nc, w.nrot, w.nr, w.nv) || relink(m, first, &w)) goto oom;
   for (int j = first; j < m->n; j++) { /* a new sphere left without a link would float: it goes */
@@ -284,6 +304,15 @@ int tb_metaball_cut_end(tb_metaball *m, tb_metaball_cut_report *rep, tb_error *e
     for (int e = 0; e < 2 * m->nl && !deg; e++) deg = m->link[e] == j;
     if (!deg) tb_metaball_remove(m, j);
     r.created += deg, r.created_r += deg ? m->r[j] : 0, r.dropped += !deg;
+    r.filled += deg && j - first >= nnew - nfill;
+  }
+  r.uncovered = 0; /* recounted over the kept spheres */
+  for (int p = 0; p < np; p++) {
+    if (c->driver[p] >= 0 || !tb_meshless_neighbours(c->ml, p, NULL)) continue;
+    int in = 0;
+    for (int j = first; j < m->n && !in; j++)
+      in = m->alive[j] && tb_dist(x[p], w.nc[j - first]) <= m->r[j] + c->spacing;
+    r.uncovered += !in;
   }
   r.created_r = r.created ? r.created_r / r.created : 0;
   tb_metaball_cut_free_points(c);

@@ -31,6 +31,10 @@ void tb_meshless_destroy(tb_meshless *m);
 /* Mass-proportional damping: each step scales velocities by exp(-c dt)
  * (c >= 0, default 0). */
 void tb_meshless_set_damping(tb_meshless *m, double c);
+/* Points whose moment matrix has det A <= c (tr A / 3)^3 become inactive
+ * (default c = 1e-3; clamped to [0, 0.5]): a larger c drops nearly flat
+ * stencils, the stiffest, so an explicit step may be longer. */
+void tb_meshless_set_flatness(tb_meshless *m, double c);
 /* TB_MESHLESS_ALTERNATING (default) or TB_MESHLESS_SYMPLECTIC_EULER. */
 void tb_meshless_set_integrator(tb_meshless *m, int integrator);
 
@@ -50,6 +54,18 @@ int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, t
 
 /* Sets every position (velocities kept). */
 void tb_meshless_set_positions(tb_meshless *m, const tb_vec3 *x);
+/* Sets every velocity. */
+void tb_meshless_set_velocities(tb_meshless *m, const tb_vec3 *v);
+
+/* An upper bound of the largest angular frequency of the points with
+ * driven[i] == 0 (driven may be NULL: none) at rest, without iterating (the
+ * head of models/meshless.c): explicit steps are stable below 2 / it. row:
+ * scratch of n doubles. */
+double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *driven, double *row);
+/* k[g] (g < ngroups): an upper bound of the stiffness of the points with
+ * group[i] == g moved together by a common translation, the others held
+ * (group[i] < 0: no group). */
+void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngroups, double *k);
 
 int tb_meshless_count(const tb_meshless *m);
 const tb_vec3 *tb_meshless_positions(const tb_meshless *m);

@@ -81,11 +81,12 @@ typedef struct tb_metaball_cut_settings {
   double cfl;      /* substep = cfl x 2 / the point set's largest free frequency */
   double boundary_angle;  /* degrees: the patent's cone about a point's normal */
   double boundary_offset; /* neighbour-centroid offset over mean neighbour distance */
+  double flatness;        /* point stencils with det A <= flatness (tr A / 3)^3 are inactive */
 } tb_metaball_cut_settings;
 
 /* spacing 0.3, per_sphere 0, min_dist 0.6, E 1000, nu 0.3, density 0,
- * damping 2, coupling 1, substeps 0, cfl 0.5, boundary_angle 45,
- * boundary_offset 0.25. */
+ * damping 2, coupling 1, substeps 0, cfl 0.9, boundary_angle 45,
+ * boundary_offset 0.25, flatness 0.02. */
 void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s);
 
 /* Starts a cut (no points yet). Fails when a cut is running or on bad
@@ -107,8 +108,10 @@ typedef struct tb_metaball_cut_report {
   double removed_r, created_r; /* their mean radii */
   int points, boundary;        /* points at the end, of which on the boundary */
   int candidates;              /* Voronoi poles accepted as centres */
-  int uncovered;               /* points no sphere reaches (within a spacing) */
+  int uncovered;               /* points no kept sphere reaches (within a spacing) */
   int dropped;                 /* new spheres that overlapped no other one, removed */
+  int filled;                  /* of the created, spheres of the last pass centred at points */
+  int driven, strays;          /* points inside alive spheres, points with no neighbour */
 } tb_metaball_cut_report;
 
 /* The blade has left: new spheres on the medial axis of the boundary

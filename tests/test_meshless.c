@@ -475,6 +475,106 @@ static void timing(void) {
   }
 }
 
+/* The stability bound without iteration (tb_meshless_frequency_bound) lies
+ * above the largest free frequency that power iteration on finite
+ * differences of the forces finds (the bottom layer driven), within a
+ * factor 10; steps at 0.9 x 2 / bound stay bounded; dropping flat stencils
+ * (a larger flatness) never raises it. */
+static void frequency_bound_holds(void) {
+  int nx = 6, n = nx * nx * nx;
+  tb_vec3 *X = lattice(nx, nx, nx, 0.3, 5);
+  tb_meshless *m = make(n, X, 1e5, NULL, NULL);
+  unsigned char *drv = calloc((size_t)n, 1);
+  double *row = malloc(sizeof(double) * (size_t)n);
+  tb_vec3 *u = malloc(sizeof(tb_vec3) * (size_t)n), *f0 = malloc(sizeof(tb_vec3) * (size_t)n),
+          *f1 = malloc(sizeof(tb_vec3) * (size_t)n), *xs = malloc(sizeof(tb_vec3) * (size_t)n);
+  if (!m) goto done;
+  for (int i = 0; i < nx * nx; i++) drv[i] = 1;
+  double bound = tb_meshless_frequency_bound(m, drv, row), eps = 1e-7 * S, lam = 0;
+  tb_meshless_forces(m, f0);
+  for (int i = 0; i < n; i++) u[i] = drv[i] ? tb_v3(0, 0, 0) : tb_v3(1 + i % 3, 2 - i % 5, i % 2);
+  for (int it = 0; it < 200; it++) {
+    double un = 0, an = 0;
+    for (int i = 0; i < n; i++) un += tb_dot(u[i], u[i]);
+    un = sqrt(un);
+    for (int i = 0; i < n; i++) xs[i] = tb_madd(X[i], eps / un, u[i]);
+    tb_meshless_set_positions(m, xs);
+    tb_meshless_forces(m, f1);
+    for (int i = 0; i < n; i++) {
+      u[i] = drv[i] ? tb_v3(0, 0, 0) : tb_scale(tb_sub(f1[i], f0[i]), -1 / tb_meshless_mass(m, i));
+      an += tb_dot(u[i], u[i]);
+    }
+    lam = sqrt(an) / eps;
+  }
+  double omega = sqrt(lam);
+  printf("frequency: power iteration %.4g rad/s, bound %.4g (%.2fx)\n", omega, bound,
+         bound / omega);
+  TB_CHECK_MSG(bound >= omega * (1 - 1e-6), "bound %g below %g", bound, omega);
+  TB_CHECK_MSG(bound <= 10 * omega, "bound %g, 10x over %g", bound, omega);
+  tb_meshless_set_positions(m, X);
+  tb_meshless_set_damping(m, 0);
+  int ids[36];
+  for (int i = 0; i < nx * nx; i++) ids[i] = i;
+  double dt = 0.9 * 2 / bound, e0 = 0, e = 0;
+  tb_error err = {{0}};
+  int ok = 1;
+  for (int k = 0; k < 2000 && ok; k++) {
+    ok = tb_meshless_step(m, dt, tb_v3(0, 0, -9.81), nx * nx, ids, X, &err) == 0;
+    e = tb_meshless_energy(m) + tb_meshless_kinetic(m);
+    if (k == 100) e0 = e;
+  }
+  TB_CHECK_MSG(ok, "%s", err.msg);
+  TB_CHECK_MSG(isfinite(e) && e < 10 * e0 + 1e-30, "energy %g after %g at step 100", e, e0);
+  tb_meshless_set_positions(m, X);
+  tb_meshless_set_flatness(m, 0.3);
+  int active = 0;
+  for (int i = 0; i < n; i++) active += tb_meshless_active(m, i);
+  TB_CHECK(active < n);
+  TB_CHECK(tb_meshless_frequency_bound(m, drv, row) <= bound);
+done:
+  tb_meshless_destroy(m);
+  free(X), free(drv), free(row), free(u), free(f0), free(f1), free(xs);
+}
+
+/* tb_meshless_group_stiffness bounds the curvature of the energy when a
+ * group's points translate together (2 dU / eps^2 along several
+ * directions), within a factor 20; points outside any group count nothing. */
+static void group_stiffness_bounds(void) {
+  int nx = 6, n = nx * nx * nx;
+  tb_vec3 *X = lattice(nx, nx, nx, 0.3, 6), *x = malloc(sizeof(tb_vec3) * (size_t)n);
+  tb_meshless *m = make(n, X, 1e5, NULL, NULL);
+  int *group = malloc(sizeof(int) * (size_t)n);
+  if (!m) goto done;
+  for (int i = 0; i < n; i++) group[i] = X[i].x < 2.5 * S ? 0 : (X[i].z < 2.5 * S ? 1 : -1);
+  double k[3] = {-1, -1, -1};
+  tb_meshless_group_stiffness(m, group, 2, k);
+  TB_CHECK(k[2] == -1 && k[0] > 0 && k[1] > 0);
+  static const tb_vec3 dirs[4] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.6, 0, 0.8}};
+  double eps = 1e-6 * S;
+  for (int g = 0; g < 2; g++) {
+    double most = 0;
+    for (int d = 0; d < 4; d++) {
+      for (int i = 0; i < n; i++) x[i] = group[i] == g ? tb_madd(X[i], eps, dirs[d]) : X[i];
+      tb_meshless_set_positions(m, x);
+      double curv = 2 * tb_meshless_energy(m) / (eps * eps);
+      TB_CHECK_MSG(curv <= k[g] * (1 + 1e-4), "group %d: curvature %g over the bound %g", g, curv,
+                   k[g]);
+      most = fmax(most, curv);
+    }
+    printf("group %d: stiffness bound %.4g, largest measured %.4g\n", g, k[g], most);
+    TB_CHECK_MSG(most >= k[g] / 20, "group %d: bound %g, 20x over %g", g, k[g], most);
+  }
+  for (int i = 0; i < n; i++) x[i] = tb_v3(0.1 * i, -0.2, 0.05 * (i % 3));
+  tb_meshless_set_velocities(m, x);
+  double kin = 0;
+  for (int i = 0; i < n; i++) kin += 0.5 * tb_meshless_mass(m, i) * tb_dot(x[i], x[i]);
+  TB_CHECK(fabs(tb_meshless_kinetic(m) - kin) <= 1e-12 * kin);
+  TB_CHECK(!memcmp(tb_meshless_velocities(m), x, sizeof(tb_vec3) * (size_t)n));
+done:
+  tb_meshless_destroy(m);
+  free(X), free(x), free(group);
+}
+
 const tb_test_case tb_tests_meshless[] = {
     {"linear_field_reproduced", linear_field_reproduced},
     {"rigid_motion_strain_free", rigid_motion_strain_free},
@@ -487,5 +587,7 @@ const tb_test_case tb_tests_meshless[] = {
     {"bad_input", bad_input},
     {"deterministic", deterministic},
     {"timing", timing},
+    {"frequency_bound_holds", frequency_bound_holds},
+    {"group_stiffness_bounds", group_stiffness_bounds},
     {0, 0},
 };
