@@ -43,6 +43,7 @@ typedef struct tb_metaball_cut {
   double density;
   double omega;      /* the point set's largest free frequency (rad/s) */
   int last_substeps; /* meshless steps in the last frame */
+  double stiffening;  /* 1 + 3 x the largest Green strain at the last frame's end */
   tb_vec3 glo;       /* the shared grid's origin */
   int np, pcap;
   tb_vec3 *X, *x, *held; /* points: rest, current (at the last advance), held position */

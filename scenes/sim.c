@@ -15,8 +15,9 @@
 
 /* The built-in scenes: scenes/NAME.ini. */
 static const char *const builtin[] = {
-    "liver-stretch", "liver-press", "beam",  "drop",       "beam-stretch", "beam-twist",
-    "beam-crush",    "liver-drop",  "slope", "liver-hang", "sphere-press", "sphere-stretch"};
+    "liver-stretch", "liver-press",    "beam",       "drop",  "beam-stretch",
+    "beam-twist",    "beam-crush",     "liver-drop", "slope", "liver-hang",
+    "sphere-press",  "sphere-stretch", "steak-cut"};
 #define NBUILTIN ((int)(sizeof builtin / sizeof builtin[0]))
 
 const char *const *tb_sim_scene_names(int *count) {

@@ -297,7 +297,8 @@ static void model_interface(void) {
  * healthy (msm blew up on every scene with masses from the density). A
  * surface scene (sphere-press, sphere-stretch: no tets) runs the models
  * that take a closed surface (msm-vvs); the others must refuse it by
- * saying they need a tet mesh. */
+ * saying they need a tet mesh; a cutting scene (steak-cut), the models
+ * that cannot be cut by saying so. */
 static void defaults_are_stable(void) {
   int n;
   const char *const *names = tb_sim_scene_names(&n);
@@ -313,8 +314,9 @@ static void defaults_are_stable(void) {
       tb_sim s;
       tb_error err;
       if (tb_sim_create(&s, names[k], &sd, model, NULL, NULL, &err)) {
-        int refused = !tb_model_classes[i]->surface_mesh && strstr(err.msg, "no tets") &&
-                      strstr(err.msg, "needs a tet mesh");
+        int refused = (!tb_model_classes[i]->surface_mesh && strstr(err.msg, "no tets") &&
+                       strstr(err.msg, "needs a tet mesh")) ||
+                      (!tb_model_classes[i]->cut && strstr(err.msg, "cannot be cut"));
         TB_CHECK_MSG(refused, "%s on %s: %s", model, names[k], err.msg);
         continue;
       }
