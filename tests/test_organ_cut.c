@@ -191,6 +191,61 @@ static void same_cut_same_result(void) {
   for (int r = 0; r < 2; r++) tb_model_destroy(&m[r]), tb_mesh_free(&mesh[r]);
 }
 
+/* Awkward blades through the whole model: along the steak's full length,
+ * one just touching its top (tangent to the top spheres' skin), one that
+ * misses; each leaves a closed 2-manifold and a model that steps on. */
+static void awkward_blades(void) {
+  struct {
+    tb_vec3 a, b, depth;
+    int parts; /* components expected; 0: 1 or 2 */
+  } blade[] = {
+      {{-4.5, 0.2, -1.5}, {4.5, 0.2, -1.5}, {0, 0, 3}, 2}, /* the whole length */
+      {{-4.5, -3, 2.0}, {4.5, -3, 2.0}, {0, 6, 0}, 1},     /* above it: misses */
+      {{-1, -3, 0.0}, {1, -3, 0.0}, {0, 6, 0}, 0},         /* a shallow slice at mid-height */
+  };
+  for (size_t k = 0; k < sizeof blade / sizeof blade[0]; k++) {
+    tb_model m;
+    tb_mesh mesh;
+    if (organ("steak", 600, "spheres=150", &m, &mesh)) return;
+    tb_vec3 path[2] = {blade[k].a, blade[k].b};
+    tb_cut_stats st;
+    if (!cut(&m, path, 2, blade[k].depth, 4, &st)) {
+      tb_surface su = tb_model_surface(&m);
+      TB_CHECK_MSG(tb_cut_is_closed_manifold(su.nv, su.ntri, su.tri), "blade %d", (int)k);
+      int c = tb_cut_components(su.nv, su.ntri, su.tri);
+      TB_CHECK_MSG(blade[k].parts ? c == blade[k].parts : c >= 1 && c <= 2,
+                   "blade %d: %d components", (int)k, c);
+      if (blade[k].parts == 1) TB_CHECK(su.ntri == mesh.ntri && st.removed == 0);
+      TB_CHECK(idle(&m, 10, tb_v3(0, 0, -9.81)) == 0);
+    }
+    tb_model_destroy(&m);
+    tb_mesh_free(&mesh);
+  }
+}
+
+/* A blade whose plane is tangent to the largest sphere (z = c.z + r):
+ * the tangent sphere counts as touched (tb_fold_sphere), nothing breaks. */
+static void tangent_to_a_sphere(void) {
+  tb_model m;
+  tb_mesh mesh;
+  if (organ("steak", 600, "spheres=150", &m, &mesh)) return;
+  tb_model_spheres sp = m.cls->spheres(m.self);
+  int big = 0;
+  for (int i = 1; i < sp.n; i++)
+    if (sp.r[i] > sp.r[big]) big = i;
+  double z = sp.c[big].z + sp.r[big];
+  tb_vec3 path[2] = {tb_v3(sp.c[big].x - 1, -3, z), tb_v3(sp.c[big].x + 1, -3, z)};
+  tb_cut_stats st;
+  if (!cut(&m, path, 2, tb_v3(0, 6, 0), 4, &st)) {
+    tb_surface su = tb_model_surface(&m);
+    TB_CHECK(tb_cut_is_closed_manifold(su.nv, su.ntri, su.tri));
+    TB_CHECK_MSG(st.removed >= 1, "the tangent sphere was not touched (%d removed)", st.removed);
+    TB_CHECK(idle(&m, 10, tb_v3(0, 0, -9.81)) == 0);
+  }
+  tb_model_destroy(&m);
+  tb_mesh_free(&mesh);
+}
+
 /* Events out of order and models that cannot be cut are errors. */
 static void bad_events(void) {
   tb_model m;
@@ -229,6 +284,8 @@ const tb_test_case tb_tests_organ_cut[] = {
     {"steak_straight_cut", steak_straight_cut},
     {"liver_folded_cuts", liver_folded_cuts},
     {"same_cut_same_result", same_cut_same_result},
+    {"awkward_blades", awkward_blades},
+    {"tangent_to_a_sphere", tangent_to_a_sphere},
     {"bad_events", bad_events},
     {NULL, NULL},
 };
