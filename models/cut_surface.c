@@ -42,229 +42,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_cut_surface.h"
+#include "cut_priv.h"
 #include "tb_predicates.h"
-
-#define NAME "tb_cut_surface"
-#define MAX_ATTEMPTS 4
-
-enum { LAB_S = 0, LAB_CP = 1, LAB_CM = 2 }; /* surface, + crack, - crack */
-enum { OK = 0, RETRY = 1, NOMEM = -1 };     /* an attempt's outcome */
-enum { SIDE_L, SIDE_R, SIDE_B, SIDE_T };    /* s = 0, s = 1, t = 0, t = 1 */
 
 tb_cut_def tb_cut_default_def(void) {
   tb_cut_def d;
   memset(&d, 0, sizeof d);
   d.snap = 1e-6;
   return d;
-}
-
-/* ---- growable arrays ---- */
-
-static int grow(void **a, int *cap, int need, size_t size) {
-  if (need <= *cap) return 0;
-  int c = *cap ? *cap : 16;
-  while (c < need) c *= 2;
-  void *b = realloc(*a, (size_t)c * size);
-  if (!b) return -1;
-  *a = b, *cap = c;
-  return 0;
-}
-#define GROW(arr, n, cap) grow((void **)&(arr), &(cap), (n), sizeof *(arr))
-
-/* ---- topology utilities ---- */
-
-/* Outgoing directed edges per vertex (CSR): for vertex a, out[start[a] .. start[a+1]) are
- * the triangles t with a corner k at a, stored as 3 t + k; the edge runs a -> tri[3t+(k+1)%3]. */
-typedef struct vstar {
-  int *start, *out;
-} vstar;
-
-static int vstar_build(vstar *vs, int nv, int ntri, const int *tri) {
-  vs->start = calloc((size_t)nv + 2, sizeof *vs->start);
-  vs->out = malloc((size_t)(3 * ntri + 1) * sizeof *vs->out);
-  if (!vs->start || !vs->out) return -1;
-  for (int i = 0; i < 3 * ntri; i++) vs->start[tri[i] + 2]++;
-  for (int v = 0; v < nv; v++) vs->start[v + 2] += vs->start[v + 1];
-  for (int i = 0; i < 3 * ntri; i++) vs->out[vs->start[tri[i] + 1]++] = i;
-  return 0;
-}
-static void vstar_free(vstar *vs) { free(vs->start), free(vs->out); }
-
-/* The corner 3 t + k whose edge runs a -> b, the first in triangle order; -1 when none. */
-static int find_edge(const vstar *vs, const int *tri, int a, int b) {
-  for (int i = vs->start[a]; i < vs->start[a + 1]; i++) {
-    int h = vs->out[i];
-    if (tri[h - h % 3 + (h % 3 + 1) % 3] == b) return h;
-  }
-  return -1;
-}
-
-int tb_cut_is_closed_manifold(int nv, int ntri, const int *tri) {
-  if (nv <= 0 || ntri <= 0) return 0;
-  for (int i = 0; i < 3 * ntri; i++)
-    if (tri[i] < 0 || tri[i] >= nv) return 0;
-  for (int t = 0; t < ntri; t++) {
-    const int *c = tri + 3 * t;
-    if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) return 0;
-  }
-  vstar vs;
-  int ok = vstar_build(&vs, nv, ntri, tri) == 0;
-  /* every directed edge once, its reverse present */
-  for (int h = 0; ok && h < 3 * ntri; h++) {
-    int a = tri[h], b = tri[h - h % 3 + (h % 3 + 1) % 3];
-    ok = find_edge(&vs, tri, a, b) == h && find_edge(&vs, tri, b, a) >= 0;
-  }
-  /* The link of v: from the corner (v, w, ..), the triangle running w -> v is the next around
-   * v; the walk must visit every corner of v. */
-  for (int v = 0; v < nv && ok; v++) {
-    int deg = vs.start[v + 1] - vs.start[v];
-    if (!deg) continue;
-    int h0 = vs.out[vs.start[v]], h = h0, steps = 0;
-    do {
-      int w = tri[h - h % 3 + (h % 3 + 1) % 3], g = find_edge(&vs, tri, w, v);
-      h = g < 0 ? -1 : g - g % 3 + (g % 3 + 1) % 3; /* the corner of v in that triangle */
-      steps++;
-    } while (h >= 0 && h != h0 && steps <= deg);
-    ok = h == h0 && steps == deg;
-  }
-  vstar_free(&vs);
-  return ok;
-}
-
-static int uf_find(int *p, int i) {
-  while (p[i] != i) i = p[i] = p[p[i]];
-  return i;
-}
-static void uf_join(int *p, int a, int b) {
-  a = uf_find(p, a), b = uf_find(p, b);
-  if (a != b) p[a > b ? a : b] = a < b ? a : b;
-}
-
-int tb_cut_components(int nv, int ntri, const int *tri) {
-  int *p = malloc((size_t)(nv > 0 ? nv : 1) * sizeof *p),
-      *used = calloc((size_t)(nv > 0 ? nv : 1), sizeof *used);
-  if (!p || !used) {
-    free(p), free(used);
-    return -1;
-  }
-  for (int i = 0; i < nv; i++) p[i] = i;
-  for (int t = 0; t < ntri; t++) {
-    const int *c = tri + 3 * t;
-    if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= nv || c[1] >= nv || c[2] >= nv) continue;
-    used[c[0]] = used[c[1]] = used[c[2]] = 1;
-    uf_join(p, c[0], c[1]), uf_join(p, c[0], c[2]);
-  }
-  int n = 0;
-  for (int i = 0; i < nv; i++) n += used[i] && uf_find(p, i) == i;
-  free(p), free(used);
-  return n;
-}
-
-double tb_cut_volume(const tb_vec3 *x, int ntri, const int *tri) {
-  double v = 0.0;
-  for (int t = 0; t < ntri; t++)
-    v += tb_dot(x[tri[3 * t]], tb_cross(x[tri[3 * t + 1]], x[tri[3 * t + 2]]));
-  return v / 6.0;
-}
-
-/* ---- inside the organ: exact ray parity ---- */
-
-/* 1 inside, 0 outside, -1 undecided (on the surface, or every axis ray
- * grazes an edge). The ray from p along +axis crosses a triangle when p
- * projects strictly inside it and lies below its plane (exact signs). */
-static int inside_organ(const tb_vec3 *x, int ntri, const int *tri, tb_vec3 p) {
-  static const int ax[3][3] = {{0, 1, 2}, {2, 0, 1}, {1, 2, 0}}; /* (i, j, along) */
-  for (int r = 0; r < 3; r++) {
-    int i = ax[r][0], j = ax[r][1], a = ax[r][2], n = 0, grazed = 0;
-    double pi = tb_comp(p, i), pj = tb_comp(p, j), pa = tb_comp(p, a);
-    for (int t = 0; t < ntri && !grazed; t++) {
-      tb_vec3 A = x[tri[3 * t]], B = x[tri[3 * t + 1]], C = x[tri[3 * t + 2]];
-      double ai = tb_comp(A, i), bi = tb_comp(B, i), ci = tb_comp(C, i);
-      if ((pi < ai && pi < bi && pi < ci) || (pi > ai && pi > bi && pi > ci)) continue;
-      double aj = tb_comp(A, j), bj = tb_comp(B, j), cj = tb_comp(C, j);
-      if ((pj < aj && pj < bj && pj < cj) || (pj > aj && pj > bj && pj > cj)) continue;
-      if (pa > tb_comp(A, a) && pa > tb_comp(B, a) && pa > tb_comp(C, a)) continue;
-      int o0 = tb_orient2d(bi, bj, ci, cj, pi, pj), o1 = tb_orient2d(ci, cj, ai, aj, pi, pj);
-      int o2 = tb_orient2d(ai, aj, bi, bj, pi, pj);
-      if ((o0 > 0 || o1 > 0 || o2 > 0) && (o0 < 0 || o1 < 0 || o2 < 0)) continue;
-      if (!o0 && !o1 && !o2) continue; /* a triangle seen edge-on along the ray */
-      if (!o0 || !o1 || !o2) {
-        grazed = 1;
-        break;
-      }
-      int o3 = tb_orient3d(A, B, C, p);
-      if (o3 == 0) return -1;
-      if (o3 * o0 < 0) n++;
-    }
-    if (!grazed) return n & 1;
-  }
-  return -1;
-}
-
-/* ---- the cut's state ---- */
-
-typedef struct vrec {
-  tb_vec3 x;
-  int cut;   /* on the cut (an old vertex snapped to, or a new cut vertex) */
-  int piece; /* for a cut vertex: its piece (the lower one on a crease), s, t, TB_FOLD_* bits */
-  double s, t;
-  int loc;
-  int active;       /* on a cut segment */
-  int origin, side; /* as in tb_cut_result */
-} vrec;
-
-typedef struct rawpt { /* one point of one triangle's cut */
-  int tri, poly, id;
-  int edge;    /* undirected edge id for an edge point, else -1 */
-  int where;   /* -1 interior, 0..2 on edge i (opposite corner i), 3 + k at corner k */
-  double u, v; /* its place in the triangle's barycentric plane */
-  tb_fold_tpoint p;
-} rawpt;
-
-typedef struct seg {
-  int a, b, piece, tri;
-} seg;
-
-typedef struct cutter {
-  int nv, ntri;
-  const tb_vec3 *x;
-  const int *tri;
-  int *pair; /* 3 ntri: the opposite half-edge */
-  double h, snapd, spacing;
-  const tb_vec3 *extra;
-  int nextra;
-  const tb_fold *f;
-  /* per attempt */
-  vrec *v;
-  int nvr, capv;
-  rawpt *rp;
-  int nrp, caprp;
-  seg *sg;
-  int nsg, capsg;
-  int *otri, *ofrom, *olab; /* assembled triangles */
-  int nout, capout, capfrom, caplab;
-  int *split;     /* ntri: old triangle split */
-  int *corner_id; /* 2 count: the vertex of p_i and q_i, or -1 */
-  int nsplit, ncrack;
-} cutter;
-
-static int new_vertex(cutter *c, tb_vec3 x) {
-  if (GROW(c->v, c->nvr + 1, c->capv)) return -1;
-  vrec *r = &c->v[c->nvr];
-  memset(r, 0, sizeof *r);
-  r->x = x, r->piece = -1, r->origin = -1;
-  return c->nvr++;
-}
-
-static int emit(cutter *c, int a, int b, int d, int from, int lab) {
-  if (GROW(c->otri, 3 * (c->nout + 1), c->capout) || GROW(c->ofrom, c->nout + 1, c->capfrom) ||
-      GROW(c->olab, c->nout + 1, c->caplab))
-    return -1;
-  c->otri[3 * c->nout] = a, c->otri[3 * c->nout + 1] = b, c->otri[3 * c->nout + 2] = d;
-  c->ofrom[c->nout] = from, c->olab[c->nout] = lab;
-  c->nout++;
-  return 0;
 }
 
 /* ---- step 1: cut points and segments ---- */
@@ -350,7 +135,7 @@ static int name_points(cutter *c, int **unpaired_out) {
   for (int i = 0; i < n;) {
     int j = i + 1, tris = 1;
     for (; j < n && ekey_same(&key[i], &key[j]); j++) tris += key[j].tri != key[j - 1].tri;
-    int id = new_vertex(c, c->rp[key[i].i].p.x);
+    int id = cut_new_vertex(c, c->rp[key[i].i].p.x);
     if (id < 0) {
       free(key), free(unpaired);
       return NOMEM;
@@ -365,7 +150,7 @@ static int name_points(cutter *c, int **unpaired_out) {
      * joint comes once from each piece, rounded differently) */
     for (int j = i - 1; r->id < 0 && r->where < 0 && j >= 0 && c->rp[j].tri == r->tri; j--)
       if (c->rp[j].where < 0 && tb_dist(c->rp[j].p.x, r->p.x) <= c->snapd) r->id = c->rp[j].id;
-    if (r->id < 0 && (r->id = new_vertex(c, r->p.x)) < 0) {
+    if (r->id < 0 && (r->id = cut_new_vertex(c, r->p.x)) < 0) {
       free(unpaired);
       return NOMEM;
     }
@@ -444,248 +229,11 @@ static int split_triangle(cutter *c, int t, int r0, int r1) {
   }
   rc = OK;
   for (int i = 0; i < cdt.ntri && rc == OK; i++)
-    if (emit(c, id[cdt.tri[3 * i]], id[cdt.tri[3 * i + 1]], id[cdt.tri[3 * i + 2]], t, LAB_S))
+    if (cut_emit(c, id[cdt.tri[3 * i]], id[cdt.tri[3 * i + 1]], id[cdt.tri[3 * i + 2]], t, LAB_S))
       rc = NOMEM;
   tb_cdt2_free(&cdt);
 done:
   free(id), free(sg), free(xy), free(par), free(edge_of);
-  return rc;
-}
-
-/* ---- step 3: the crack ---- */
-
-static double seg_dist(tb_vec3 p, tb_vec3 a, tb_vec3 b) {
-  tb_vec3 ab = tb_sub(b, a);
-  double l = tb_dot(ab, ab), u = l > 0 ? tb_dot(tb_sub(p, a), ab) / l : 0.0;
-  u = u < 0 ? 0 : (u > 1 ? 1 : u);
-  return tb_dist(p, tb_madd(a, u, ab));
-}
-
-typedef struct cpt { /* a crack point of one piece */
-  int id;            /* vertex, or -1 for a Steiner point (created when used) */
-  double s, t;       /* in the piece */
-  int side;          /* SIDE_* it lies on, or -1 */
-} cpt;
-
-static tb_vec3 piece_point(const tb_fold *f, int k, double s, double t) {
-  return tb_madd(tb_madd(f->p[k], s, f->piece[k].e), t, f->depth);
-}
-
-/* Which side of piece k a cut vertex lies on (-1: inside the piece), with its (s, t) there. */
-static int place_on_piece(const tb_fold *f, const vrec *r, int k, double *s, double *t) {
-  *t = r->t;
-  if (r->piece == k) {
-    *s = r->s;
-    if ((r->loc & TB_FOLD_CREASE) || (r->loc & TB_FOLD_END)) return SIDE_R;
-    if (r->loc & TB_FOLD_START) return SIDE_L;
-  } else if (r->piece == k - 1 && (r->loc & TB_FOLD_CREASE)) {
-    *s = 0.0;
-    return SIDE_L;
-  } else {
-    return -2; /* not on this piece */
-  }
-  (void)f;
-  if (r->loc & TB_FOLD_PATH) return SIDE_B;
-  if (r->loc & TB_FOLD_DEPTH) return SIDE_T;
-  return -1;
-}
-
-static int corner_vertex(cutter *c, int which) { /* which = 2 i (+1 for q_i) */
-  if (c->corner_id[which] < 0)
-    c->corner_id[which] = new_vertex(c, which & 1 ? c->f->q[which / 2] : c->f->p[which / 2]);
-  return c->corner_id[which];
-}
-
-/* The grid (i / ns, j / nt) of piece k: points inside the organ's box, farther than minsep
- * from every constraint (only the grid points in each constraint's reach are measured:
- * lines of constant s lie |e| sin(angle(e, D)) apart per unit of s) and from the points
- * after nfixed (the caller's). */
-static int grid_points(cutter *c, int k, int ns, int nt, double minsep, cpt *pt, int *np,
-                       int nfixed, const int *sg, int nseg) {
-  const tb_fold *f = c->f;
-  double el = tb_len(f->piece[k].e), dl = tb_len(f->depth);
-  double sine = tb_len(tb_cross(f->piece[k].e, f->depth)) / (el * dl);
-  int ms = (int)ceil(minsep / (el * sine) * ns) + 1, mt = (int)ceil(minsep / (dl * sine) * nt) + 1;
-  int nextra = *np;
-  unsigned char *bad = calloc((size_t)(ns + 1) * (nt + 1), 1);
-  if (!bad) return NOMEM;
-  for (int j = 0; j < nseg; j++) {
-    const cpt *a = &pt[sg[2 * j]], *b = &pt[sg[2 * j + 1]];
-    tb_vec3 A = piece_point(f, k, a->s, a->t), B = piece_point(f, k, b->s, b->t);
-    int i0 = (int)floor(fmin(a->s, b->s) * ns) - ms, i1 = (int)ceil(fmax(a->s, b->s) * ns) + ms;
-    int j0 = (int)floor(fmin(a->t, b->t) * nt) - mt, j1 = (int)ceil(fmax(a->t, b->t) * nt) + mt;
-    i0 = i0 < 1 ? 1 : i0, j0 = j0 < 1 ? 1 : j0, i1 = i1 > ns - 1 ? ns - 1 : i1;
-    j1 = j1 > nt - 1 ? nt - 1 : j1;
-    for (int jj = j0; jj <= j1; jj++)
-      for (int ii = i0; ii <= i1; ii++)
-        if (!bad[ii + (ns + 1) * jj] &&
-            seg_dist(piece_point(f, k, (double)ii / ns, (double)jj / nt), A, B) < minsep)
-          bad[ii + (ns + 1) * jj] = 1;
-  }
-  tb_vec3 lo = c->x[0], hi = c->x[0];
-  for (int v = 1; v < c->nv; v++) lo = tb_vmin(lo, c->x[v]), hi = tb_vmax(hi, c->x[v]);
-  for (int jj = 1; jj < nt; jj++)
-    for (int ii = 1; ii < ns; ii++) {
-      if (bad[ii + (ns + 1) * jj]) continue;
-      double s = (double)ii / ns, t = (double)jj / nt;
-      tb_vec3 X = piece_point(f, k, s, t);
-      int ok =
-          X.x >= lo.x && X.y >= lo.y && X.z >= lo.z && X.x <= hi.x && X.y <= hi.y && X.z <= hi.z;
-      for (int m = nfixed; m < nextra && ok; m++)
-        ok = tb_dist(X, piece_point(f, k, pt[m].s, pt[m].t)) >= minsep;
-      if (ok) pt[*np].id = -1, pt[*np].s = s, pt[*np].t = t, pt[*np].side = -1, (*np)++;
-    }
-  free(bad);
-  return OK;
-}
-
-static int crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
-  const tb_fold *f = c->f;
-  double el = tb_len(f->piece[k].e), dl = tb_len(f->depth);
-  int ns = 0, nt = 0;
-  if (c->spacing > 0) {
-    ns = (int)ceil(el / c->spacing), nt = (int)ceil(dl / c->spacing);
-    if ((double)ns * nt > 1e6) ns = nt = 0; /* a blade far larger than the organ's grain */
-  }
-  int cap = c->nvr + 4 + (ns + 1) * (nt + 1) + c->nextra;
-  cpt *pt = malloc((size_t)cap * sizeof *pt);
-  int *sg = NULL, np = 0, nseg = 0, capseg = 0, rc = NOMEM;
-  double *xy = NULL;
-  int *keep = NULL;
-  tb_cdt2 cdt = {0, NULL, NULL, 0};
-  if (!pt) goto done;
-  /* Corners p_k, p_{k+1}, q_{k+1}, q_k (as points 0..3); a cut vertex on a corner takes its place.
-   */
-  static const double cs[4] = {0, 1, 1, 0}, ct[4] = {0, 0, 1, 1};
-  const int cw[4] = {2 * k, 2 * (k + 1), 2 * (k + 1) + 1, 2 * k + 1};
-  for (int i = 0; i < 4; i++)
-    pt[np].id = c->corner_id[cw[i]], pt[np].s = cs[i], pt[np].t = ct[i], pt[np].side = -1, np++;
-  for (int v = 0; v < c->nvr; v++) {
-    const vrec *r = &c->v[v];
-    if (!r->cut || !r->active) continue;
-    double s, t;
-    int side = place_on_piece(f, r, k, &s, &t);
-    if (side == -2) continue;
-    int at = -1;
-    for (int i = 0; i < 4; i++)
-      if (s == cs[i] && t == ct[i]) at = i;
-    if (at >= 0) {
-      pt[at].id = v, c->corner_id[cw[at]] = v;
-      continue;
-    }
-    pt[np].id = v, pt[np].s = s, pt[np].t = t, pt[np].side = side, np++;
-  }
-  for (int i = 0; i < 4; i++)
-    if (pt[i].id < 0) pt[i].id = -10 - cw[i]; /* created only when a kept triangle uses it */
-  int nfixed = np;
-  /* Constraints: the four sides split at their points, then the cut segments of the piece. */
-  for (int side = 0; side < 4; side++) {
-    static const int from[4] = {0, 1, 0, 3}, to[4] = {3, 2, 1, 2};
-    int m = 0;
-    int *chain = malloc((size_t)(np + 2) * sizeof *chain);
-    if (!chain) goto done;
-    chain[m++] = from[side];
-    for (int i = 4; i < np; i++) {
-      if (pt[i].side != side) continue;
-      double key = side <= SIDE_R ? pt[i].t : pt[i].s;
-      int j = m;
-      while (j > 1 && (side <= SIDE_R ? pt[chain[j - 1]].t : pt[chain[j - 1]].s) > key)
-        chain[j] = chain[j - 1], j--;
-      chain[j] = i, m++;
-    }
-    chain[m++] = to[side];
-    if (GROW(sg, 2 * (nseg + m), capseg)) {
-      free(chain);
-      goto done;
-    }
-    for (int j = 0; j + 1 < m; j++)
-      sg[2 * nseg] = chain[j], sg[2 * nseg + 1] = chain[j + 1], nseg++;
-    free(chain);
-  }
-  for (int i = 0; i < c->nsg; i++) {
-    if (c->sg[i].piece != k) continue;
-    int a = -1, b = -1;
-    for (int j = 0; j < nfixed; j++) {
-      if (pt[j].id == c->sg[i].a) a = j;
-      if (pt[j].id == c->sg[i].b) b = j;
-    }
-    if (a < 0 || b < 0) {
-      rc = RETRY;
-      goto done;
-    }
-    if (GROW(sg, 2 * (nseg + 1), capseg)) goto done;
-    sg[2 * nseg] = a, sg[2 * nseg + 1] = b, nseg++;
-  }
-  /* Steiner points: the caller's, then the grid; away from the constraints and each other. */
-  double minsep = 0.5 * (c->spacing > 0 ? c->spacing : c->h);
-  for (int i = 0; i < c->nextra; i++) {
-    tb_fold_near nr;
-    tb_fold_nearest(f, c->extra[i], &nr);
-    if (nr.piece != k || !(nr.s > 0 && nr.s < 1 && nr.t > 0 && nr.t < 1)) continue;
-    tb_vec3 X = piece_point(f, k, nr.s, nr.t);
-    int ok = 1;
-    for (int j = 0; j < nseg && ok; j++) {
-      const cpt *a = &pt[sg[2 * j]], *b = &pt[sg[2 * j + 1]];
-      ok = seg_dist(X, piece_point(f, k, a->s, a->t), piece_point(f, k, b->s, b->t)) >= minsep;
-    }
-    for (int j = nfixed; j < np && ok; j++)
-      ok = tb_dist(X, piece_point(f, k, pt[j].s, pt[j].t)) >= minsep;
-    if (ok) pt[np].id = -1, pt[np].s = nr.s, pt[np].t = nr.t, pt[np].side = -1, np++;
-  }
-  if (ns > 1 && nt > 1 && (rc = grid_points(c, k, ns, nt, minsep, pt, &np, nfixed, sg, nseg)) != OK)
-    goto done;
-  rc = NOMEM;
-  xy = malloc((size_t)2 * np * sizeof *xy);
-  if (!xy) goto done;
-  for (int i = 0; i < np; i++) xy[2 * i] = pt[i].s * el, xy[2 * i + 1] = pt[i].t * dl;
-  if (tb_cdt2_build(xy, np, sg, nseg, &cdt)) {
-    rc = RETRY;
-    goto done;
-  }
-  /* Each region: inside the organ or not, from its largest triangles' centroids. */
-  keep = malloc((size_t)(cdt.nregion + 1) * sizeof *keep);
-  if (!keep) goto done;
-  rc = OK;
-  for (int g = 0; g < cdt.nregion && rc == OK; g++) {
-    keep[g] = -1;
-    double tried = INFINITY;
-    for (int attempt = 0; attempt < 4 && keep[g] < 0; attempt++) {
-      int best = -1;
-      double ba = -1;
-      for (int i = 0; i < cdt.ntri; i++) {
-        if (cdt.region[i] != g) continue;
-        const double *A = xy + 2 * cdt.tri[3 * i], *B = xy + 2 * cdt.tri[3 * i + 1],
-                     *C = xy + 2 * cdt.tri[3 * i + 2];
-        double area = (B[0] - A[0]) * (C[1] - A[1]) - (B[1] - A[1]) * (C[0] - A[0]);
-        if (area > ba && area < tried) ba = area, best = i;
-      }
-      if (best < 0) break;
-      tried = ba;
-      double s = 0, t = 0;
-      for (int m = 0; m < 3; m++)
-        s += pt[cdt.tri[3 * best + m]].s / 3, t += pt[cdt.tri[3 * best + m]].t / 3;
-      keep[g] = inside_organ(c->x, c->ntri, c->tri, piece_point(f, k, s, t));
-    }
-    if (keep[g] < 0) rc = RETRY;
-  }
-  for (int i = 0; i < cdt.ntri && rc == OK; i++) {
-    if (!keep[cdt.region[i]]) continue;
-    int v[3];
-    for (int m = 0; m < 3; m++) {
-      cpt *p = &pt[cdt.tri[3 * i + m]];
-      if (p->id <= -10) p->id = corner_vertex(c, -10 - p->id);
-      if (p->id == -1) p->id = new_vertex(c, piece_point(f, k, p->s, p->t));
-      if (p->id < 0) rc = NOMEM;
-      v[m] = p->id;
-    }
-    if (rc == OK && grow((void **)crack, capcrack, 3 * (*ncrack + 1), sizeof **crack)) rc = NOMEM;
-    if (rc != OK) break;
-    memcpy(*crack + 3 * *ncrack, v, sizeof v);
-    (*ncrack)++;
-  }
-done:
-  tb_cdt2_free(&cdt);
-  free(pt), free(sg), free(xy), free(keep);
   return rc;
 }
 
@@ -699,7 +247,7 @@ typedef struct inc {
 static int join_edge(int *uf, const inc *e, int n) {
   if (n == 2) {
     if (e[0].dir == e[1].dir) return RETRY;
-    uf_join(uf, e[0].pos, e[1].pos);
+    cut_uf_join(uf, e[0].pos, e[1].pos);
     return OK;
   }
   if (n != 4) return RETRY;
@@ -712,14 +260,14 @@ static int join_edge(int *uf, const inc *e, int n) {
   if (ns == 2 && np == 1 && nm == 1) {
     if (e[s[0]].dir == e[s[1]].dir || e[cp[0]].dir == e[cm[0]].dir) return RETRY;
     int sp = e[s[0]].dir != e[cp[0]].dir ? s[0] : s[1];
-    uf_join(uf, e[sp].pos, e[cp[0]].pos);
-    uf_join(uf, e[sp == s[0] ? s[1] : s[0]].pos, e[cm[0]].pos);
+    cut_uf_join(uf, e[sp].pos, e[cp[0]].pos);
+    cut_uf_join(uf, e[sp == s[0] ? s[1] : s[0]].pos, e[cm[0]].pos);
     return OK;
   }
   if (np == 2 && nm == 2) {
     if (e[cp[0]].dir == e[cp[1]].dir || e[cm[0]].dir == e[cm[1]].dir) return RETRY;
-    uf_join(uf, e[cp[0]].pos, e[cp[1]].pos);
-    uf_join(uf, e[cm[0]].pos, e[cm[1]].pos);
+    cut_uf_join(uf, e[cp[0]].pos, e[cp[1]].pos);
+    cut_uf_join(uf, e[cm[0]].pos, e[cm[1]].pos);
     return OK;
   }
   return RETRY;
@@ -770,7 +318,7 @@ static int unweld(cutter *c) {
     /* One copy per fan: sides from the crack triangles in it. */
     int nroot = 0;
     for (int a = 0; a < m; a++)
-      if (uf_find(uf, a) == a) root[nroot++] = a;
+      if (cut_uf_find(uf, a) == a) root[nroot++] = a;
     if (nroot == 1) {
       int hp = 0, hm = 0;
       for (int a = 0; a < m; a++)
@@ -786,7 +334,7 @@ static int unweld(cutter *c) {
     for (int r = 0; r < nroot; r++) {
       int hp = 0, hm = 0;
       for (int a = 0; a < m; a++)
-        if (uf_find(uf, a) == root[r])
+        if (cut_uf_find(uf, a) == root[r])
           hp |= c->olab[L[a] / 3] == LAB_CP, hm |= c->olab[L[a] / 3] == LAB_CM;
       side[r] = hp && !hm ? 1 : (hm && !hp ? -1 : 0);
       if (keep < 0 && side[r] == 1) keep = r;
@@ -798,7 +346,7 @@ static int unweld(cutter *c) {
         c->v[v].side = side[r];
       } else {
         vrec copy = c->v[v];
-        if ((id = new_vertex(c, copy.x)) < 0) {
+        if ((id = cut_new_vertex(c, copy.x)) < 0) {
           rc = NOMEM;
           break;
         }
@@ -806,7 +354,7 @@ static int unweld(cutter *c) {
         c->v[id].origin = v < c->nv ? v : -1, c->v[id].side = side[r];
       }
       for (int a = 0; a < m; a++)
-        if (uf_find(uf, a) == root[r]) c->otri[L[a]] = id;
+        if (cut_uf_find(uf, a) == root[r]) c->otri[L[a]] = id;
     }
   }
 done:
@@ -836,7 +384,7 @@ static int attempt(cutter *c, int *cut_any) {
   reset(c);
   *cut_any = 0;
   for (int v = 0; v < c->nv; v++) {
-    int id = new_vertex(c, c->x[v]);
+    int id = cut_new_vertex(c, c->x[v]);
     if (id < 0) return NOMEM;
     c->v[id].origin = v;
   }
@@ -871,7 +419,7 @@ static int attempt(cutter *c, int *cut_any) {
   *cut_any = 1;
   /* Old triangles in their slots; a split one's first piece replaces it. */
   for (int t = 0; t < c->ntri; t++)
-    if (emit(c, c->tri[3 * t], c->tri[3 * t + 1], c->tri[3 * t + 2], t, LAB_S)) return NOMEM;
+    if (cut_emit(c, c->tri[3 * t], c->tri[3 * t + 1], c->tri[3 * t + 2], t, LAB_S)) return NOMEM;
   c->nsplit = 0;
   memset(c->split, 0, (size_t)c->ntri * sizeof *c->split);
   for (int r0 = 0, r1; r0 < c->nrp; r0 = r1) {
@@ -890,11 +438,12 @@ static int attempt(cutter *c, int *cut_any) {
   int *crack = NULL, ncrack = 0, capcrack = 0;
   for (int i = 0; i < 2 * f->count; i++) c->corner_id[i] = -1;
   for (int k = 0; k < f->npieces && rc == OK; k++)
-    rc = crack_piece(c, k, &crack, &ncrack, &capcrack);
+    rc = cut_crack_piece(c, k, &crack, &ncrack, &capcrack);
   for (int side = 0; side < 2 && rc == OK; side++)
     for (int i = 0; i < ncrack && rc == OK; i++) {
       const int *q = crack + 3 * i;
-      if (side == 0 ? emit(c, q[0], q[2], q[1], -1, LAB_CP) : emit(c, q[0], q[1], q[2], -1, LAB_CM))
+      if (side == 0 ? cut_emit(c, q[0], q[2], q[1], -1, LAB_CP)
+                    : cut_emit(c, q[0], q[1], q[2], -1, LAB_CM))
         rc = NOMEM;
     }
   free(crack);
@@ -917,7 +466,7 @@ static int fill_result(cutter *c, int cut_any, tb_cut_result *out) {
   if (!cut_any) { /* unchanged: a copy */
     c->nout = 0, c->nvr = c->nv;
     for (int t = 0; t < c->ntri; t++)
-      if (emit(c, c->tri[3 * t], c->tri[3 * t + 1], c->tri[3 * t + 2], t, LAB_S)) return NOMEM;
+      if (cut_emit(c, c->tri[3 * t], c->tri[3 * t + 1], c->tri[3 * t + 2], t, LAB_S)) return NOMEM;
     c->nsplit = c->ncrack = 0;
   }
   /* Keep the used new vertices, in order. */
@@ -981,13 +530,13 @@ static void cutter_free(cutter *c) {
 static int make_pairs(cutter *c) {
   vstar vs = {NULL, NULL};
   c->pair = malloc((size_t)3 * c->ntri * sizeof *c->pair);
-  if (!c->pair || vstar_build(&vs, c->nv, c->ntri, c->tri)) {
-    vstar_free(&vs);
+  if (!c->pair || cut_vstar_build(&vs, c->nv, c->ntri, c->tri)) {
+    cut_vstar_free(&vs);
     return NOMEM;
   }
   for (int h = 0; h < 3 * c->ntri; h++)
-    c->pair[h] = find_edge(&vs, c->tri, c->tri[h - h % 3 + (h % 3 + 1) % 3], c->tri[h]);
-  vstar_free(&vs);
+    c->pair[h] = cut_find_edge(&vs, c->tri, c->tri[h - h % 3 + (h % 3 + 1) % 3], c->tri[h]);
+  cut_vstar_free(&vs);
   return OK;
 }
 
