@@ -1,0 +1,118 @@
+/* Cutting the metaball model (tb_model.h's tb_cut_event; the metaball
+ * patent's step 3): BEGIN starts the volume's cut (models/metaball_cut.c),
+ * MOVE hands it the blade's folded plane so far, END re-packs the point set
+ * into spheres (models/metaball_repack.c), splits and closes the skinned
+ * surface with the same folded plane (models/cut_surface.c) and skins the
+ * new and changed vertices anew on their side of the blade; the model's
+ * points, masses and surface are replaced (npoints grows, the surface's
+ * version changes). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "metaball_model_priv.h"
+#include "tb_cut_surface.h"
+
+/* Every per-point array for nv points and per-sphere array for ns spheres
+ * (new entries zero); 0 or -1. */
+static int grow(mb_model *s, int nv, int ns) {
+  size_t V = (size_t)nv, N = (size_t)ns;
+#define GROW(f, count, old)                                              \
+  do {                                                                   \
+    void *g = realloc(s->f, sizeof *s->f * (count));                     \
+    if (!g) return -1;                                                   \
+    s->f = g;                                                            \
+    if ((count) > (size_t)(old))                                         \
+      memset(s->f + (old), 0, sizeof *s->f * ((count) - (size_t)(old))); \
+  } while (0)
+  GROW(x, V, s->nv);
+  GROW(v, V, s->nv);
+  GROW(xold, V, s->nv);
+  GROW(skin0, V, s->nv);
+  GROW(mass, V, s->nv);
+  GROW(dominant, V, s->nv);
+  GROW(fs, N, s->ns);
+  GROW(cstart, N, s->ns);
+  GROW(hold, N, s->ns);
+  GROW(hold0, N, s->ns);
+  GROW(apq, N, s->ns);
+  GROW(nhold, N, s->ns);
+  GROW(held, N, s->ns);
+  GROW(push, N, s->ns);
+  GROW(keep, N, s->ns);
+  GROW(cids, N, s->ns);
+  GROW(cp, N, s->ns);
+  GROW(cdepth, N, s->ns);
+#undef GROW
+  return 0;
+}
+
+/* The blade has left: the spheres from the points (tb_metaball_cut_end),
+ * the surface split and closed by the folded plane (tb_cut_surface), the
+ * new and changed vertices skinned anew on their side, points, masses and
+ * the surface replaced. */
+static int cut_end(mb_model *s, tb_cut_stats *st, tb_error *err) {
+  tb_metaball *m = s->mb;
+  tb_metaball_cut_report rep;
+  if (tb_metaball_cut_end(m, &rep, err)) return -1;
+  if (st)
+    st->removed = rep.removed, st->created = rep.created, st->removed_r = rep.removed_r,
+    st->created_r = rep.created_r, st->points = rep.points, st->uncovered = rep.uncovered;
+  if (!s->have_fold) return 0; /* the blade never moved */
+  tb_cut_result cr;
+  if (tb_cut_surface(s->nv, s->x, s->ntri, s->tri, &s->fold, NULL, &cr, err)) return -1;
+  int rc = 0, old = s->nv;
+  signed char *side = malloc((size_t)cr.nv);
+  unsigned char *rebind = calloc((size_t)cr.nv, 1);
+  if (!side || !rebind || grow(s, cr.nv, m->n)) {
+    rc = tb_error_set(err, "metaball", 0, "out of memory (cut: %d points)", cr.nv);
+    goto done;
+  }
+  for (int v = 0; v < cr.nv; v++) side[v] = (signed char)cr.side[v];
+  for (int k = 0; k < cr.nreskin; k++) rebind[cr.reskin[k]] = 1;
+  if ((rc = tb_metaball_set_skin(m, cr.nv, cr.x, side, rebind, err))) goto done;
+  for (int v = old; v < cr.nv; v++) { /* a copy moves on as its original did */
+    int o = cr.origin[v];
+    s->v[v] = o >= 0 && o < old ? s->v[o] : tb_v3(0, 0, 0);
+  }
+  s->nv = cr.nv, s->ns = m->n;
+  memcpy(s->x, m->x, sizeof(tb_vec3) * (size_t)s->nv);
+  if ((rc = mb_share_masses(s, err))) goto done;
+  free(s->tri);
+  s->tri = cr.tri, s->ntri = cr.ntri, cr.tri = NULL;
+  if (cr.cut) s->version++;
+  if (st)
+    st->split_tris = cr.split_tris, st->crack_tris = cr.crack_tris, st->new_points = cr.nv - old,
+    st->components = cr.components_after;
+done:
+  free(side), free(rebind);
+  tb_cut_result_free(&cr);
+  return rc;
+}
+
+int mb_cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *err) {
+  mb_model *s = self;
+  tb_metaball *m = s->mb;
+  if (ev->kind == TB_CUT_BEGIN) {
+    if (s->cutting) return tb_error_set(err, "metaball", 0, "a cut is already running");
+    tb_metaball_cut_settings cs;
+    tb_metaball_cut_settings_default(&cs);
+    cs.per_sphere = s->set.cut_points, cs.E = s->set.cut_E;
+    if (tb_metaball_cut_begin(m, &cs, err)) return -1;
+    s->cutting = 1;
+    return 0;
+  }
+  if (!s->cutting) return tb_error_set(err, "metaball", 0, "no cut is running (BEGIN first)");
+  if (ev->kind == TB_CUT_MOVE) {
+    tb_fold f;
+    if (tb_fold_init(&f, ev->path, ev->npath, ev->depth, err)) return -1;
+    if (s->have_fold) tb_fold_free(&s->fold);
+    s->fold = f, s->have_fold = 1;
+    return tb_metaball_cut_advance(m, &s->fold, err) < 0 ? -1 : 0;
+  }
+  s->cutting = 0;
+  int rc = cut_end(s, st, err);
+  if (s->have_fold) tb_fold_free(&s->fold), s->have_fold = 0;
+  if (st)
+    st->components = st->components ? st->components : tb_cut_components(s->nv, s->ntri, s->tri);
+  return rc;
+}

@@ -1,0 +1,47 @@
+/* The metaball model's state (models/metaball_model.c), shared with its
+ * cutting (models/metaball_model_cut.c). */
+#ifndef TB_METABALL_MODEL_PRIV_H
+#define TB_METABALL_MODEL_PRIV_H
+
+#include "metaball_priv.h"
+#include "tb_fold.h"
+#include "tb_model.h"
+
+typedef struct mb_settings {
+  double density, node_mass, stretch, unit, damping, sigma, overlap;
+  int iterations, spheres, samples, seed;
+  int cut_points; /* points per converted sphere */
+  double cut_E;   /* the point set's Young's modulus */
+} mb_settings;
+
+typedef struct mb_model {
+  mb_settings set;
+  tb_metaball *mb;
+  int nv, ns;
+  tb_vec3 *x, *v, *xold; /* the points (nodes) and their velocities, x at a step's start */
+  tb_vec3 *skin0;        /* the skin at a step's start */
+  double *mass;
+  tb_vec3 *fs;           /* per-sphere forces of a step */
+  tb_vec3 *cstart;       /* sphere centres at a step's start */
+  tb_vec3 *hold, *hold0; /* a held sphere's prescribed points' centroid, now and at rest */
+  tb_mat3 *apq;          /* their covariance, for the fit's rotation */
+  int *nhold, *held;     /* how many prescribed points hold it; the held spheres */
+  double *push, *keep;   /* ground: per-sphere push and friction's kept share */
+  int *cids;             /* ground contact spheres */
+  tb_vec3 *cp;           /* their pushed positions */
+  double *cdepth;
+  int dominant_ok;
+  int *dominant;          /* per point: the sphere it holds when prescribed */
+  int ntri, *tri;         /* the current surface over the points */
+  unsigned long version;  /* changes with every cut that changes the surface */
+  int cutting, have_fold; /* a cut is running; its folded plane exists (2+ path points) */
+  tb_fold fold;           /* the blade's folded plane so far */
+} mb_model;
+
+/* Point masses as shares of the alive spheres' masses, and each point's
+ * dominant sphere (models/metaball_model.c's head). */
+int mb_share_masses(mb_model *s, tb_error *err);
+/* The model's cut event (tb_model_class.cut). */
+int mb_cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *err);
+
+#endif
