@@ -57,6 +57,13 @@
  * the ground, the rest kept: the contact is inelastic (restitution is
  * not used). Points left below by rounding go onto the plane.
  *
+ * Cutting (tb_model_cut; models/metaball_model_cut.c): while a blade
+ * moves the step runs the coupled spheres + point set frame
+ * (tb_metaball_cut_step); after it the surface has more vertices, so the
+ * points are the mesh's nodes followed by the cut's new vertices, with
+ * rest positions surface().x0; the settings cut_points and cut_E shape the
+ * point set.
+ *
  * energy(): NAN. The constraints' stiffnesses are PBD's [0, 1] shares of
  * a projection, not a potential, so the model has no energy; the scene's
  * detector checks NaN and the velocity bound. */
