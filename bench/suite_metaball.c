@@ -157,7 +157,7 @@ static int organs(int only_steak, uint64_t seed, organ *o, char *sofa_why, size_
  * orange) and the surface below, from the left front of box lo..hi. */
 static int picture(tb_renderer *r, tb_model *m, int nold, tb_vec3 lo, tb_vec3 hi, const char *path,
                    tb_error *err) {
-  double dz = 1.7 * (hi.z - lo.z);
+  double dz = 1.2 * (hi.z - lo.z) + 0.5 * (hi.y - lo.y); /* clear of the surface in view */
   tb_camera cam;
   tb_camera_preset("left-front", lo, tb_add(hi, tb_v3(0, 0, dz)), &cam);
   tb_renderer_begin(r, &cam, (const float[3]){1, 1, 1});
