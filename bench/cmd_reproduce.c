@@ -54,6 +54,10 @@ static const tb_suite_entry suites[] = {
      "Bao 2006 table 1 and figs 6-8: msm-vvs on the sphere, base vs fully subdivided vs locally "
      "refined (time, accuracy), the conventional and the improved model pressed and released",
      tb_suite_bao},
+    {"metaball", "metaball", "metaball",
+     "metaball patent tables 1-2 and figs 7-10: organs of spheres driven by PBD, deform and cut "
+     "ms per frame, re-packing, convergence against the tet models, the speed goal",
+     tb_suite_metaball},
     {"figures", NULL, "pictures",
      "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures},
 };
@@ -64,7 +68,8 @@ static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
  * calibration against it, the error/speed trade-off, stability), its
  * chapter 4 (collision: correctness first, then its tables, then the
  * deforming liver); then the 2022 patent's performance tables; then Bao
- * 2006's sphere (its table 1, figs 6-8). A chapter
+ * 2006's sphere (its table 1, figs 6-8); then the metaball patent's organs
+ * (its tables 1-2, figs 7-10). A chapter
  * is a heading then suite names; every suite above appears once
  * (tests/test_cli.c checks through --only). */
 static const char *const report_order[] = {
@@ -87,6 +92,8 @@ static const char *const report_order[] = {
     "pbd-stiffness",
     "#Bao 2006: a surface mass-spring model with virtual volumetric springs and local refinement",
     "bao",
+    "#The metaball patent: organs of overlapping spheres, PBD, hybrid sphere - point set cutting",
+    "metaball",
     "#Pictures: the documents' figures, rendered",
     "figures",
 };

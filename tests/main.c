@@ -165,6 +165,7 @@ static const struct {
     {"organ_cut", tb_tests_organ_cut},
     {"metaball_cut", tb_tests_metaball_cut},
     {"cut_surface", tb_tests_cut_surface},
+    {"metaball_suite", tb_tests_metaball_suite},
 };
 
 static int selected(const char *id, int argc, char **argv) {
