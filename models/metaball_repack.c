@@ -277,7 +277,7 @@ int tb_metaball_cut_end(tb_metaball *m, tb_metaball_cut_report *rep, tb_error *e
   }
   for (int p = 0; p < np; p++) {
     int b = boundary(c, x, w.centre, p, &w.bn[nb]);
-    w.covered[p] = b < 0 || c->driver[p] >= 0;
+    w.covered[p] = b < 0;
     r.strays += b < 0, r.driven += b >= 0 && c->driver[p] >= 0;
     w.isb[p] = b > 0;
     if (b > 0) w.bp[nb++] = x[p];
