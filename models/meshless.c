@@ -309,13 +309,17 @@ int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, t
   (void)err; /* compacts in place: cannot fail */
   int len = 0;
   for (int i = 0; i < m->n; i++) {
-    int b = m->start[i], e = m->start[i + 1];
+    int b = m->start[i], e = m->start[i + 1], at = len;
     m->start[i] = len;
     for (int k = b; k < e; k++)
-      if (!crosses || !crosses(ctx, m->x[i], m->x[m->nbr[k]])) m->nbr[len++] = m->nbr[k];
+      if (!crosses || !crosses(ctx, m->x[i], m->x[m->nbr[k]])) {
+        m->nbr[len] = m->nbr[k], m->w[len] = m->w[k], m->d[len++] = m->d[k];
+      }
+    if (len - at < e - b) m->active[i] = 2; /* lost links: its moments anew, below */
   }
   m->start[m->n] = len;
-  moments(m);
+  for (int i = 0; i < m->n; i++)
+    if (m->active[i] == 2) moment(m, i);
   m->fvalid = 0;
   return 0;
 }

@@ -48,7 +48,8 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
 /* Re-links the points with a new cut: pairs linked so far stay linked
  * unless crosses(ctx, x_i, x_j) at the current positions; weights are those
  * of the rest state. A point left with a degenerate stencil becomes
- * inactive. Compacts the lists in place (allocates nothing); returns 0.
+ * inactive. Compacts the lists in place (allocates nothing; moments anew
+ * only for the stencils that lost links); returns 0.
  * err is unused (kept for symmetry). */
 int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err);
 
