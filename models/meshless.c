@@ -70,6 +70,7 @@
  * points (u_b = t for b in the group): H_i = t g_i^T, g_i = sum over the
  * group's points b in i's stencil of d_ib, so the energy's curvature is at
  * most sum_i V_i kappa |g_i|^2 (tb_meshless_group_stiffness). */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -80,13 +81,14 @@ struct tb_meshless {
   int n;
   tb_vec3 *X, *x, *v, *f; /* rest, current, velocity, internal force */
   double *vol, *mass;
+  double *nn;       /* distance to the nearest other point */
   int *start, *nbr; /* CSR links: nbr[start[i] .. start[i+1]-1] */
   double *w;        /* w_ij per link (rest) */
   tb_vec3 *d;       /* d_ij = A_i^-1 X_ij w_ij per link */
   unsigned char *active;
   unsigned *mark; /* driven this step when mark[i] == stamp */
   unsigned stamp;
-  double h, lambda, mu, damping;
+  double h, lambda, mu, damping, density;
   double flat; /* a stencil with det A <= flat (tr A / 3)^3 is inactive */
   int integrator, fvalid;
 };
@@ -212,25 +214,27 @@ static int link(tb_meshless *m, tb_meshless_crosses crosses, void *ctx) {
   return m->w && m->d ? 0 : -1;
 }
 
-/* w_ij, A_i, d_ij and the active flags from the links. */
-static void moments(tb_meshless *m) {
-  for (int i = 0; i < m->n; i++) {
-    tb_mat3 A = {{{0}}};
-    for (int k = m->start[i]; k < m->start[i + 1]; k++) {
-      tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
-      double p[3] = {e.x, e.y, e.z};
-      m->w[k] = kernel(tb_len(e), m->h);
-      for (int a = 0; a < 3; a++)
-        for (int b = 0; b < 3; b++) A.m[a][b] += m->w[k] * p[a] * p[b];
-    }
-    double tr = (A.m[0][0] + A.m[1][1] + A.m[2][2]) / 3, det = tb_m3_det(A);
-    m->active[i] = tr > 0 && det > m->flat * tr * tr * tr;
-    tb_mat3 inv = tb_m3_transpose(tb_m3_cofactor(A));
-    for (int k = m->start[i]; k < m->start[i + 1]; k++) {
-      tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
-      m->d[k] = m->active[i] ? tb_scale(tb_m3_mulv(inv, e), m->w[k] / det) : tb_v3(0, 0, 0);
-    }
+/* w_ij, A_i, d_ij and the active flag of point i from its links. */
+static void moment(tb_meshless *m, int i) {
+  tb_mat3 A = {{{0}}};
+  for (int k = m->start[i]; k < m->start[i + 1]; k++) {
+    tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
+    double p[3] = {e.x, e.y, e.z};
+    m->w[k] = kernel(tb_len(e), m->h);
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) A.m[a][b] += m->w[k] * p[a] * p[b];
   }
+  double tr = (A.m[0][0] + A.m[1][1] + A.m[2][2]) / 3, det = tb_m3_det(A);
+  m->active[i] = tr > 0 && det > m->flat * tr * tr * tr;
+  tb_mat3 inv = tb_m3_transpose(tb_m3_cofactor(A));
+  for (int k = m->start[i]; k < m->start[i + 1]; k++) {
+    tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
+    m->d[k] = m->active[i] ? tb_scale(tb_m3_mulv(inv, e), m->w[k] / det) : tb_v3(0, 0, 0);
+  }
+}
+
+static void moments(tb_meshless *m) {
+  for (int i = 0; i < m->n; i++) moment(m, i);
 }
 
 tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, double E, double nu,
@@ -252,10 +256,10 @@ tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, d
   m->v = calloc(nv, sizeof(tb_vec3)), m->f = calloc(nv, sizeof(tb_vec3));
   m->vol = malloc(sizeof(double) * nv), m->mass = malloc(sizeof(double) * nv);
   m->start = malloc(sizeof(int) * (nv + 1)), m->active = malloc(nv);
-  m->mark = calloc(nv, sizeof(unsigned));
+  m->mark = calloc(nv, sizeof(unsigned)), m->nn = malloc(sizeof(double) * nv);
   grid g = {0};
   if (!m->X || !m->x || !m->v || !m->f || !m->vol || !m->mass || !m->start || !m->active ||
-      !m->mark)
+      !m->mark || !m->nn)
     goto oom;
   memcpy(m->X, x, sizeof(tb_vec3) * nv), memcpy(m->x, x, sizeof(tb_vec3) * nv);
   /* Spacing s: mean nearest-neighbour distance, on a grid of ~1 point/cell. */
@@ -269,7 +273,7 @@ tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, d
   }
   if (grid_build(&g, n, x, big / cbrt((double)n))) goto oom;
   double s = 0;
-  for (int i = 0; i < n; i++) s += nearest(&g, x, i);
+  for (int i = 0; i < n; i++) s += m->nn[i] = nearest(&g, x, i);
   grid_free(&g);
   s /= n;
   if (!(s > 0)) {
@@ -282,6 +286,7 @@ tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, d
     m->mass[i] = density * m->vol[i];
   }
   tb_lame(E, nu, &m->lambda, &m->mu);
+  m->density = density;
   m->flat = 1e-3;
   if (link(m, crosses, ctx)) goto oom;
   moments(m);
@@ -297,22 +302,156 @@ void tb_meshless_destroy(tb_meshless *m) {
   if (!m) return;
   free(m->X), free(m->x), free(m->v), free(m->f), free(m->vol), free(m->mass);
   free(m->start), free(m->nbr), free(m->w), free(m->d), free(m->active), free(m->mark);
-  free(m);
+  free(m->nn), free(m);
 }
 
 int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err) {
   (void)err; /* compacts in place: cannot fail */
   int len = 0;
   for (int i = 0; i < m->n; i++) {
-    int b = m->start[i], e = m->start[i + 1];
+    int b = m->start[i], e = m->start[i + 1], at = len;
     m->start[i] = len;
     for (int k = b; k < e; k++)
-      if (!crosses || !crosses(ctx, m->x[i], m->x[m->nbr[k]])) m->nbr[len++] = m->nbr[k];
+      if (!crosses || !crosses(ctx, m->x[i], m->x[m->nbr[k]])) {
+        m->nbr[len] = m->nbr[k], m->w[len] = m->w[k], m->d[len++] = m->d[k];
+      }
+    if (len - at < e - b) m->active[i] = 2; /* lost links: its moments anew, below */
   }
   m->start[m->n] = len;
-  moments(m);
+  for (int i = 0; i < m->n; i++)
+    if (m->active[i] == 2) moment(m, i);
   m->fvalid = 0;
   return 0;
+}
+
+/* ---- incremental insertion ---- */
+
+typedef struct pairs {
+  int n, cap;
+  int (*p)[2]; /* (owner, neighbour) */
+} pairs;
+
+static int pairs_push(pairs *q, int owner, int nb) {
+  if (q->n == q->cap) {
+    int cap = q->cap ? 2 * q->cap : 256;
+    int(*t)[2] = realloc(q->p, sizeof *t * (size_t)cap);
+    if (!t) return -1;
+    q->p = t, q->cap = cap;
+  }
+  q->p[q->n][0] = owner, q->p[q->n++][1] = nb;
+  return 0;
+}
+
+/* Grows every per-point array to n points (m->n unchanged); 0 or -1. */
+static int grow(tb_meshless *m, int n) {
+  size_t N = (size_t)n;
+  tb_vec3 **v3[] = {&m->X, &m->x, &m->v, &m->f};
+  for (int a = 0; a < 4; a++) {
+    tb_vec3 *t = realloc(*v3[a], sizeof(tb_vec3) * N);
+    if (!t) return -1;
+    *v3[a] = t;
+  }
+  double **d1[] = {&m->vol, &m->mass, &m->nn};
+  for (int a = 0; a < 3; a++) {
+    double *t = realloc(*d1[a], sizeof(double) * N);
+    if (!t) return -1;
+    *d1[a] = t;
+  }
+  int *st = realloc(m->start, sizeof(int) * (N + 1));
+  if (st) m->start = st;
+  unsigned char *ac = realloc(m->active, N);
+  if (ac) m->active = ac;
+  unsigned *mk = realloc(m->mark, sizeof(unsigned) * N);
+  if (mk) m->mark = mk;
+  return st && ac && mk ? 0 : -1;
+}
+
+/* The new links (see tb_meshless_add): pairs (owner, neighbour) for every
+ * new point j and each point q within h: j's own entry, and q's when q is
+ * old; j ascending, so an old point's new entries come ascending. */
+static int new_links(tb_meshless *m, int n0, int n, tb_meshless_crosses crosses, void *ctx,
+                     pairs *out) {
+  grid g = {0};
+  int c[3];
+  if (grid_build(&g, n, m->X, m->h)) return grid_free(&g), -1;
+  for (int j = n0; j < n; j++) m->nn[j] = nearest(&g, m->X, j);
+  for (int j = n0; j < n; j++) {
+    grid_cell(&g, m->X[j], c);
+    for (int dz = -1; dz <= 1; dz++)
+      for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+          int a = c[0] + dx, b = c[1] + dy, e = c[2] + dz;
+          if (a < 0 || b < 0 || e < 0 || a >= g.dim[0] || b >= g.dim[1] || e >= g.dim[2]) continue;
+          int cell = (e * g.dim[1] + b) * g.dim[0] + a;
+          for (int k = g.start[cell]; k < g.start[cell + 1]; k++) {
+            int q = g.pt[k];
+            double r = tb_dist(m->X[j], m->X[q]);
+            if (q == j || kernel(r, m->h) <= 0) continue;
+            m->nn[q] = fmin(m->nn[q], r);
+            if ((!crosses || !crosses(ctx, m->x[j], m->x[q])) && pairs_push(out, j, q))
+              return grid_free(&g), -1;
+            if (q < n0 && (!crosses || !crosses(ctx, m->x[q], m->x[j])) && pairs_push(out, q, j))
+              return grid_free(&g), -1;
+          }
+        }
+  }
+  grid_free(&g);
+  return 0;
+}
+
+int tb_meshless_add(tb_meshless *m, int k, const tb_vec3 *X, const tb_vec3 *x, const tb_vec3 *v,
+                    const double *volume, tb_meshless_crosses crosses, void *ctx, tb_error *err) {
+  if (k < 0 || (k > 0 && (!X || !x)))
+    return tb_error_set(err, "meshless", 0, "add: bad count or missing positions");
+  if (k > INT_MAX / 64 - m->n) return tb_error_set(err, "meshless", 0, "add: too many points");
+  for (int i = 0; i < k; i++)
+    if (!tb_isfinite3(X[i]) || !tb_isfinite3(x[i]) || (v && !tb_isfinite3(v[i])) ||
+        (volume && !(volume[i] > 0 && isfinite(volume[i]))))
+      return tb_error_set(err, "meshless", 0, "added point %d: non-finite or bad volume", i);
+  if (k == 0) return 0;
+  int n0 = m->n, n = n0 + k, *cnt = NULL, *nbr = NULL, *ost = NULL;
+  double *w = NULL, s = m->h / 2;
+  tb_vec3 *d = NULL;
+  pairs q = {0};
+  if (grow(m, n)) goto oom;
+  for (int i = 0; i < k; i++) {
+    int p = n0 + i;
+    m->X[p] = X[i], m->x[p] = x[i], m->v[p] = v ? v[i] : tb_v3(0, 0, 0), m->f[p] = tb_v3(0, 0, 0);
+    m->vol[p] = volume ? volume[i] : s * s * s, m->mass[p] = m->density * m->vol[p];
+    m->mark[p] = 0, m->active[p] = 0;
+  }
+  cnt = calloc((size_t)n + 1, sizeof(int)), ost = malloc(sizeof(int) * ((size_t)n0 + 1));
+  if (!cnt || !ost || new_links(m, n0, n, crosses, ctx, &q)) goto oom;
+  memcpy(ost, m->start, sizeof(int) * ((size_t)n0 + 1));
+  /* the new CSR: an old point's list, then its new entries (all ascending) */
+  for (int e = 0; e < q.n; e++) cnt[q.p[e][0] + 1]++;
+  int len = ost[n0] + q.n;
+  nbr = malloc(sizeof(int) * (size_t)(len + 1)), w = malloc(sizeof(double) * (size_t)(len + 1));
+  d = malloc(sizeof(tb_vec3) * (size_t)(len + 1));
+  if (!nbr || !w || !d) goto oom;
+  int *fill = cnt; /* reused: fill[i] = where i's next new entry goes */
+  for (int i = 0, at = 0; i < n; i++) {
+    int b = i < n0 ? ost[i] : 0, e = i < n0 ? ost[i + 1] : 0, extra = cnt[i + 1];
+    memcpy(nbr + at, m->nbr + b, sizeof(int) * (size_t)(e - b));
+    memcpy(w + at, m->w + b, sizeof(double) * (size_t)(e - b));
+    memcpy(d + at, m->d + b, sizeof(tb_vec3) * (size_t)(e - b));
+    m->start[i] = at, fill[i] = at + (e - b), at += e - b + extra;
+    m->start[i + 1] = at;
+  }
+  for (int e = 0; e < q.n; e++) nbr[fill[q.p[e][0]]++] = q.p[e][1];
+  free(m->nbr), free(m->w), free(m->d);
+  m->nbr = nbr, m->w = w, m->d = d, m->n = n;
+  /* stencils that changed: the new points', and the old ones that gained */
+  for (int e = 0; e < q.n; e++) m->active[q.p[e][0]] = 2;
+  for (int i = n0; i < n; i++) sort_ints(m->nbr + m->start[i], m->start[i + 1] - m->start[i]);
+  for (int i = 0; i < n; i++)
+    if (i >= n0 || m->active[i] == 2) moment(m, i);
+  free(cnt), free(ost), free(q.p);
+  m->fvalid = 0;
+  return 0;
+oom:
+  free(cnt), free(ost), free(q.p), free(nbr), free(w), free(d);
+  return tb_error_set(err, "meshless", 0, "out of memory");
 }
 
 /* ---- elasticity ---- */
@@ -514,6 +653,11 @@ const tb_vec3 *tb_meshless_positions(const tb_meshless *m) { return m->x; }
 const tb_vec3 *tb_meshless_velocities(const tb_meshless *m) { return m->v; }
 const tb_vec3 *tb_meshless_rest(const tb_meshless *m) { return m->X; }
 double tb_meshless_support(const tb_meshless *m) { return m->h; }
+double tb_meshless_spacing(const tb_meshless *m) {
+  double s = 0;
+  for (int i = 0; i < m->n; i++) s += m->nn[i];
+  return s / m->n;
+}
 double tb_meshless_mass(const tb_meshless *m, int i) { return m->mass[i]; }
 int tb_meshless_neighbours(const tb_meshless *m, int i, const int **list) {
   if (list) *list = m->nbr + m->start[i];

@@ -48,9 +48,23 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
 /* Re-links the points with a new cut: pairs linked so far stay linked
  * unless crosses(ctx, x_i, x_j) at the current positions; weights are those
  * of the rest state. A point left with a degenerate stencil becomes
- * inactive. Compacts the lists in place (allocates nothing); returns 0.
+ * inactive. Compacts the lists in place (allocates nothing; moments anew
+ * only for the stencils that lost links); returns 0.
  * err is unused (kept for symmetry). */
 int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err);
+
+/* Appends k >= 0 points at rest at X, now at x, with velocities v (NULL:
+ * zero) and volumes (NULL: (h / 2)^3), keeping the support h of the body's
+ * creation. The new points link to every point closer than h, the old ones
+ * gain the new points as neighbours, each entry unless crosses(ctx, x_owner,
+ * x_other) (crosses may be NULL); the old links stay as they are. Weights
+ * and moment matrices are recomputed only for the stencils that changed, so
+ * the body is the one tb_meshless_create would give for all the points with
+ * the same h and the same cuts, bit for bit (the same sums in the same
+ * order). Returns 0, or -1 with err filled (bad input, out of memory: the
+ * body is then unchanged). */
+int tb_meshless_add(tb_meshless *m, int k, const tb_vec3 *X, const tb_vec3 *x, const tb_vec3 *v,
+                    const double *volume, tb_meshless_crosses crosses, void *ctx, tb_error *err);
 
 /* Sets every position (velocities kept). */
 void tb_meshless_set_positions(tb_meshless *m, const tb_vec3 *x);
@@ -72,6 +86,11 @@ const tb_vec3 *tb_meshless_positions(const tb_meshless *m);
 const tb_vec3 *tb_meshless_velocities(const tb_meshless *m);
 const tb_vec3 *tb_meshless_rest(const tb_meshless *m);
 double tb_meshless_support(const tb_meshless *m);
+/* The mean over the points of the distance to the nearest other point: the
+ * spacing s a tb_meshless_create of the points now would take (h = 2 s). After
+ * tb_meshless_add an old point's distance is lowered only by new points
+ * within h of it (an isolated point may keep a larger one). */
+double tb_meshless_spacing(const tb_meshless *m);
 double tb_meshless_mass(const tb_meshless *m, int i);
 /* Point i's neighbours: their count, and (when list is not NULL) a pointer
  * to their indices in ascending order. */

@@ -575,6 +575,61 @@ done:
   free(X), free(x), free(group);
 }
 
+/* tb_meshless_add: a body created from the lower layers of a lattice
+ * (spacing a power of two, so both spacings are exact and equal), then
+ * given the upper layers, is the body created from all of them at once,
+ * bit for bit: lists, active flags, forces after a deformation, with and
+ * without a cut; velocities given are kept; bad input leaves it as it was. */
+static void add_equals_create(void) {
+  const double a = 1.0 / 128;
+  enum { NX = 7, NY = 6, NZ = 6, N = NX * NY * NZ, N0 = NX * NY * 2 };
+  tb_vec3 X[N], x[N], v[N], fa[N], fb[N];
+  for (int k = 0, i = 0; k < NZ; k++)
+    for (int j = 0; j < NY; j++)
+      for (int l = 0; l < NX; l++, i++) X[i] = tb_v3(l * a, j * a, k * a), v[i] = tb_v3(0, 0, i);
+  double px = 2.5 * a;
+  for (int cut = 0; cut < 2; cut++) {
+    tb_meshless_crosses cr = cut ? plane_x : NULL;
+    tb_meshless *all = make(N, X, 1e5, cr, &px), *inc = make(N0, X, 1e5, cr, &px);
+    if (!all || !inc) {
+      tb_meshless_destroy(all), tb_meshless_destroy(inc);
+      return;
+    }
+    tb_error err = {{0}};
+    int gained = tb_meshless_neighbours(inc, N0 - 1, NULL);
+    TB_CHECK_MSG(tb_meshless_add(inc, N - N0, X + N0, X + N0, v + N0, NULL, cr, &px, &err) == 0,
+                 "add: %s", err.msg);
+    TB_CHECK(tb_meshless_count(inc) == N);
+    TB_CHECK(tb_meshless_neighbours(inc, N0 - 1, NULL) > gained);
+    TB_CHECK(tb_meshless_spacing(inc) == tb_meshless_spacing(all));
+    TB_CHECK(tb_meshless_support(inc) == tb_meshless_support(all));
+    int same = 1, cross = 0;
+    for (int i = 0; i < N && same; i++) {
+      const int *la, *lb;
+      int na = tb_meshless_neighbours(all, i, &la), nb = tb_meshless_neighbours(inc, i, &lb);
+      same = na == nb && !memcmp(la, lb, sizeof(int) * (size_t)na) &&
+             tb_meshless_active(all, i) == tb_meshless_active(inc, i) &&
+             tb_meshless_mass(all, i) == tb_meshless_mass(inc, i);
+      for (int k = 0; k < nb; k++) cross |= plane_x(&px, X[i], X[lb[k]]);
+    }
+    TB_CHECK_MSG(same, "cut %d: the stencils differ", cut);
+    TB_CHECK_MSG(!cross || !cut, "a link crosses the cut");
+    for (int i = 0; i < N; i++)
+      x[i] = tb_add(X[i],
+                    tb_v3(0.1 * X[i].y * X[i].z / a, 0.05 * X[i].x, -0.08 * X[i].x * X[i].x / a));
+    tb_meshless_set_positions(all, x), tb_meshless_set_positions(inc, x);
+    tb_meshless_forces(all, fa), tb_meshless_forces(inc, fb);
+    TB_CHECK(max_len(fa, N) > 0);
+    TB_CHECK_MSG(!memcmp(fa, fb, sizeof fa), "cut %d: the forces differ", cut);
+    TB_CHECK(!memcmp(tb_meshless_velocities(inc) + N0, v + N0, sizeof(tb_vec3) * (N - N0)));
+    tb_vec3 nan = tb_v3(NAN, 0, 0);
+    TB_CHECK(tb_meshless_add(inc, 1, &nan, &nan, NULL, NULL, NULL, NULL, &err) != 0);
+    TB_CHECK(tb_meshless_add(inc, -1, X, X, NULL, NULL, NULL, NULL, &err) != 0);
+    TB_CHECK(tb_meshless_count(inc) == N);
+    tb_meshless_destroy(all), tb_meshless_destroy(inc);
+  }
+}
+
 const tb_test_case tb_tests_meshless[] = {
     {"linear_field_reproduced", linear_field_reproduced},
     {"rigid_motion_strain_free", rigid_motion_strain_free},
@@ -589,5 +644,6 @@ const tb_test_case tb_tests_meshless[] = {
     {"timing", timing},
     {"frequency_bound_holds", frequency_bound_holds},
     {"group_stiffness_bounds", group_stiffness_bounds},
+    {"add_equals_create", add_equals_create},
     {0, 0},
 };
