@@ -305,29 +305,50 @@ void tb_metaball_fix(tb_metaball *m, int i, int fixed) {
   if (fixed) m->v[i] = tb_v3(0, 0, 0);
 }
 
-void tb_metaball_remove(tb_metaball *m, int i) {
-  if (i < 0 || i >= m->n || !m->alive[i]) return;
-  m->alive[i] = 0, m->v[i] = tb_v3(0, 0, 0);
+void tb_metaball_remove_set(tb_metaball *m, int k, const int *ids) {
+  unsigned char *gone = calloc((size_t)m->n, 1);
+  if (!gone) { /* one at a time: the same result, slower */
+    for (int q = 0; q < k; q++) tb_metaball_remove(m, ids[q]);
+    return;
+  }
+  int any = 0;
+  for (int q = 0; q < k; q++) {
+    int i = ids[q];
+    if (i < 0 || i >= m->n || !m->alive[i]) continue;
+    m->alive[i] = 0, m->v[i] = tb_v3(0, 0, 0), gone[i] = 1, any = 1;
+  }
+  if (!any) {
+    free(gone);
+    return;
+  }
   int nl = 0;
-  for (int e = 0; e < m->nl; e++) { /* its links go; the others keep their order */
+  for (int e = 0; e < m->nl; e++) { /* their links go; the others keep their order */
     int a = m->link[2 * e], b = m->link[2 * e + 1];
-    if (a == i || b == i) continue;
+    if (gone[a] || gone[b]) continue;
     m->link[2 * nl] = a, m->link[2 * nl + 1] = b, m->len0[nl++] = m->len0[e];
   }
   m->nl = nl;
-  for (int k = m->cstart[i] + 1; k < m->cstart[i + 1]; k++) rest_centre(m, m->cmember[k]);
-  for (int v = 0; v < m->nv; v++) { /* its vertices: the other spheres, or bound anew */
-    int q = 0;
-    while (q < 3 && m->bind[v][q] != i) q++;
-    if (q == 3) continue;
-    double left = 1 - m->bw[v][q];
-    m->bind[v][q] = -1, m->bw[v][q] = 0;
+  for (int i = 0; i < m->n; i++)
+    if (gone[i])
+      for (int q = m->cstart[i] + 1; q < m->cstart[i + 1]; q++) rest_centre(m, m->cmember[q]);
+  for (int v = 0; v < m->nv; v++) { /* their vertices: the other spheres, or bound anew */
+    double left = 1;
+    int hit = 0;
+    for (int q = 0; q < 3; q++) {
+      int b = m->bind[v][q];
+      if (b < 0 || !gone[b]) continue;
+      left -= m->bw[v][q], m->bind[v][q] = -1, m->bw[v][q] = 0, hit = 1;
+    }
+    if (!hit) continue;
     if (left > 1e-12)
-      for (int k = 0; k < 3; k++) m->bw[v][k] /= left;
+      for (int q = 0; q < 3; q++) m->bw[v][q] /= left;
     else
       bind_vertex(m, v), m->nfallback--; /* not a fallback of the packing */
   }
+  free(gone);
 }
+
+void tb_metaball_remove(tb_metaball *m, int i) { tb_metaball_remove_set(m, 1, &i); }
 
 void tb_metaball_transform(tb_metaball *m, const double R[9], tb_vec3 t) {
   tb_mat3 rot = {{{R[0], R[1], R[2]}, {R[3], R[4], R[5]}, {R[6], R[7], R[8]}}};

@@ -40,10 +40,11 @@ typedef struct tb_metaball_cut {
   tb_fold fold;     /* the last folded plane given (kept after the cut for the skin) */
   tb_vec3 flo, fhi; /* its bounding box */
   double spacing;   /* the shared grid's spacing, or the smallest per-sphere one */
+  double rfloor;    /* per_sphere: radii below it sampled as if this radius (coarse) */
   double density;
   double omega;      /* the point set's largest free frequency (rad/s) */
   int last_substeps; /* meshless steps in the last frame */
-  double stiffening;  /* 1 + 3 x the largest Green strain at the last frame's end */
+  double stiffening; /* 1 + 3 x the largest Green strain at the last frame's end */
   tb_vec3 glo;       /* the shared grid's origin */
   int np, pcap;
   tb_vec3 *X, *x, *held; /* points: rest, current (at the last advance), held position */

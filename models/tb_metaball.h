@@ -37,6 +37,8 @@ void tb_metaball_fix(tb_metaball *m, int i, int fixed);
 /* Removes sphere i logically (the patent's cut): its links and its place
  * in every unit constraint go, indices stay; it no longer moves. */
 void tb_metaball_remove(tb_metaball *m, int i);
+/* Removes the k spheres ids at once (one pass over links and skin). */
+void tb_metaball_remove_set(tb_metaball *m, int k, const int *ids);
 /* Moves every sphere (and its velocity) by a rigid motion x -> R x + t,
  * without stepping: for tests and placement. */
 void tb_metaball_transform(tb_metaball *m, const double R[9], tb_vec3 t);
@@ -82,11 +84,13 @@ typedef struct tb_metaball_cut_settings {
   double boundary_angle;  /* degrees: the patent's cone about a point's normal */
   double boundary_offset; /* neighbour-centroid offset over mean neighbour distance */
   double flatness;        /* point stencils with det A <= flatness (tr A / 3)^3 are inactive */
+  double coarse;          /* per_sphere: spheres below coarse x the mean radius are sampled at the
+                           * spacing of one of that radius (fewer points; 0: none) */
 } tb_metaball_cut_settings;
 
 /* spacing 0.3, per_sphere 0, min_dist 0.6, E 1000, nu 0.3, density 0,
  * damping 2, coupling 1, substeps 0, cfl 0.9, boundary_angle 45,
- * boundary_offset 0.25, flatness 0.02. */
+ * boundary_offset 0.25, flatness 0.02, coarse 0.3. */
 void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s);
 
 /* Starts a cut (no points yet). Fails when a cut is running or on bad
