@@ -11,6 +11,7 @@
 
 #include "metaball_model_priv.h"
 #include "tb_cut_surface.h"
+#include "tb_meshless.h"
 
 /* Every per-point array for nv points and per-sphere array for ns spheres
  * (new entries zero); 0 or -1. */
@@ -46,20 +47,47 @@ static int grow(mb_model *s, int nv, int ns) {
   return 0;
 }
 
+/* The point set's points within half its support of the folded plane
+ * (malloc'ed into *out; their count, or -1): the crack's points (the
+ * patent: "the boundary points near the folded plane, projected onto it"). */
+static int crack_points(const mb_model *s, tb_vec3 **out) {
+  const tb_vec3 *px;
+  int np = tb_metaball_cut_points(s->mb, &px), n = 0;
+  const tb_meshless *ml = tb_metaball_cut_meshless(s->mb);
+  *out = malloc(sizeof(tb_vec3) * (size_t)(np > 0 ? np : 1));
+  if (!*out) return -1;
+  if (!ml || !s->have_fold) return 0;
+  double reach = tb_meshless_support(ml) / 2;
+  for (int p = 0; p < np; p++) {
+    tb_fold_near nr;
+    tb_fold_nearest(&s->fold, px[p], &nr);
+    if (nr.dist < reach) (*out)[n++] = px[p];
+  }
+  return n;
+}
+
 /* The blade has left: the spheres from the points (tb_metaball_cut_end),
- * the surface split and closed by the folded plane (tb_cut_surface), the
- * new and changed vertices skinned anew on their side, points, masses and
- * the surface replaced. */
+ * the surface split and closed by the folded plane (tb_cut_surface; the
+ * points near the plane, projected, among the crack's points), the new and
+ * changed vertices skinned anew on their side, points, masses and the
+ * surface replaced. */
 static int cut_end(mb_model *s, tb_cut_stats *st, tb_error *err) {
   tb_metaball *m = s->mb;
   tb_metaball_cut_report rep;
-  if (tb_metaball_cut_end(m, &rep, err)) return -1;
+  tb_vec3 *extra;
+  int nextra = crack_points(s, &extra);
+  if (nextra < 0) return tb_error_set(err, "metaball", 0, "out of memory");
+  if (tb_metaball_cut_end(m, &rep, err)) return free(extra), -1;
   if (st)
     st->removed = rep.removed, st->created = rep.created, st->removed_r = rep.removed_r,
     st->created_r = rep.created_r, st->points = rep.points, st->uncovered = rep.uncovered;
-  if (!s->have_fold) return 0; /* the blade never moved */
+  if (!s->have_fold) return free(extra), 0; /* the blade never moved */
   tb_cut_result cr;
-  if (tb_cut_surface(s->nv, s->x, s->ntri, s->tri, &s->fold, NULL, &cr, err)) return -1;
+  tb_cut_def def = tb_cut_default_def();
+  def.extra = extra, def.nextra = nextra;
+  int failed = tb_cut_surface(s->nv, s->x, s->ntri, s->tri, &s->fold, &def, &cr, err);
+  free(extra);
+  if (failed) return -1;
   int rc = 0, old = s->nv;
   signed char *side = malloc((size_t)cr.nv);
   unsigned char *rebind = calloc((size_t)cr.nv, 1);
