@@ -125,6 +125,10 @@ int mb_cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *err) 
     tb_metaball_cut_settings cs;
     tb_metaball_cut_settings_default(&cs);
     cs.per_sphere = s->set.cut_points, cs.E = s->set.cut_E;
+    /* the tissue's density, not the spheres' (their volumes overlap several
+     * times: 0.13 on the gallbladder, which made the point set 2.8 times
+     * stiffer in frequency and its cut frames 33 ms) */
+    if (s->set.density > 0 && !(s->set.node_mass > 0)) cs.density = s->set.density;
     if (tb_metaball_cut_begin(m, &cs, err)) return -1;
     s->cutting = 1;
     return 0;

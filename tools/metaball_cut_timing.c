@@ -36,10 +36,13 @@ int main(int argc, char **argv) {
   if (frames < 1 || frames > 1000) return fprintf(stderr, "frames in 1 .. 1000\n"), 2;
   tb_error err;
   tb_mesh surf;
-  if (tb_organ_surface("liver", 0, 1, &surf, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
-  tb_sphpack_def pd = tb_sphpack_default_def(570);
+  const char *organ = argc > 4 ? argv[4] : "liver";
+  const tb_organ_info *info = tb_organ_find(organ);
+  if (!info) return fprintf(stderr, "unknown organ '%s'\n", organ), 2;
+  if (tb_organ_surface(organ, 0, 1, &surf, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+  tb_sphpack_def pd = tb_sphpack_default_def(info->spheres);
   tb_spheres sp = {0};
-  if (tb_sphere_pack(&surf, "liver", &pd, &sp, NULL, &err))
+  if (tb_sphere_pack(&surf, organ, &pd, &sp, NULL, &err))
     return fprintf(stderr, "%s\n", err.msg), 1;
   tb_metaball_settings set;
   tb_metaball_settings_default(&set);
@@ -96,7 +99,7 @@ int main(int argc, char **argv) {
   if (tb_metaball_cut_end(m, &rep, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
   double end_ms = (double)(tb_time_ns() - t0) * 1e-6;
   qsort(ms, (size_t)frames, sizeof(double), cmp);
-  printf("liver: %d vertices, %d spheres; cut in %d frames, %s\n", surf.nv, sp.n, frames,
+  printf("%s: %d vertices, %d spheres; cut in %d frames, %s\n", organ, surf.nv, sp.n, frames,
          cs.per_sphere > 0 ? "per-sphere sampling" : "shared grid");
   printf(
       "cut frame (advance + cut_step): median %.3f ms, worst %.3f ms; mean advance %.3f ms, "
