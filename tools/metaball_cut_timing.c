@@ -1,8 +1,9 @@
 /* Timing of the metaball cut (issue 14 §5: a cut frame <= 2 ms; §4: the
  * re-packing against the patent's "about twice as many, half the size").
- * The patent's liver: tb_organ_surface("liver") at 8128 vertices, packed
- * to 570 spheres (tb_sphere_pack), the ten largest fixed, under gravity. A
- * blade enters above the liver and crosses it along y at mid x in `frames`
+ * The patent's liver (or the organ named by the 4th argument):
+ * tb_organ_surface at 8128 vertices, packed to 570 spheres (tb_sphere_pack;
+ * the organ's patent counts), the ten largest fixed, under gravity. A
+ * blade enters above it and crosses it along y at mid x in `frames`
  * frames, its path bending gently in x (a folded plane of frames + 1
  * points) and reaching below the liver. Per frame: tb_metaball_cut_advance
  * + tb_metaball_cut_step, timed together and apart; then
