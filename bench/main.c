@@ -116,7 +116,7 @@ static const tb_command commands[] = {
      tb_cmd_advise},
     {"mesh",
      "mesh info FILE, subdivide a surface, fill it with spheres, or generate a mesh (liver, "
-     "instrument, sphere, beam)",
+     "instrument, sphere, beam, spleen, gallbladder, steak)",
      "tissuebench mesh info FILE\n"
      "  counts, bounding box, closed/manifold, Euler characteristic and volume of a mesh file\n"
      "  (.obj .off .stl .node/.ele .msh); for a .sph file, as mesh spheres --info;\n"
