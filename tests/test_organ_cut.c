@@ -15,6 +15,7 @@
 #include "tb_fold.h"
 #include "tb_meshgen.h"
 #include "tb_model.h"
+#include "tb_rng.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
 
@@ -246,6 +247,54 @@ static void tangent_to_a_sphere(void) {
   tb_mesh_free(&mesh);
 }
 
+/* Random blades (seeded): 2 to 4 path points across or into the steak,
+ * depth up or sideways, through or stopping inside; every cut leaves a
+ * closed 2-manifold of 1 to 3 pieces and a model that steps on under
+ * gravity, or a clear error from the surface cutter, never a crash. Known:
+ * folded blades whose edge runs inside the organ near its underside fail
+ * the cutter's final manifold check after un-welding (2 of these 30, 6 of
+ * 60); they are counted, and more than a fifth fails the test. */
+#define NRANDOM 30
+static void random_blades(void) {
+  tb_rng rng = tb_rng_seed(14);
+  int errors = 0;
+  for (int k = 0; k < NRANDOM; k++) {
+    tb_model m;
+    tb_mesh mesh;
+    if (organ("steak", 600, "spheres=150", &m, &mesh)) return;
+    int n = 2 + (int)tb_rng_below(&rng, 3);
+    tb_vec3 path[4];
+    double y0 = -3.5, y1 = tb_rng_range(&rng, 0, 3.5), z = tb_rng_range(&rng, -1.6, -0.3);
+    for (int i = 0; i < n; i++)
+      path[i] = tb_v3(tb_rng_range(&rng, -2, 2), y0 + (y1 - y0) * i / (n - 1), z);
+    tb_vec3 depth = tb_v3(tb_rng_range(&rng, -0.5, 0.5), 0, tb_rng_range(&rng, 0.8, 3.2));
+    tb_error err;
+    tb_cut_event ev = {TB_CUT_BEGIN, 0, NULL, depth};
+    int rc = tb_model_cut(&m, &ev, NULL, &err);
+    for (int i = 2; i <= n && !rc; i++) {
+      ev = (tb_cut_event){TB_CUT_MOVE, i, path, depth};
+      rc = tb_model_cut(&m, &ev, NULL, &err) || idle(&m, 1, tb_v3(0, 0, 0));
+    }
+    tb_cut_stats st;
+    ev = (tb_cut_event){TB_CUT_END, 0, NULL, depth};
+    if (!rc) rc = tb_model_cut(&m, &ev, &st, &err);
+    if (rc) {
+      errors++;
+      TB_CHECK_MSG(strstr(err.msg, "tb_cut_surface") != NULL, "blade %d: %s", k, err.msg);
+    } else {
+      tb_surface su = tb_model_surface(&m);
+      int c = tb_cut_components(su.nv, su.ntri, su.tri);
+      TB_CHECK_MSG(tb_cut_is_closed_manifold(su.nv, su.ntri, su.tri), "blade %d: not closed", k);
+      TB_CHECK_MSG(c >= 1 && c <= 3, "blade %d: %d pieces", k, c);
+      TB_CHECK_MSG(idle(&m, 10, tb_v3(0, 0, -9.81)) == 0, "blade %d: the model failed after", k);
+    }
+    tb_model_destroy(&m);
+    tb_mesh_free(&mesh);
+  }
+  printf("random blades: %d of %d refused by the surface cutter\n", errors, NRANDOM);
+  TB_CHECK_MSG(5 * errors <= NRANDOM, "%d of %d random blades were refused", errors, NRANDOM);
+}
+
 /* Events out of order and models that cannot be cut are errors. */
 static void bad_events(void) {
   tb_model m;
@@ -286,6 +335,7 @@ const tb_test_case tb_tests_organ_cut[] = {
     {"same_cut_same_result", same_cut_same_result},
     {"awkward_blades", awkward_blades},
     {"tangent_to_a_sphere", tangent_to_a_sphere},
+    {"random_blades", random_blades},
     {"bad_events", bad_events},
     {NULL, NULL},
 };
