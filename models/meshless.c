@@ -91,6 +91,7 @@ struct tb_meshless {
   double h, lambda, mu, damping, density;
   double flat; /* a stencil with det A <= flat (tr A / 3)^3 is inactive */
   int integrator, fvalid;
+  double emax; /* largest |strain component| at the step's last force evaluation */
 };
 
 /* ---- uniform grid: points binned by cell, ascending index in a cell ---- */
@@ -487,8 +488,9 @@ static tb_mat3 stress(const tb_meshless *m, tb_mat3 e) {
 /* The forces; with skip != 0, the stencils whose points all have mark ==
  * skip (all driven this step) are left out: they move no free point, so
  * the free points' forces are the same, sums in the same order. */
-static void forces(const tb_meshless *m, tb_vec3 *f, unsigned skip) {
+static void forces(const tb_meshless *m, tb_vec3 *f, unsigned skip, double *emax) {
   memset(f, 0, sizeof(tb_vec3) * (size_t)m->n);
+  double big = 0;
   for (int i = 0; i < m->n; i++) {
     if (!m->active[i]) continue;
     if (skip && m->mark[i] == skip) {
@@ -499,7 +501,7 @@ static void forces(const tb_meshless *m, tb_vec3 *f, unsigned skip) {
     tb_mat3 J = tb_meshless_jacobian(m, i), e = tb_m3_mul(tb_m3_transpose(J), J);
     for (int a = 0; a < 3; a++) e.m[a][a] -= 1;
     for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) e.m[a][b] *= 0.5;
+      for (int b = 0; b < 3; b++) e.m[a][b] *= 0.5, big = fmax(big, fabs(e.m[a][b]));
     tb_mat3 Fe = tb_m3_mul(J, stress(m, e));
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) Fe.m[a][b] *= -m->vol[i];
@@ -511,9 +513,11 @@ static void forces(const tb_meshless *m, tb_vec3 *f, unsigned skip) {
     }
     f[i] = tb_sub(f[i], sum);
   }
+  if (emax) *emax = big;
 }
 
-void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0); }
+void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0, NULL); }
+double tb_meshless_max_strain(const tb_meshless *m) { return m->emax; }
 
 double tb_meshless_energy(const tb_meshless *m) {
   double U = 0;
@@ -602,7 +606,7 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
     if (m->stamp > 1 && m->mark[i] == m->stamp - 1) m->fvalid = 0;
   int verlet = m->integrator == TB_MESHLESS_ALTERNATING;
   double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt;
-  if (!m->fvalid) forces(m, m->f, m->stamp);
+  if (!m->fvalid) forces(m, m->f, m->stamp, &m->emax);
   for (int i = 0; i < m->n; i++) {
     if (m->mark[i] == m->stamp) continue;
     m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
@@ -616,7 +620,7 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   }
   m->fvalid = 0;
   if (verlet) {
-    forces(m, m->f, m->stamp);
+    forces(m, m->f, m->stamp, &m->emax);
     m->fvalid = 1;
     for (int i = 0; i < m->n; i++) {
       if (m->mark[i] == m->stamp) continue;

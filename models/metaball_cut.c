@@ -69,9 +69,9 @@
  * default went from 0.5 to 0.9.) The bound holds at rest; Green strain
  * stiffens in tension (a stretch lambda has the tangent stiffness
  * (3 lambda^2 - 1) / 2 = 1 + 3 eps of the rest one), so omega is scaled by
- * sqrt(1 + 3 eps) with eps the largest strain component of a free point at
- * the last frame's end (the steak held at one end and cut under gravity
- * blew up without it: strains of 0.28).
+ * sqrt(1 + 3 eps) with eps the largest strain component of a stencil
+ * holding a free point at the last frame's last force evaluation (the steak held at one end and cut
+ * under gravity blew up without it: strains of 0.28).
  *
  * (4) Points back to spheres (cut_end). Boundary points: a point with no
  * neighbour inside the cone of half-angle boundary_angle about its normal
@@ -478,14 +478,8 @@ int tb_metaball_cut_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_ve
     for (int k = 0; k < c->nd; k++) c->fx[k] = tb_lerp(c->fx0[k], c->fx1[k], t);
     if (tb_meshless_step(c->ml, dt / K, gravity, c->nd, c->ids, c->fx, err)) return -1;
   }
-  double e = 0; /* the largest strain: Green strain stiffens in tension (see the head) */
-  for (int p = 0; p < c->np; p++) {
-    if (c->driver[p] != -1 || !tb_meshless_active(c->ml, p)) continue;
-    tb_mat3 g = tb_meshless_strain(c->ml, p);
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) e = fmax(e, fabs(g.m[a][b]));
-  }
-  c->stiffening = 1 + 3 * e;
+  /* the largest strain: Green strain stiffens in tension (see the head) */
+  c->stiffening = 1 + 3 * tb_meshless_max_strain(c->ml);
   return 0;
 }
 

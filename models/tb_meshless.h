@@ -105,6 +105,10 @@ tb_mat3 tb_meshless_jacobian(const tb_meshless *m, int i);
 tb_mat3 tb_meshless_strain(const tb_meshless *m, int i);
 /* Internal (elastic) forces at the current positions into f[n]. */
 void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f);
+/* The largest |eps_ab| over the stencils the last tb_meshless_step's
+ * last force evaluation visited (those holding a point not driven), 0
+ * before a step: cheap, for a stiffening safety factor. */
+double tb_meshless_max_strain(const tb_meshless *m);
 /* Elastic energy sum_i V_i eps_i : sigma_i / 2 at the current positions. */
 double tb_meshless_energy(const tb_meshless *m);
 /* Kinetic energy sum_i m_i |v_i|^2 / 2. */
