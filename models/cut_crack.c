@@ -22,6 +22,7 @@ typedef struct cpt { /* a crack point of one piece */
   int id;            /* vertex, or -1 for a Steiner point (created when used) */
   double s, t;       /* in the piece */
   int side;          /* SIDE_* it lies on, or -1 */
+  int crease;        /* a crease point: its index into c->crease_id, else -1 */
 } cpt;
 
 static tb_vec3 piece_point(const tb_fold *f, int k, double s, double t) {
@@ -51,6 +52,32 @@ static int corner_vertex(cutter *c, int which) { /* which = 2 i (+1 for q_i) */
   if (c->corner_id[which] < 0)
     c->corner_id[which] = cut_new_vertex(c, which & 1 ? c->f->q[which / 2] : c->f->p[which / 2]);
   return c->corner_id[which];
+}
+
+/* A crease that meets the surface nowhere between its corners and lies inside the organ
+ * (the blade's edge inside, e.g. near the organ's far side) would be one edge from p_i to
+ * q_i in all four crack sheets (+ and - of both pieces) whose ends, on the path and the
+ * depth edge inside, are each one vertex joining + and -: not a manifold. So such a crease
+ * gets points t = j / m, shared by both pieces (c->crease_id), which un-welding gives a +
+ * and a - copy each. A crease outside the organ keeps them in regions dropped as outside,
+ * and a crease crossing the surface is left as it was. */
+static void crease_points(cutter *c, int k, int side, cpt *pt, int *np) {
+  const tb_fold *f = c->f;
+  int i = side == SIDE_R ? k + 1 : k; /* the crease at path point i */
+  for (int j = 4; j < *np; j++)
+    if (pt[j].side == side && pt[j].t > 0 && pt[j].t < 1) return;
+  int m = c->spacing > 0 ? (int)ceil(tb_len(f->depth) / c->spacing) : 2;
+  m = m < 2 ? 2 : (m > CREASE_MAX ? CREASE_MAX : m);
+  for (int j = 1; j < m; j++, (*np)++) {
+    pt[*np].id = -1, pt[*np].s = side == SIDE_R ? 1.0 : 0.0, pt[*np].t = (double)j / m;
+    pt[*np].side = side, pt[*np].crease = CREASE_MAX * i + j;
+  }
+}
+
+static int crease_vertex(cutter *c, const cpt *p) {
+  int *id = &c->crease_id[p->crease];
+  if (*id < 0) *id = cut_new_vertex(c, tb_madd(c->f->p[p->crease / CREASE_MAX], p->t, c->f->depth));
+  return *id;
 }
 
 /* The grid (i / ns, j / nt) of piece k: points inside the organ's box, farther than minsep
@@ -90,7 +117,9 @@ static int grid_points(cutter *c, int k, int ns, int nt, double minsep, cpt *pt,
           X.x >= lo.x && X.y >= lo.y && X.z >= lo.z && X.x <= hi.x && X.y <= hi.y && X.z <= hi.z;
       for (int m = nfixed; m < nextra && ok; m++)
         ok = tb_dist(X, piece_point(f, k, pt[m].s, pt[m].t)) >= minsep;
-      if (ok) pt[*np].id = -1, pt[*np].s = s, pt[*np].t = t, pt[*np].side = -1, (*np)++;
+      if (ok)
+        pt[*np].id = -1, pt[*np].s = s, pt[*np].t = t, pt[*np].side = -1, pt[*np].crease = -1,
+        (*np)++;
     }
   free(bad);
   return OK;
@@ -104,7 +133,7 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
     ns = (int)ceil(el / c->spacing), nt = (int)ceil(dl / c->spacing);
     if ((double)ns * nt > 1e6) ns = nt = 0; /* a blade far larger than the organ's grain */
   }
-  int cap = c->nvr + 4 + (ns + 1) * (nt + 1) + c->nextra;
+  int cap = c->nvr + 4 + 2 * CREASE_MAX + (ns + 1) * (nt + 1) + c->nextra;
   cpt *pt = malloc((size_t)cap * sizeof *pt);
   int *sg = NULL, np = 0, nseg = 0, capseg = 0, rc = NOMEM;
   double *xy = NULL;
@@ -116,7 +145,8 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
   static const double cs[4] = {0, 1, 1, 0}, ct[4] = {0, 0, 1, 1};
   const int cw[4] = {2 * k, 2 * (k + 1), 2 * (k + 1) + 1, 2 * k + 1};
   for (int i = 0; i < 4; i++)
-    pt[np].id = c->corner_id[cw[i]], pt[np].s = cs[i], pt[np].t = ct[i], pt[np].side = -1, np++;
+    pt[np].id = c->corner_id[cw[i]], pt[np].s = cs[i], pt[np].t = ct[i], pt[np].side = -1,
+    pt[np].crease = -1, np++;
   for (int v = 0; v < c->nvr; v++) {
     const vrec *r = &c->v[v];
     if (!r->cut || !r->active) continue;
@@ -130,8 +160,10 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
       pt[at].id = v, c->corner_id[cw[at]] = v;
       continue;
     }
-    pt[np].id = v, pt[np].s = s, pt[np].t = t, pt[np].side = side, np++;
+    pt[np].id = v, pt[np].s = s, pt[np].t = t, pt[np].side = side, pt[np].crease = -1, np++;
   }
+  if (k > 0) crease_points(c, k, SIDE_L, pt, &np);
+  if (k + 1 < f->npieces) crease_points(c, k, SIDE_R, pt, &np);
   for (int i = 0; i < 4; i++)
     if (pt[i].id < 0) pt[i].id = -10 - cw[i]; /* created only when a kept triangle uses it */
   int nfixed = np;
@@ -187,7 +219,8 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
     }
     for (int j = nfixed; j < np && ok; j++)
       ok = tb_dist(X, piece_point(f, k, pt[j].s, pt[j].t)) >= minsep;
-    if (ok) pt[np].id = -1, pt[np].s = nr.s, pt[np].t = nr.t, pt[np].side = -1, np++;
+    if (ok)
+      pt[np].id = -1, pt[np].s = nr.s, pt[np].t = nr.t, pt[np].side = -1, pt[np].crease = -1, np++;
   }
   if (ns > 1 && nt > 1 && (rc = grid_points(c, k, ns, nt, minsep, pt, &np, nfixed, sg, nseg)) != OK)
     goto done;
@@ -231,7 +264,9 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
     for (int m = 0; m < 3; m++) {
       cpt *p = &pt[cdt.tri[3 * i + m]];
       if (p->id <= -10) p->id = corner_vertex(c, -10 - p->id);
-      if (p->id == -1) p->id = cut_new_vertex(c, piece_point(f, k, p->s, p->t));
+      if (p->id == -1)
+        p->id =
+            p->crease >= 0 ? crease_vertex(c, p) : cut_new_vertex(c, piece_point(f, k, p->s, p->t));
       if (p->id < 0) rc = NOMEM;
       v[m] = p->id;
     }

@@ -9,6 +9,7 @@
 
 #define NAME "tb_cut_surface"
 #define MAX_ATTEMPTS 4
+#define CREASE_MAX 64 /* at most CREASE_MAX - 1 points on a crease inside the organ */
 
 enum { LAB_S = 0, LAB_CP = 1, LAB_CM = 2 }; /* surface, + crack, - crack */
 enum { OK = 0, RETRY = 1, NOMEM = -1 };     /* an attempt's outcome */
@@ -77,6 +78,7 @@ typedef struct cutter {
   int nout, capout, capfrom, caplab;
   int *split;     /* ntri: old triangle split */
   int *corner_id; /* 2 count: the vertex of p_i and q_i, or -1 */
+  int *crease_id; /* CREASE_MAX count: the vertex of point j on the crease at p_i, or -1 */
   int nsplit, ncrack;
 } cutter;
 

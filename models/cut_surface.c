@@ -22,7 +22,9 @@
  *    the cut vertices on the piece and on its sides, the sides split at them
  *    and the cut segments as constraints, Steiner points (a grid, extra
  *    points) away from the constraints. Each region between constraints is
- *    kept when a point of it is inside the organ (exact ray parity). Its
+ *    kept when a point of it is inside the organ (exact ray parity); a crease
+ *    meeting the surface nowhere gets points of its own, shared by both pieces
+ *    (see cut_crack.c), so + and - part along it when it lies inside. Its
  *    triangles go out twice: facing -n_k for the + side, +n_k for the - side.
  * 4. Un-welding. Around each vertex of the crack, the incident triangles are
  *    joined across their edges: an edge in two triangles joins them; a cut
@@ -437,6 +439,7 @@ static int attempt(cutter *c, int *cut_any) {
   /* The crack, each piece's triangles counter-clockwise about +n_k. */
   int *crack = NULL, ncrack = 0, capcrack = 0;
   for (int i = 0; i < 2 * f->count; i++) c->corner_id[i] = -1;
+  for (int i = 0; i < CREASE_MAX * f->count; i++) c->crease_id[i] = -1;
   for (int k = 0; k < f->npieces && rc == OK; k++)
     rc = cut_crack_piece(c, k, &crack, &ncrack, &capcrack);
   for (int side = 0; side < 2 && rc == OK; side++)
@@ -523,7 +526,7 @@ void tb_cut_result_free(tb_cut_result *r) {
 
 static void cutter_free(cutter *c) {
   free(c->pair), free(c->v), free(c->rp), free(c->sg), free(c->otri), free(c->ofrom), free(c->olab);
-  free(c->split), free(c->corner_id);
+  free(c->split), free(c->corner_id), free(c->crease_id);
 }
 
 /* Half-edge pairs of a closed surface. */
@@ -580,7 +583,9 @@ int tb_cut_surface(int nv, const tb_vec3 *x, int ntri, const int *tri, const tb_
   c.spacing = d.spacing == 0 ? c.h : (d.spacing < 0 ? 0 : d.spacing);
   c.split = calloc((size_t)ntri, sizeof *c.split);
   c.corner_id = malloc((size_t)2 * fold->count * sizeof *c.corner_id);
-  int rc = !c.split || !c.corner_id ? NOMEM : make_pairs(&c), cut_any = 0, used = -1;
+  c.crease_id = malloc((size_t)CREASE_MAX * fold->count * sizeof *c.crease_id);
+  int rc = !c.split || !c.corner_id || !c.crease_id ? NOMEM : make_pairs(&c), cut_any = 0,
+      used = -1;
   static const double shift[MAX_ATTEMPTS] = {0, 1e-5, -2e-5, 4e-5};
   for (int a = 0; a < MAX_ATTEMPTS && rc == OK; a++) {
     tb_fold g;

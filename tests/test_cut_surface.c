@@ -7,6 +7,7 @@
  * against the old one and against the box's exact parts), the sides of the
  * parts and of the crack vertices against the plane. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -404,11 +405,90 @@ static void test_layout_and_options(void) {
   surf_free(&s);
 }
 
+/* Inside the closed surface: the parity of the triangles a ray from p along +z crosses
+ * (in doubles; the test points are far from the surface's edges). */
+static int inside_z(const surf *s, tb_vec3 p) {
+  int n = 0;
+  for (int t = 0; t < s->ntri; t++) {
+    tb_vec3 a = s->x[s->tri[3 * t]], b = s->x[s->tri[3 * t + 1]], c = s->x[s->tri[3 * t + 2]];
+    double d = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (d == 0) continue;
+    double u = ((p.x - a.x) * (c.y - a.y) - (p.y - a.y) * (c.x - a.x)) / d;
+    double v = ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)) / d;
+    if (u < 0 || v < 0 || u + v > 1) continue;
+    n += a.z + u * (b.z - a.z) + v * (c.z - a.z) > p.z;
+  }
+  return n & 1;
+}
+
+/* Folded blades whose edge runs inside the steak near its underside, with a crease wholly
+ * inside (blades 16, 18, 30, 36 of /work/repro/random_folds.c, rounded): the + and - crack
+ * sheets meet along the path inside but must part along the crease. Before the crease got
+ * its own points, every shift of these folds failed the final manifold check. */
+static void test_crease_inside(void) {
+  tb_mesh m;
+  tb_error err;
+  TB_CHECK_MSG(tb_organ_surface("steak", 600, 1, &m, &err) == 0, "%s", err.msg);
+  surf s = {m.nv, m.ntri, m.x, m.tri};
+  static const struct {
+    int n;
+    tb_vec3 p[4], d;
+  } blade[] = {
+      {3,
+       {{0.913, -3.5, -0.773}, {-1.083, -0.574, -0.773}, {0.049, 2.353, -0.773}},
+       {0.148, 0, 1.436}},
+      {3,
+       {{-1.168, -3.5, -0.537}, {-1.422, -1.713, -0.537}, {-0.401, 0.075, -0.537}},
+       {0.094, 0, 0.830}},
+      {3,
+       {{0.672, -3.5, -0.696}, {1.684, -1.116, -0.696}, {0.353, 1.268, -0.696}},
+       {0.109, 0, 1.346}},
+      {4,
+       {{-0.946, -3.5, -0.574},
+        {-0.801, -1.490, -0.574},
+        {-1.337, 0.520, -0.574},
+        {0.134, 2.530, -0.574}},
+       {0.115, 0, 1.023}},
+  };
+  for (int b = 0; b < (int)(sizeof blade / sizeof blade[0]); b++) {
+    tb_fold f = make_fold(blade[b].p, blade[b].n, blade[b].d);
+    /* the crease at p_1 lies inside the organ, both its ends too */
+    tb_vec3 mid = tb_madd(blade[b].p[1], 0.5, blade[b].d);
+    TB_CHECK(inside_z(&s, blade[b].p[1]));
+    TB_CHECK(inside_z(&s, mid));
+    TB_CHECK(inside_z(&s, f.q[1]));
+    tb_cut_result r;
+    char what[32];
+    snprintf(what, sizeof what, "crease inside %d", b);
+    TB_CHECK_MSG(tb_cut_surface(s.nv, s.x, s.ntri, s.tri, &f, NULL, &r, &err) == 0, "%s: %s", what,
+                 err.msg);
+    if (r.tri) {
+      check_valid(what, &s, &r);
+      TB_CHECK_MSG(r.cut == 1 && r.components_after == 1, "%s: %d components", what,
+                   r.components_after);
+      /* the crease's inner points: one + and one - copy each, on the crease */
+      int plus = 0, minus = 0;
+      for (int v = s.nv; v < r.nv; v++) {
+        tb_vec3 u = tb_sub(r.x[v], blade[b].p[1]);
+        double t = tb_dot(u, blade[b].d) / tb_dot(blade[b].d, blade[b].d);
+        if (!(t > 0.01 && t < 0.99) || tb_len(tb_madd(u, -t, blade[b].d)) > 1e-12) continue;
+        plus += r.side[v] == 1, minus += r.side[v] == -1;
+      }
+      TB_CHECK_MSG(plus > 0 && plus == minus, "%s: %d + and %d - copies on the crease", what, plus,
+                   minus);
+      tb_cut_result_free(&r);
+    }
+    tb_fold_free(&f);
+  }
+  tb_mesh_free(&m);
+}
+
 const tb_test_case tb_tests_cut_surface[] = {
     {"slab_straight", test_slab_straight},
     {"sphere_folded", test_sphere_folded},
     {"degenerate", test_degenerate},
     {"deterministic", test_deterministic},
     {"layout_and_options", test_layout_and_options},
+    {"crease_inside", test_crease_inside},
     {NULL, NULL},
 };
