@@ -66,28 +66,32 @@ static int crack_points(const mb_model *s, tb_vec3 **out) {
   return n;
 }
 
-/* The blade has left: the spheres from the points (tb_metaball_cut_end),
- * the surface split and closed by the folded plane (tb_cut_surface; the
- * points near the plane, projected, among the crack's points), the new and
- * changed vertices skinned anew on their side, points, masses and the
- * surface replaced. */
+/* The blade has left: the surface split and closed by the folded plane
+ * (tb_cut_surface; the point set's points near the plane, projected,
+ * among the crack's points), then the spheres from the points
+ * (tb_metaball_cut_end), the new and changed vertices skinned anew on their
+ * side, points, masses and the surface replaced. The surface is cut first:
+ * when it cannot be, nothing has changed and the cut is still running. */
 static int cut_end(mb_model *s, tb_cut_stats *st, tb_error *err) {
   tb_metaball *m = s->mb;
   tb_metaball_cut_report rep;
-  tb_vec3 *extra;
-  int nextra = crack_points(s, &extra);
-  if (nextra < 0) return tb_error_set(err, "metaball", 0, "out of memory");
-  if (tb_metaball_cut_end(m, &rep, err)) return free(extra), -1;
+  tb_cut_result cr;
+  memset(&cr, 0, sizeof cr);
+  if (s->have_fold) {
+    tb_vec3 *extra;
+    int nextra = crack_points(s, &extra);
+    if (nextra < 0) return tb_error_set(err, "metaball", 0, "out of memory");
+    tb_cut_def def = tb_cut_default_def();
+    def.extra = extra, def.nextra = nextra;
+    int failed = tb_cut_surface(s->nv, s->x, s->ntri, s->tri, &s->fold, &def, &cr, err);
+    free(extra);
+    if (failed) return -1;
+  }
+  if (tb_metaball_cut_end(m, &rep, err)) return tb_cut_result_free(&cr), -1;
   if (st)
     st->removed = rep.removed, st->created = rep.created, st->removed_r = rep.removed_r,
     st->created_r = rep.created_r, st->points = rep.points, st->uncovered = rep.uncovered;
-  if (!s->have_fold) return free(extra), 0; /* the blade never moved */
-  tb_cut_result cr;
-  tb_cut_def def = tb_cut_default_def();
-  def.extra = extra, def.nextra = nextra;
-  int failed = tb_cut_surface(s->nv, s->x, s->ntri, s->tri, &s->fold, &def, &cr, err);
-  free(extra);
-  if (failed) return -1;
+  if (!s->have_fold) return 0; /* the blade never moved */
   int rc = 0, old = s->nv;
   signed char *side = malloc((size_t)cr.nv);
   unsigned char *rebind = calloc((size_t)cr.nv, 1);
@@ -141,8 +145,9 @@ int mb_cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *err) 
     s->fold = f, s->have_fold = 1;
     return tb_metaball_cut_advance(m, &s->fold, err) < 0 ? -1 : 0;
   }
-  s->cutting = 0;
   int rc = cut_end(s, st, err);
+  if (rc) return -1; /* the surface unchanged, the cut still running */
+  s->cutting = 0;
   if (s->have_fold) tb_fold_free(&s->fold), s->have_fold = 0;
   if (st)
     st->components = st->components ? st->components : tb_cut_components(s->nv, s->ntri, s->tri);
