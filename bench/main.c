@@ -152,8 +152,9 @@ static int cmd_help(int argc, char **argv) {
   (void)argc, (void)argv;
   printf("usage: tissuebench COMMAND [options]   (COMMAND --help for its options)\n");
   printf("       tissuebench --version\n");
-  printf("every command takes --threads N: worker threads of the parallel loops (default: one\n"
-         "per core; results are identical for any N)\n\n");
+  printf(
+      "every command takes --threads N: worker threads of the parallel loops (default: one\n"
+      "per core; results are identical for any N)\n\n");
   for (int i = 0; i < ncommands; i++) printf("  %-10s %s\n", commands[i].name, commands[i].summary);
   return TB_EXIT_OK;
 }
@@ -218,7 +219,8 @@ static int take_threads(int *argc, char **argv) {
     char *end = NULL;
     long v = i + 1 < *argc ? strtol(argv[i + 1], &end, 10) : -1;
     if (i + 1 >= *argc || end == argv[i + 1] || *end || v < 0 || v > 4096) {
-      fprintf(stderr, "tissuebench: --threads needs a whole number in [0, 4096] (0: one per core)\n");
+      fprintf(stderr,
+              "tissuebench: --threads needs a whole number in [0, 4096] (0: one per core)\n");
       return -1;
     }
     if (seen++) {

@@ -12,10 +12,10 @@
  * alpha = 1, 0.75, 0.5, 0.35, 0.25, 0.15, 0.1, 0.05, 0 over the candidates
  * not yet taken stop at the target count. Candidates smaller than 5% of
  * the largest (at sharp rims and thin spots: nearly massless spheres) come
- * only in a second round of the same passes, when the first falls short. So the spheres overlap but no two
- * centres sit deep in each other while bigger gaps remain. Fewer spheres than
- * asked come back only when there are fewer distinct candidates (raise
- * samples). Same surface and settings, same spheres, bit for bit.
+ * only in a second round of the same passes, when the first falls short. So the spheres overlap but
+ * no two centres sit deep in each other while bigger gaps remain. Fewer spheres than asked come
+ * back only when there are fewer distinct candidates (raise samples). Same surface and settings,
+ * same spheres, bit for bit.
  *
  * tb_sphere_coverage: the share of the enclosed volume inside some sphere (a
  * grid of points, inside by ray parity along z) and the share of surface
