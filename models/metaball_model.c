@@ -87,30 +87,6 @@ static void destroy(void *self) {
   free(s);
 }
 
-/* The closed surface to pack: the mesh's triangles (checked closed by
- * the packing) or a tet mesh's boundary; *tri is malloc'ed. */
-static int surface_of(const tb_mesh *mesh, int **tri, tb_error *err) {
-  if (mesh->ntet > 0) {
-    if (tb_check_tets(mesh, err)) return -1;
-    int n = tb_mesh_tet_boundary(mesh, tri);
-    if (n < 0) return tb_error_set(err, "metaball", 0, "out of memory");
-    return n;
-  }
-  if (mesh->ntri < 1)
-    return tb_error_set(err, "mesh", 0,
-                        "metaball needs a closed triangle surface or a tet mesh (the mesh has "
-                        "%d nodes, no triangles, no tets)",
-                        mesh->nv);
-  for (int k = 0; k < 3 * mesh->ntri; k++)
-    if (mesh->tri[k] < 0 || mesh->tri[k] >= mesh->nv)
-      return tb_error_set(err, "mesh", 0, "triangle %d refers to node %d (nv = %d)", k / 3,
-                          mesh->tri[k], mesh->nv);
-  *tri = malloc(sizeof(int) * 3 * (size_t)mesh->ntri);
-  if (!*tri) return tb_error_set(err, "metaball", 0, "out of memory");
-  memcpy(*tri, mesh->tri, sizeof(int) * 3 * (size_t)mesh->ntri);
-  return mesh->ntri;
-}
-
 /* The sphere count: the setting, or the patent's ratio (see the head). */
 static int sphere_count(const mb_settings *set, int nsurf) {
   if (set->spheres > 0) return set->spheres;
@@ -159,7 +135,7 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   mb_model *s = calloc(1, sizeof *s);
   if (!s) return tb_error_set(err, "metaball", 0, "out of memory"), NULL;
   s->set = *(const mb_settings *)settings;
-  int *tri = NULL, ntri = surface_of(mesh, &tri, err);
+  int *tri = NULL, ntri = tb_model_surface_triangles(mesh, "metaball", &tri, err);
   if (ntri < 0) return destroy(s), NULL;
   tb_mesh surf = {0};
   surf.nv = mesh->nv, surf.x = mesh->x, surf.ntri = ntri, surf.tri = tri;

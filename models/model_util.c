@@ -4,6 +4,7 @@
  * Irving et al. 2004), the 3x3 inverse, and the blow-up detector. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "tb_model.h"
@@ -160,4 +161,35 @@ tb_health tb_model_health(const tb_mesh *rest, const tb_vec3 *x, const tb_vec3 *
     snprintf(h.reason, sizeof h.reason, "inverted elements (%d, first tet %d)", inverted, first);
   }
   return h;
+}
+
+int tb_model_surface_triangles(const tb_mesh *mesh, const char *model, int **tri, tb_error *err) {
+  if (mesh->ntet > 0) {
+    if (tb_check_tets(mesh, err)) return -1;
+    int n = tb_mesh_tet_boundary(mesh, tri);
+    if (n < 0) return tb_error_set(err, model, 0, "out of memory");
+    return n;
+  }
+  if (mesh->ntri < 1)
+    return tb_error_set(err, "mesh", 0,
+                        "%s needs a closed triangle surface or a tet mesh (the mesh has %d nodes, "
+                        "no triangles, no tets)",
+                        model, mesh->nv);
+  for (int k = 0; k < 3 * mesh->ntri; k++)
+    if (mesh->tri[k] < 0 || mesh->tri[k] >= mesh->nv)
+      return tb_error_set(err, "mesh", 0, "triangle %d refers to node %d (nv = %d)", k / 3,
+                          mesh->tri[k], mesh->nv);
+  tb_mesh_topo t = tb_mesh_topology(mesh);
+  if (t.boundary_edges || t.nonmanifold_edges || t.nonmanifold_verts || t.misoriented_edges ||
+      t.degenerate_tris)
+    return tb_error_set(err, "mesh", 0,
+                        "%s needs a closed manifold surface: %d open (boundary) edges, %d "
+                        "non-manifold edges, %d non-manifold vertices, %d misoriented edges, %d "
+                        "degenerate triangles",
+                        model, t.boundary_edges, t.nonmanifold_edges, t.nonmanifold_verts,
+                        t.misoriented_edges, t.degenerate_tris);
+  *tri = malloc(sizeof(int) * 3 * (size_t)mesh->ntri);
+  if (!*tri) return tb_error_set(err, model, 0, "out of memory");
+  memcpy(*tri, mesh->tri, sizeof(int) * 3 * (size_t)mesh->ntri);
+  return mesh->ntri;
 }

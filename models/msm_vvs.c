@@ -157,39 +157,6 @@ static int surface_masses(const tb_mesh *mesh, double density, double *mass, tb_
   return 0;
 }
 
-/* The surface to simulate: a tet mesh's boundary, else the mesh's own
- * triangles, which must form a closed manifold surface. */
-static int surface_of(const tb_mesh *mesh, int **tri, tb_error *err) {
-  if (mesh->ntet > 0) {
-    if (tb_check_tets(mesh, err)) return -1;
-    int n = tb_mesh_tet_boundary(mesh, tri);
-    if (n < 0) return tb_error_set(err, "msm-vvs", 0, "out of memory");
-    return n;
-  }
-  if (mesh->ntri < 1)
-    return tb_error_set(err, "mesh", 0,
-                        "msm-vvs needs a closed triangle surface or a tet mesh (the mesh has "
-                        "%d nodes, no triangles, no tets)",
-                        mesh->nv);
-  for (int k = 0; k < 3 * mesh->ntri; k++)
-    if (mesh->tri[k] < 0 || mesh->tri[k] >= mesh->nv)
-      return tb_error_set(err, "mesh", 0, "triangle %d refers to node %d (nv = %d)", k / 3,
-                          mesh->tri[k], mesh->nv);
-  tb_mesh_topo t = tb_mesh_topology(mesh);
-  if (t.boundary_edges || t.nonmanifold_edges || t.nonmanifold_verts || t.misoriented_edges ||
-      t.degenerate_tris)
-    return tb_error_set(err, "mesh", 0,
-                        "msm-vvs needs a closed manifold surface: %d open (boundary) edges, %d "
-                        "non-manifold edges, %d non-manifold vertices, %d misoriented edges, %d "
-                        "degenerate triangles",
-                        t.boundary_edges, t.nonmanifold_edges, t.nonmanifold_verts,
-                        t.misoriented_edges, t.degenerate_tris);
-  *tri = malloc(sizeof(int) * 3 * (size_t)mesh->ntri);
-  if (!*tri) return tb_error_set(err, "msm-vvs", 0, "out of memory");
-  memcpy(*tri, mesh->tri, sizeof(int) * 3 * (size_t)mesh->ntri);
-  return mesh->ntri;
-}
-
 static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   const vvs_settings *def = settings;
   vvs *s = calloc(1, sizeof *s);
@@ -198,7 +165,7 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
     return NULL;
   }
   s->set = *def, s->nbase = mesh->nv;
-  int *tri = NULL, ntri = surface_of(mesh, &tri, err);
+  int *tri = NULL, ntri = tb_model_surface_triangles(mesh, "msm-vvs", &tri, err);
   if (ntri < 0) goto fail;
   if (def->levels > 1) {
     if (mesh->ntet > 0) {

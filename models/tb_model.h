@@ -247,6 +247,11 @@ void tb_model_destroy(tb_model *m);
 /* Every tet's nodes in range and its volume positive (also with node_mass,
  * which skips the volumes); the error names the first bad tet. */
 int tb_check_tets(const tb_mesh *mesh, tb_error *err);
+/* The closed surface a surface model simulates (surface_mesh): a tet
+ * mesh's boundary triangles (tets checked), else the mesh's own triangles,
+ * in range and forming a closed, oriented 2-manifold; *tri malloc'ed.
+ * Returns the triangle count, or -1 with err naming the model. */
+int tb_model_surface_triangles(const tb_mesh *mesh, const char *model, int **tri, tb_error *err);
 /* Lumped node masses into mass[nv]: node_mass > 0 for every node, else
  * density * (sum of its tets' volumes) / 4; tets with non-positive volume
  * are an error naming the tet. */
