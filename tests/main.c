@@ -5,6 +5,7 @@
  * --list prints the selected cases' names without running them; a filter
  * that selects nothing is an error (exit 2). */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -84,6 +85,37 @@ char *tb_test_slurp(const char *path) {
 const char *tb_test_tmpdir(void) { return tmpdir; }
 const char *tb_test_cli(void) { return TB_BUILD_ROOT "/tissuebench"; }
 const char *tb_test_source_root(void) { return TB_SOURCE_ROOT; }
+
+int tb_test_csv_field(const char *line, int k, char *out, size_t cap) {
+  size_t n = 0;
+  int quoted = 0, f = 0;
+  for (const char *p = line; *p && *p != '\n' && f <= k; p++) {
+    if (*p == '"')
+      quoted = !quoted;
+    else if (*p == ',' && !quoted)
+      f++;
+    else if (f == k && n + 1 < cap)
+      out[n++] = *p;
+  }
+  out[n] = 0;
+  return f >= k;
+}
+
+const char *tb_test_csv_cell(const char *csv, const char *name, int k) {
+  static char f[256];
+  for (const char *line = csv; line && *line;
+       line = strchr(line, '\n'), line = line ? line + 1 : NULL)
+    if (tb_test_csv_field(line, 0, f, sizeof f) && !strcmp(f, name)) {
+      if (!tb_test_csv_field(line, k, f, sizeof f)) f[0] = 0;
+      return f;
+    }
+  return "";
+}
+
+double tb_test_csv_num(const char *csv, const char *name, int k) {
+  const char *c = tb_test_csv_cell(csv, name, k);
+  return c[0] ? atof(c) : NAN;
+}
 
 const char *tb_test_file(const char *name, const char *content, long len) {
   static char paths[8][600];

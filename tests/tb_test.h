@@ -48,6 +48,14 @@ char *tb_test_slurp(const char *path);
 /* Reads path (tb_mesh_read) expecting failure with the message
  * "path:LINE: ...REASON..." (line 0: "path: ...") and an empty mesh. */
 void tb_test_expect_read_error(const char *path, long line, const char *reason);
+/* Field k (0-based) of a CSV line (quoted fields may hold commas) into out;
+ * 0 when the line has fewer fields. */
+int tb_test_csv_field(const char *line, int k, char *out, size_t cap);
+/* Field k of the row of csv whose first field is name, as text ("" when
+ * absent; valid until the next call). */
+const char *tb_test_csv_cell(const char *csv, const char *name, int k);
+/* The same as a number (NAN when absent or empty). */
+double tb_test_csv_num(const char *csv, const char *name, int k);
 
 /* Runs `tissuebench ARGS` (a shell fragment after the binary); returns its
  * exit code, its combined output in tb_test_out (64 KiB). */

@@ -13,39 +13,6 @@
 
 #include "tb_test.h"
 
-/* Field k (0-based) of a CSV line (quoted fields may hold commas). */
-static int field(const char *line, int k, char *out, size_t cap) {
-  size_t n = 0;
-  int quoted = 0, f = 0;
-  for (const char *p = line; *p && *p != '\n' && f <= k; p++) {
-    if (*p == '"')
-      quoted = !quoted;
-    else if (*p == ',' && !quoted)
-      f++;
-    else if (f == k && n + 1 < cap)
-      out[n++] = *p;
-  }
-  out[n] = 0;
-  return f >= k;
-}
-
-/* Field k of the row whose first field is name, as text ("" when absent). */
-static const char *cell(const char *csv, const char *name, int k) {
-  static char f[256];
-  for (const char *line = csv; line && *line;
-       line = strchr(line, '\n'), line = line ? line + 1 : NULL)
-    if (field(line, 0, f, sizeof f) && !strcmp(f, name)) {
-      if (!field(line, k, f, sizeof f)) f[0] = 0;
-      return f;
-    }
-  return "";
-}
-
-static double num(const char *csv, const char *name, int k) {
-  const char *c = cell(csv, name, k);
-  return c[0] ? atof(c) : NAN;
-}
-
 /* The suite's file into buf; 0 when it was read. */
 static int slurp(const char *run, const char *file, char *buf, int cap) {
   char cmd[700];
@@ -71,28 +38,36 @@ static void metaball_suite_smoke(void) {
           strstr(tb_test_out, "no number is invented") && strstr(tb_test_out, "## Convergence"),
       "%s", tb_test_out);
   TB_CHECK(slurp("rm0", "table-table1.csv", csv, sizeof csv) == 0);
-  TB_CHECK_MSG(
-      num(csv, "steak", 2) == 1266 && num(csv, "steak", 3) == 539 && num(csv, "steak", 4) == 539,
-      "%s", csv);
-  TB_CHECK_MSG(num(csv, "steak", 7) > 80 && num(csv, "steak", 8) > 90, "coverage: %s", csv);
-  TB_CHECK_MSG(num(csv, "steak", 9) > 0 && num(csv, "steak", 11) > 0 && num(csv, "steak", 13) > 0,
+  TB_CHECK_MSG(tb_test_csv_num(csv, "steak", 2) == 1266 &&
+                   tb_test_csv_num(csv, "steak", 3) == 539 &&
+                   tb_test_csv_num(csv, "steak", 4) == 539,
+               "%s", csv);
+  TB_CHECK_MSG(tb_test_csv_num(csv, "steak", 7) > 80 && tb_test_csv_num(csv, "steak", 8) > 90,
+               "coverage: %s", csv);
+  TB_CHECK_MSG(tb_test_csv_num(csv, "steak", 9) > 0 && tb_test_csv_num(csv, "steak", 11) > 0 &&
+                   tb_test_csv_num(csv, "steak", 13) > 0,
                "times: %s", csv);
-  TB_CHECK_MSG(num(csv, "steak", 15) == 2 && !strcmp(cell(csv, "steak", 16), "yes"), "cut: %s",
-               csv);
+  TB_CHECK_MSG(
+      tb_test_csv_num(csv, "steak", 15) == 2 && !strcmp(tb_test_csv_cell(csv, "steak", 16), "yes"),
+      "cut: %s", csv);
   TB_CHECK(slurp("rm0", "table-table2.csv", csv, sizeof csv) == 0);
-  double fem = num(csv, "FEM + meshless", 3), pbd = num(csv, "PBD on tets", 3);
+  double fem = tb_test_csv_num(csv, "FEM + meshless", 3),
+         pbd = tb_test_csv_num(csv, "PBD on tets", 3);
   TB_CHECK_MSG(fabs(fem - 6272) <= 0.02 * 6272 && fabs(pbd - 1477) <= 0.02 * 1477, "%s", csv);
-  TB_CHECK_MSG(num(csv, "FEM + meshless", 5) > 0 && num(csv, "PBD on tets", 5) > 0 &&
-                   isnan(num(csv, "FEM + meshless", 7)) && isnan(num(csv, "PBD on tets", 7)) &&
-                   num(csv, "the patent (metaball)", 7) > 0,
+  TB_CHECK_MSG(tb_test_csv_num(csv, "FEM + meshless", 5) > 0 &&
+                   tb_test_csv_num(csv, "PBD on tets", 5) > 0 &&
+                   isnan(tb_test_csv_num(csv, "FEM + meshless", 7)) &&
+                   isnan(tb_test_csv_num(csv, "PBD on tets", 7)) &&
+                   tb_test_csv_num(csv, "the patent (metaball)", 7) > 0,
                "%s", csv);
   TB_CHECK(slurp("rm0", "table-convergence.csv", csv, sizeof csv) == 0);
   static const char *models[] = {"metaball", "pbd-stvk", "fem-corot", "msm"};
   for (int k = 0; k < 4; k++)
-    TB_CHECK_MSG(num(csv, models[k], 4) > 0 && num(csv, models[k], 5) >= 0, "%s: %s", models[k],
-                 csv);
+    TB_CHECK_MSG(tb_test_csv_num(csv, models[k], 4) > 0 && tb_test_csv_num(csv, models[k], 5) >= 0,
+                 "%s: %s", models[k], csv);
   TB_CHECK(slurp("rm0", "table-repack.csv", csv, sizeof csv) == 0);
-  TB_CHECK_MSG(num(csv, "steak", 1) > 0 && num(csv, "steak", 2) > 0 && num(csv, "steak", 7) > 0,
+  TB_CHECK_MSG(tb_test_csv_num(csv, "steak", 1) > 0 && tb_test_csv_num(csv, "steak", 2) > 0 &&
+                   tb_test_csv_num(csv, "steak", 7) > 0,
                "%s", csv);
   snprintf(cmd, sizeof cmd,
            "cd %s && cmp rm0/metaball/table-repack.csv rm1/metaball/table-repack.csv && "

@@ -565,35 +565,6 @@ static void pbd_suite_smoke(void) {
   TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
 }
 
-/* Field k (0-based) of a CSV line (quoted fields may hold commas) into
- * out; 0 when the line has fewer fields. */
-static int csv_field(const char *line, int k, char *out, size_t cap) {
-  size_t n = 0;
-  int quoted = 0, f = 0;
-  for (const char *p = line; *p && *p != '\n'; p++) {
-    if (*p == '"')
-      quoted = !quoted;
-    else if (*p == ',' && !quoted)
-      f++;
-    else if (f == k && n + 1 < cap)
-      out[n++] = *p;
-    if (f > k) break;
-  }
-  out[n] = 0;
-  return f >= k;
-}
-
-/* The row of a suite's CSV whose first field is name: field k as a number
- * (NAN when absent or empty). */
-static double csv_cell(const char *csv, const char *name, int k) {
-  char f[128];
-  for (const char *line = csv; line && *line;
-       line = strchr(line, '\n'), line = line ? line + 1 : NULL)
-    if (csv_field(line, 0, f, sizeof f) && !strcmp(f, name))
-      return csv_field(line, k, f, sizeof f) && f[0] ? atof(f) : NAN;
-  return NAN;
-}
-
 /* The bao suite in quick mode, twice: the paper's table 1 beside ours
  * (the fully subdivided sphere 1002/2000, the local one beyond 252
  * vertices under the press), the local model's base vertices closer to the
@@ -619,23 +590,25 @@ static void bao_suite_smoke(void) {
   snprintf(cmd, sizeof cmd, "cat %s/rb0/bao/table-table1.csv", tmp);
   TB_CHECK(tb_test_run(cmd, csv, sizeof csv) == 0);
   for (int c = 2; c <= 5; c++) { /* vertices, triangles: most, at the end of the press */
-    TB_CHECK_MSG(csv_cell(csv, "fully subdivided", c) == (c % 2 ? 2000 : 1002), "%s", csv);
-    TB_CHECK_MSG(csv_cell(csv, "base mesh", c) == (c % 2 ? 500 : 252), "%s", csv);
+    TB_CHECK_MSG(tb_test_csv_num(csv, "fully subdivided", c) == (c % 2 ? 2000 : 1002), "%s", csv);
+    TB_CHECK_MSG(tb_test_csv_num(csv, "base mesh", c) == (c % 2 ? 500 : 252), "%s", csv);
   }
-  TB_CHECK_MSG(csv_cell(csv, "locally refined", 2) > 252 &&
-                   csv_cell(csv, "locally refined", 4) > 252 &&
-                   csv_cell(csv, "locally refined", 4) < 1002,
+  TB_CHECK_MSG(tb_test_csv_num(csv, "locally refined", 2) > 252 &&
+                   tb_test_csv_num(csv, "locally refined", 4) > 252 &&
+                   tb_test_csv_num(csv, "locally refined", 4) < 1002,
                "%s", csv);
-  TB_CHECK_MSG(
-      csv_cell(csv, "locally refined", 8) > 0 && csv_cell(csv, "fully subdivided", 9) == 194, "%s",
-      csv);
+  TB_CHECK_MSG(tb_test_csv_num(csv, "locally refined", 8) > 0 &&
+                   tb_test_csv_num(csv, "fully subdivided", 9) == 194,
+               "%s", csv);
   snprintf(cmd, sizeof cmd, "cat %s/rb0/bao/table-accuracy.csv", tmp);
   TB_CHECK(tb_test_run(cmd, csv, sizeof csv) == 0);
-  double local = csv_cell(csv, "locally refined", 1), base = csv_cell(csv, "base mesh", 1);
-  TB_CHECK_MSG(local < 0.5 * base &&
-                   csv_cell(csv, "locally refined", 2) < csv_cell(csv, "base mesh", 2) &&
-                   csv_cell(csv, "fully subdivided", 1) == 0,
-               "%s", csv);
+  double local = tb_test_csv_num(csv, "locally refined", 1),
+         base = tb_test_csv_num(csv, "base mesh", 1);
+  TB_CHECK_MSG(
+      local < 0.5 * base &&
+          tb_test_csv_num(csv, "locally refined", 2) < tb_test_csv_num(csv, "base mesh", 2) &&
+          tb_test_csv_num(csv, "fully subdivided", 1) == 0,
+      "%s", csv);
   snprintf(cmd, sizeof cmd, "cut -d, -f2- %s/rb0/bao/table-press_release.csv", tmp);
   TB_CHECK(tb_test_run(cmd, csv, sizeof csv) == 0);
   /* the first field is now the model: improved (press, then stretch) */
@@ -644,9 +617,11 @@ static void bao_suite_smoke(void) {
   TB_CHECK_MSG(imp && conv, "%s", csv);
   if (imp && conv) {
     char f[64];
-    TB_CHECK_MSG(csv_field(imp, 4, f, sizeof f) && atof(f) < 0.01, "improved left %s", f);
-    TB_CHECK_MSG(csv_field(imp, 6, f, sizeof f) && !strcmp(f, "yes"), "improved at rest: %s", f);
-    TB_CHECK_MSG(csv_field(conv, 4, f, sizeof f) && atof(f) > 0.1, "conventional left %s", f);
+    TB_CHECK_MSG(tb_test_csv_field(imp, 4, f, sizeof f) && atof(f) < 0.01, "improved left %s", f);
+    TB_CHECK_MSG(tb_test_csv_field(imp, 6, f, sizeof f) && !strcmp(f, "yes"),
+                 "improved at rest: %s", f);
+    TB_CHECK_MSG(tb_test_csv_field(conv, 4, f, sizeof f) && atof(f) > 0.1, "conventional left %s",
+                 f);
   }
   snprintf(cmd, sizeof cmd,
            "grep -q '\"msm-vvs/sphere-press/local\"' %s/rb0/bao/data.json && "
