@@ -82,6 +82,11 @@ int tb_metaball_set_links(tb_metaball *m, int nl, const int *pairs);
 /* Recomputes vertex v's rest offsets xo from x0 and its binding; call it
  * after changing x0[v] or bind[v] (the skin's m->xo must hold m->nv). */
 void tb_metaball_bind_offsets(tb_metaball *m, int v);
+/* The rotation of the polar decomposition of a, iterated from r: r turns
+ * about sum_k r_k x a_k / |sum_k r_k . a_k| (columns; Müller, Bender,
+ * Chentanez & Macklin 2016) at most `turns` times, until a turn is below
+ * tol radians (models/metaball.c's head says why warm starts). */
+tb_mat3 tb_metaball_turns(tb_mat3 a, tb_mat3 r, int turns, double tol);
 /* Frees the cut's state (models/metaball_cut.c); tb_metaball_destroy calls it. */
 void tb_metaball_cut_release(tb_metaball *m);
 

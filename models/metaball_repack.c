@@ -121,19 +121,7 @@ static tb_mat3 fit(const tb_vec3 *X, const tb_vec3 *x, const int *list, int n, t
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) A.m[a][b] += tb_comp(d, a) * tb_comp(e, b);
   }
-  for (int it = 0; it < 50 && n >= 4; it++) {
-    tb_vec3 axis = tb_v3(0, 0, 0);
-    double den = 0;
-    for (int k = 0; k < 3; k++) {
-      tb_vec3 rk = tb_v3(R.m[0][k], R.m[1][k], R.m[2][k]),
-              ak = tb_v3(A.m[0][k], A.m[1][k], A.m[2][k]);
-      axis = tb_add(axis, tb_cross(rk, ak)), den += tb_dot(rk, ak);
-    }
-    double angle = fabs(den) > 0 ? tb_len(axis) / fabs(den) : 0;
-    if (!(angle > 1e-14)) break;
-    R = tb_m3_mul(tb_m3_rotation(axis, angle), R);
-  }
-  return R;
+  return n >= 4 ? tb_metaball_turns(A, R, 50, 1e-14) : R;
 }
 
 typedef struct work {
