@@ -131,6 +131,40 @@ int mb_share_masses(mb_model *s, tb_error *err) {
   return 0;
 }
 
+/* Every per-point array for nv points and per-sphere array for ns spheres
+ * (new entries zero); 0 or -1. */
+int mb_grow(mb_model *s, int nv, int ns) {
+  size_t V = (size_t)nv, N = (size_t)ns;
+#define GROW(f, count, old)                                              \
+  do {                                                                   \
+    void *g = realloc(s->f, sizeof *s->f * (count));                     \
+    if (!g) return -1;                                                   \
+    s->f = g;                                                            \
+    if ((count) > (size_t)(old))                                         \
+      memset(s->f + (old), 0, sizeof *s->f * ((count) - (size_t)(old))); \
+  } while (0)
+  GROW(x, V, s->nv);
+  GROW(v, V, s->nv);
+  GROW(xold, V, s->nv);
+  GROW(skin0, V, s->nv);
+  GROW(mass, V, s->nv);
+  GROW(dominant, V, s->nv);
+  GROW(fs, N, s->ns);
+  GROW(cstart, N, s->ns);
+  GROW(hold, N, s->ns);
+  GROW(hold0, N, s->ns);
+  GROW(apq, N, s->ns);
+  GROW(nhold, N, s->ns);
+  GROW(held, N, s->ns);
+  GROW(push, N, s->ns);
+  GROW(keep, N, s->ns);
+  GROW(cids, N, s->ns);
+  GROW(cp, N, s->ns);
+  GROW(cdepth, N, s->ns);
+#undef GROW
+  return 0;
+}
+
 static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   mb_model *s = calloc(1, sizeof *s);
   if (!s) return tb_error_set(err, "metaball", 0, "out of memory"), NULL;
@@ -167,23 +201,9 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   s->mb = tb_metaball_create(sp.n, sp.c, sp.r, &surf, &ms, err);
   s->tri = tri, s->ntri = ntri, tri = NULL;
   if (!s->mb) goto fail;
-  int nv = s->nv = mesh->nv, ns = s->ns = sp.n;
-  size_t V = (size_t)nv, N = (size_t)ns;
-  s->x = malloc(sizeof(tb_vec3) * V), s->v = calloc(V, sizeof(tb_vec3));
-  s->xold = malloc(sizeof(tb_vec3) * V), s->skin0 = malloc(sizeof(tb_vec3) * V);
-  s->mass = malloc(sizeof(double) * V);
-  s->dominant = malloc(sizeof(int) * V);
-  s->fs = calloc(N, sizeof(tb_vec3)), s->cstart = malloc(sizeof(tb_vec3) * N);
-  s->hold = malloc(sizeof(tb_vec3) * N), s->hold0 = malloc(sizeof(tb_vec3) * N);
-  s->apq = malloc(sizeof(tb_mat3) * N), s->nhold = calloc(N, sizeof(int));
-  s->held = malloc(sizeof(int) * N), s->push = calloc(N, sizeof(double));
-  s->keep = malloc(sizeof(double) * N), s->cids = malloc(sizeof(int) * N);
-  s->cp = malloc(sizeof(tb_vec3) * N), s->cdepth = malloc(sizeof(double) * N);
-  if (!s->x || !s->v || !s->xold || !s->skin0 || !s->mass || !s->dominant || !s->fs || !s->cstart ||
-      !s->hold || !s->hold0 || !s->apq || !s->nhold || !s->held || !s->push || !s->keep ||
-      !s->cids || !s->cp || !s->cdepth)
-    goto oom;
-  memcpy(s->x, tb_metaball_skin(s->mb), sizeof(tb_vec3) * V);
+  if (mb_grow(s, mesh->nv, sp.n)) goto oom;
+  s->nv = mesh->nv, s->ns = sp.n;
+  memcpy(s->x, tb_metaball_skin(s->mb), sizeof(tb_vec3) * (size_t)s->nv);
   if (mb_share_masses(s, err)) goto fail;
   tb_spheres_free(&sp);
   return s;

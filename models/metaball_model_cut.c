@@ -13,40 +13,6 @@
 #include "tb_cut_surface.h"
 #include "tb_meshless.h"
 
-/* Every per-point array for nv points and per-sphere array for ns spheres
- * (new entries zero); 0 or -1. */
-static int grow(mb_model *s, int nv, int ns) {
-  size_t V = (size_t)nv, N = (size_t)ns;
-#define GROW(f, count, old)                                              \
-  do {                                                                   \
-    void *g = realloc(s->f, sizeof *s->f * (count));                     \
-    if (!g) return -1;                                                   \
-    s->f = g;                                                            \
-    if ((count) > (size_t)(old))                                         \
-      memset(s->f + (old), 0, sizeof *s->f * ((count) - (size_t)(old))); \
-  } while (0)
-  GROW(x, V, s->nv);
-  GROW(v, V, s->nv);
-  GROW(xold, V, s->nv);
-  GROW(skin0, V, s->nv);
-  GROW(mass, V, s->nv);
-  GROW(dominant, V, s->nv);
-  GROW(fs, N, s->ns);
-  GROW(cstart, N, s->ns);
-  GROW(hold, N, s->ns);
-  GROW(hold0, N, s->ns);
-  GROW(apq, N, s->ns);
-  GROW(nhold, N, s->ns);
-  GROW(held, N, s->ns);
-  GROW(push, N, s->ns);
-  GROW(keep, N, s->ns);
-  GROW(cids, N, s->ns);
-  GROW(cp, N, s->ns);
-  GROW(cdepth, N, s->ns);
-#undef GROW
-  return 0;
-}
-
 /* The point set's points within half its support of the folded plane
  * (malloc'ed into *out; their count, or -1): the crack's points (the
  * patent: "the boundary points near the folded plane, projected onto it"). */
@@ -95,7 +61,7 @@ static int cut_end(mb_model *s, tb_cut_stats *st, tb_error *err) {
   int rc = 0, old = s->nv;
   signed char *side = malloc((size_t)cr.nv);
   unsigned char *rebind = calloc((size_t)cr.nv, 1);
-  if (!side || !rebind || grow(s, cr.nv, m->n)) {
+  if (!side || !rebind || mb_grow(s, cr.nv, m->n)) {
     rc = tb_error_set(err, "metaball", 0, "out of memory (cut: %d points)", cr.nv);
     goto done;
   }

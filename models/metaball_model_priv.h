@@ -41,6 +41,10 @@ typedef struct mb_model {
 /* Point masses as shares of the alive spheres' masses, and each point's
  * dominant sphere (models/metaball_model.c's head). */
 int mb_share_masses(mb_model *s, tb_error *err);
+/* Every per-point array for nv points and per-sphere array for ns
+ * spheres, entries past s->nv and s->ns zeroed (the caller sets them
+ * after); 0 or -1 out of memory. */
+int mb_grow(mb_model *s, int nv, int ns);
 /* The model's cut event (tb_model_class.cut). */
 int mb_cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *err);
 
