@@ -62,11 +62,22 @@
  * iterating: U_i = V_i psi(H_i) with H_i = sum_b u_b d_ib^T over i's
  * stencil (b = i included, d_ii = -sum_j d_ij), and psi's Hessian in H has
  * norm at most kappa = 2 mu + 3 lambda (the bulk mode; Green strain at
- * rest), so the block K_ab has norm <= sum_i V_i kappa |d_ia| |d_ib| over
- * the stencils holding a and b; block Gershgorin (Feingold & Varga 1962)
- * then gives omega^2 <= max_a (1 / m_a) sum_i V_i kappa |d_ia| sum_b |d_ib|,
- * b over the free points only (the driven ones are prescribed). The same
- * bound gives a group's stiffness under a common translation t of its
+ * rest), so K = sum_i K_i with u^T K_i u <= V_i kappa |H_i|^2, b over the
+ * free points only (the driven ones are prescribed). The element
+ * eigenvalue theorem (Irons 1970; Fried 1972, "Bounds on the extremal
+ * eigenvalues of the finite element stiffness and mass matrices", the
+ * explicit FEM's critical step) splits each point's mass among the
+ * stencils holding it, m_b = sum_i m_ib, and gives omega^2 <= max_i of
+ * stencil i's own largest eigenvalue, here at most V_i kappa lambda_max(sum_b
+ * d_ib d_ib^T / m_ib) (|U D|_F^2 <= |U M^1/2|^2 lambda_max(D^T M^-1 D)).
+ * The split: m_ib = m_b t_ib / T_b with t_ib = V_i S_i |d_ib|, S_i = sum
+ * over i's free b of |d_ib|, T_b = sum_i t_ib; with the trace for
+ * lambda_max this is block Gershgorin (Feingold & Varga 1962), omega^2 <=
+ * max_b kappa T_b / m_b, the bound used until 2026-11, so the eigenvalue
+ * (Smith 1961) is never looser and up to 3 times tighter in omega^2 (a
+ * 6^3 lattice: 1.42 x the power-iterated omega against 1.65; the liver's
+ * cut: 10.8 substeps a frame against 13.8). The same per-stencil bound
+ * gives a group's stiffness under a common translation t of its
  * points (u_b = t for b in the group): H_i = t g_i^T, g_i = sum over the
  * group's points b in i's stencil of d_ib, so the energy's curvature is at
  * most sum_i V_i kappa |g_i|^2 (tb_meshless_group_stiffness). */
@@ -548,8 +559,25 @@ static tb_vec3 stencil_d(const tb_meshless *m, int i, int k) {
   return s;
 }
 
+/* The largest eigenvalue of a symmetric 3x3 matrix (Smith 1961, "Eigenvalues
+ * of a symmetric 3 x 3 matrix": a = q I + p B, det B / 2 = cos 3 phi), raised
+ * by 1e-9 of its scale so that rounding never puts it below the true one. */
+static double sym3_max_eig(const double a[6]) { /* xx yy zz xy xz yz */
+  double q = (a[0] + a[1] + a[2]) / 3, off = a[3] * a[3] + a[4] * a[4] + a[5] * a[5];
+  double b0 = a[0] - q, b1 = a[1] - q, b2 = a[2] - q;
+  double p = sqrt((b0 * b0 + b1 * b1 + b2 * b2 + 2 * off) / 6);
+  double scale = fabs(q) + 3 * p;
+  if (!(p > 1e-15 * scale)) return q + 1e-9 * scale;
+  b0 /= p, b1 /= p, b2 /= p;
+  double c3 = a[3] / p, c4 = a[4] / p, c5 = a[5] / p;
+  double r = (b0 * (b1 * b2 - c5 * c5) - c3 * (c3 * b2 - c5 * c4) + c4 * (c3 * c5 - b1 * c4)) / 2;
+  double phi = r <= -1 ? M_PI / 3 : r >= 1 ? 0 : acos(r) / 3;
+  return q + 2 * p * cos(phi) + 1e-9 * scale;
+}
+
 double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *driven, double *row) {
   double kappa = 2 * m->mu + 3 * m->lambda, w2 = 0;
+  /* row[b] = kappa T_b (see the head) */
   memset(row, 0, sizeof(double) * (size_t)m->n);
   for (int i = 0; i < m->n; i++) {
     if (!m->active[i]) continue;
@@ -560,8 +588,23 @@ double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *dr
     row[i] += a * dii;
     for (int k = m->start[i]; k < m->start[i + 1]; k++) row[m->nbr[k]] += a * tb_len(m->d[k]);
   }
-  for (int i = 0; i < m->n; i++)
-    if (!driven || !driven[i]) w2 = fmax(w2, row[i] / m->mass[i]);
+  for (int i = 0; i < m->n; i++) {
+    if (!m->active[i]) continue;
+    /* lambda_i <= lambda_max(sum over free b of d_ib d_ib^T / |d_ib| row[b] / m_b) / S_i */
+    double g[6] = {0, 0, 0, 0, 0, 0}, S = 0;
+    for (int k = m->start[i] - 1; k < m->start[i + 1]; k++) {
+      int b = k < m->start[i] ? i : m->nbr[k];
+      if (driven && driven[b]) continue;
+      tb_vec3 d = k < m->start[i] ? stencil_d(m, i, -1) : m->d[k];
+      double len = tb_len(d);
+      if (!(len > 0)) continue;
+      double s = row[b] / (m->mass[b] * len);
+      S += len;
+      g[0] += s * d.x * d.x, g[1] += s * d.y * d.y, g[2] += s * d.z * d.z;
+      g[3] += s * d.x * d.y, g[4] += s * d.x * d.z, g[5] += s * d.y * d.z;
+    }
+    if (S > 0) w2 = fmax(w2, sym3_max_eig(g) / S);
+  }
   return sqrt(w2);
 }
 

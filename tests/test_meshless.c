@@ -478,8 +478,8 @@ static void timing(void) {
 /* The stability bound without iteration (tb_meshless_frequency_bound) lies
  * above the largest free frequency that power iteration on finite
  * differences of the forces finds (the bottom layer driven), within a
- * factor 10; steps at 0.9 x 2 / bound stay bounded; dropping flat stencils
- * (a larger flatness) never raises it. */
+ * factor 1.6 (1.42 measured; block Gershgorin gave 1.65); steps at 0.9 x 2 / bound stay bounded;
+ * dropping flat stencils (a larger flatness) never raises it. */
 static void frequency_bound_holds(void) {
   int nx = 6, n = nx * nx * nx;
   tb_vec3 *X = lattice(nx, nx, nx, 0.3, 5);
@@ -510,7 +510,7 @@ static void frequency_bound_holds(void) {
   printf("frequency: power iteration %.4g rad/s, bound %.4g (%.2fx)\n", omega, bound,
          bound / omega);
   TB_CHECK_MSG(bound >= omega * (1 - 1e-6), "bound %g below %g", bound, omega);
-  TB_CHECK_MSG(bound <= 10 * omega, "bound %g, 10x over %g", bound, omega);
+  TB_CHECK_MSG(bound <= 1.6 * omega, "bound %g, 1.6x over %g", bound, omega);
   tb_meshless_set_positions(m, X);
   tb_meshless_set_damping(m, 0);
   int ids[36];
