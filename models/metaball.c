@@ -112,11 +112,13 @@ static int build_units(tb_metaball *m) {
 static void bind_vertex(tb_metaball *m, int v) {
   int best[3] = {-1, -1, -1}, any = -1;
   double kb[3] = {INFINITY, INFINITY, INFINITY}, kany = INFINITY;
-  for (int s = 0; s < m->n; s++) {
+  tb_vec3 x = m->x0[v];
+  for (int s = 0; s < m->n; s++) { /* k^2, no root: the same order */
     if (!m->alive[s]) continue;
-    double k = tb_dist(m->x0[v], m->c0[s]) / m->r[s];
+    tb_vec3 d = tb_sub(x, m->c0[s]);
+    double k = tb_dot(d, d) / (m->r[s] * m->r[s]);
     if (k < kany) kany = k, any = s;
-    if (k < 1 || k > 2 || !(k < kb[2])) continue;
+    if (k < 1 || k > 4 || !(k < kb[2])) continue;
     int at = 2; /* insert into the three smallest, ties by index */
     while (at > 0 && k < kb[at - 1]) kb[at] = kb[at - 1], best[at] = best[at - 1], at--;
     kb[at] = k, best[at] = s;
@@ -125,7 +127,7 @@ static void bind_vertex(tb_metaball *m, int v) {
   double sum = 0;
   for (int q = 0; q < 3; q++) {
     m->bind[v][q] = best[q];
-    m->bw[v][q] = best[q] < 0 ? 0 : exp(-kb[q] * kb[q] / (2 * m->set.sigma * m->set.sigma));
+    m->bw[v][q] = best[q] < 0 ? 0 : exp(-kb[q] / (2 * m->set.sigma * m->set.sigma));
     sum += m->bw[v][q];
   }
   for (int q = 0; q < 3; q++) m->bw[v][q] = sum > 0 ? m->bw[v][q] / sum : (q == 0);
@@ -328,15 +330,20 @@ void tb_metaball_remove_set(tb_metaball *m, int k, const int *ids) {
     m->link[2 * nl] = a, m->link[2 * nl + 1] = b, m->len0[nl++] = m->len0[e];
   }
   m->nl = nl;
-  for (int i = 0; i < m->n; i++)
-    if (gone[i])
-      for (int q = m->cstart[i] + 1; q < m->cstart[i + 1]; q++) rest_centre(m, m->cmember[q]);
+  for (int q = 0; q < k; q++) { /* each unit constraint that held one of them, once */
+    int i = ids[q];
+    if (i < 0 || i >= m->n || gone[i] != 1) continue;
+    for (int e = m->cstart[i] + 1; e < m->cstart[i + 1]; e++) {
+      int j = m->cmember[e];
+      if (!gone[j]) gone[j] = 2, rest_centre(m, j);
+    }
+  }
   for (int v = 0; v < m->nv; v++) { /* their vertices: the other spheres, or bound anew */
     double left = 1;
     int hit = 0;
     for (int q = 0; q < 3; q++) {
       int b = m->bind[v][q];
-      if (b < 0 || !gone[b]) continue;
+      if (b < 0 || gone[b] != 1) continue;
       left -= m->bw[v][q], m->bind[v][q] = -1, m->bw[v][q] = 0, hit = 1;
     }
     if (!hit) continue;

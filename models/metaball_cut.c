@@ -133,7 +133,7 @@ void tb_metaball_cut_free_points(tb_metaball_cutstate *c) {
   c->ks = NULL, c->fel = NULL, c->ml = NULL, c->X = c->x = c->held = NULL, c->vol = NULL,
   c->gen = c->driver = NULL;
   c->removed = c->pstart = c->ids = NULL, c->fx0 = c->fx1 = c->fx = c->fpts = c->fsph = NULL;
-  c->np = c->pcap = c->nrem = c->rcap = c->nd = 0, c->rsum = 0;
+  c->np = c->pcap = c->nrem = c->rcap = c->nd = c->dcap = 0, c->rsum = 0;
 }
 
 void tb_metaball_cut_release(tb_metaball *m) {
@@ -311,15 +311,42 @@ static int copy_fold(tb_metaball_cutstate *c, const tb_fold *f, tb_error *err) {
   return 0;
 }
 
-/* Each point's driver (see the head) and the per-frame buffers. */
-static int drive(tb_metaball *m, tb_metaball_cutstate *c) {
-  int *d = realloc(c->driver, sizeof(int) * (size_t)c->np);
-  tb_vec3 *hp = realloc(c->held, sizeof(tb_vec3) * (size_t)c->np);
-  if (d) c->driver = d;
-  if (hp) c->held = hp;
-  if (!d || !hp) return -1;
-  int nd = 0;
+/* realloc to n elements of size sz, or NULL leaving *p as it was. */
+static int grow_to(void **p, size_t n, size_t sz) {
+  void *q = realloc(*p, n * sz);
+  if (!q) return -1;
+  *p = q;
+  return 0;
+}
+
+/* Each point's driver (see the head) and the per-frame buffers. A driver
+ * changes only when it is removed (a point's candidates can only die during
+ * a cut, so its deepest one stays the deepest while alive): points from
+ * `from` on are new, and the others are looked at again only when their
+ * driver is gone. */
+static int drive(tb_metaball *m, tb_metaball_cutstate *c, int from) {
+  if (c->np > c->dcap) {
+    size_t n = (size_t)c->np, v3 = sizeof(tb_vec3);
+    if (grow_to((void **)&c->driver, n, sizeof(int)) || grow_to((void **)&c->held, n, v3) ||
+        grow_to((void **)&c->ids, n, sizeof(int)) || grow_to((void **)&c->fx0, n, v3) ||
+        grow_to((void **)&c->fx1, n, v3) || grow_to((void **)&c->fx, n, v3) ||
+        grow_to((void **)&c->fpts, n, v3) || grow_to((void **)&c->isdriven, n, 1) ||
+        grow_to((void **)&c->row, n, sizeof(double)))
+      return -1;
+    c->dcap = c->np;
+  }
+  if (!c->fsph) {
+    c->fsph = malloc(sizeof(tb_vec3) * (size_t)m->n),
+    c->fel = malloc(sizeof(tb_vec3) * (size_t)m->n);
+    c->ks = calloc((size_t)m->n, sizeof(double));
+    if (!c->fsph || !c->fel || !c->ks) return -1;
+  }
+  c->nd = 0;
   for (int p = 0; p < c->np; p++) {
+    if (p < from && !(c->driver[p] >= 0 && !m->alive[c->driver[p]])) {
+      if (c->driver[p] != -1) c->ids[c->nd++] = p;
+      continue;
+    }
     int g = c->gen[p], best = -1;
     double kb = INFINITY;
     for (int q = m->cstart[g]; q < m->cstart[g + 1]; q++) {
@@ -328,25 +355,10 @@ static int drive(tb_metaball *m, tb_metaball_cutstate *c) {
       if (m->alive[s] && k <= 1 && k < kb) kb = k, best = s;
     }
     if (best < 0 && m->fixed[g]) best = -2, c->held[p] = c->x[p];
-    c->driver[p] = best, nd += best != -1;
+    c->driver[p] = best;
+    if (best != -1) c->ids[c->nd++] = p;
   }
-  free(c->ids), free(c->fx0), free(c->fx1), free(c->fx), free(c->fpts), free(c->fsph), free(c->fel),
-      free(c->ks), free(c->isdriven), free(c->row);
-  size_t D = (size_t)(nd > 0 ? nd : 1);
-  c->ids = malloc(sizeof(int) * D), c->fx0 = malloc(sizeof(tb_vec3) * D);
-  c->fx1 = malloc(sizeof(tb_vec3) * D), c->fx = malloc(sizeof(tb_vec3) * D);
-  c->fpts = malloc(sizeof(tb_vec3) * (size_t)c->np),
-  c->fsph = malloc(sizeof(tb_vec3) * (size_t)m->n);
-  c->fel = malloc(sizeof(tb_vec3) * (size_t)m->n), c->ks = calloc((size_t)m->n, sizeof(double));
-  c->isdriven = malloc((size_t)c->np), c->row = malloc(sizeof(double) * (size_t)c->np);
-  if (!c->ids || !c->fx0 || !c->fx1 || !c->fx || !c->fpts || !c->fsph || !c->fel || !c->ks ||
-      !c->isdriven || !c->row)
-    return -1;
-  c->nd = 0;
-  for (int p = 0; p < c->np; p++) {
-    c->isdriven[p] = c->driver[p] != -1;
-    if (c->driver[p] != -1) c->ids[c->nd++] = p;
-  }
+  for (int p = 0; p < c->np; p++) c->isdriven[p] = c->driver[p] != -1;
   return 0;
 }
 
@@ -423,7 +435,7 @@ int tb_metaball_cut_advance(tb_metaball *m, const tb_fold *f, tb_error *err) {
       c->piece_from = from; /* the old links: the new pieces only */
     else if (rebuild(c, err))
       return -1;
-    if (drive(m, c)) return tb_error_set(err, "metaball cut", 0, "out of memory");
+    if (drive(m, c, np0)) return tb_error_set(err, "metaball cut", 0, "out of memory");
   }
   if (!c->ml) return converted;
   int before = total_links(c->ml);

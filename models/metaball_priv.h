@@ -53,7 +53,8 @@ typedef struct tb_metaball_cut {
   int nrem, rcap, *removed, *pstart; /* removed sphere k: points pstart[k] .. pstart[k+1] */
   double rsum;                       /* sum of the removed radii */
   struct tb_meshless *ml;
-  int nd, *ids; /* driven points, and the per-frame buffers */
+  int nd, *ids; /* driven points, and the per-frame buffers (dcap points) */
+  int dcap;
   tb_vec3 *fx0, *fx1, *fx, *fpts, *fsph, *fel;
   double *ks; /* per sphere: the stiffness of its coupling to the points */
   /* appended (cutspeed): per-piece boxes of the fold, the first piece the
