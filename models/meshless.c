@@ -99,6 +99,11 @@ struct tb_meshless {
   unsigned char *active;
   unsigned *mark; /* driven this step when mark[i] == stamp */
   unsigned stamp;
+  /* for the steps: the driven set of the last one (lids), its free points
+   * and the live stencils (active, holding a free point), valid while the
+   * set and the links stay; u = x - X for the forces */
+  int *lids, nlids, *freep, nfree, *live, nlive, lvalid;
+  tb_vec3 *u;
   double h, lambda, mu, damping, density;
   double flat; /* a stencil with det A <= flat (tr A / 3)^3 is inactive */
   int integrator, fvalid;
@@ -269,9 +274,11 @@ tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, d
   m->vol = malloc(sizeof(double) * nv), m->mass = malloc(sizeof(double) * nv);
   m->start = malloc(sizeof(int) * (nv + 1)), m->active = malloc(nv);
   m->mark = calloc(nv, sizeof(unsigned)), m->nn = malloc(sizeof(double) * nv);
+  m->lids = malloc(sizeof(int) * nv), m->freep = malloc(sizeof(int) * nv);
+  m->live = malloc(sizeof(int) * nv), m->u = malloc(sizeof(tb_vec3) * nv);
   grid g = {0};
   if (!m->X || !m->x || !m->v || !m->f || !m->vol || !m->mass || !m->start || !m->active ||
-      !m->mark || !m->nn)
+      !m->mark || !m->nn || !m->lids || !m->freep || !m->live || !m->u)
     goto oom;
   memcpy(m->X, x, sizeof(tb_vec3) * nv), memcpy(m->x, x, sizeof(tb_vec3) * nv);
   /* Spacing s: mean nearest-neighbour distance, on a grid of ~1 point/cell. */
@@ -314,7 +321,7 @@ void tb_meshless_destroy(tb_meshless *m) {
   if (!m) return;
   free(m->X), free(m->x), free(m->v), free(m->f), free(m->vol), free(m->mass);
   free(m->start), free(m->nbr), free(m->w), free(m->d), free(m->active), free(m->mark);
-  free(m->nn), free(m);
+  free(m->nn), free(m->lids), free(m->freep), free(m->live), free(m->u), free(m);
 }
 
 int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err) {
@@ -332,7 +339,7 @@ int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, t
   m->start[m->n] = len;
   for (int i = 0; i < m->n; i++)
     if (m->active[i] == 2) moment(m, i);
-  m->fvalid = 0;
+  m->fvalid = 0, m->lvalid = 0;
   return 0;
 }
 
@@ -357,8 +364,9 @@ static int pairs_push(pairs *q, int owner, int nb) {
 /* Grows every per-point array to n points (m->n unchanged); 0 or -1. */
 static int grow(tb_meshless *m, int n) {
   size_t N = (size_t)n;
-  tb_vec3 **v3[] = {&m->X, &m->x, &m->v, &m->f};
-  for (int a = 0; a < 4; a++) {
+  m->lvalid = 0;
+  tb_vec3 **v3[] = {&m->X, &m->x, &m->v, &m->f, &m->u};
+  for (int a = 0; a < 5; a++) {
     tb_vec3 *t = realloc(*v3[a], sizeof(tb_vec3) * N);
     if (!t) return -1;
     *v3[a] = t;
@@ -375,6 +383,12 @@ static int grow(tb_meshless *m, int n) {
   if (ac) m->active = ac;
   unsigned *mk = realloc(m->mark, sizeof(unsigned) * N);
   if (mk) m->mark = mk;
+  int **i1[] = {&m->lids, &m->freep, &m->live};
+  for (int a = 0; a < 3; a++) {
+    int *t = realloc(*i1[a], sizeof(int) * N);
+    if (!t) return -1;
+    *i1[a] = t;
+  }
   return st && ac && mk ? 0 : -1;
 }
 
@@ -459,7 +473,7 @@ int tb_meshless_add(tb_meshless *m, int k, const tb_vec3 *X, const tb_vec3 *x, c
   for (int i = 0; i < n; i++)
     if (i >= n0 || m->active[i] == 2) moment(m, i);
   free(cnt), free(ost), free(q.p);
-  m->fvalid = 0;
+  m->fvalid = 0, m->lvalid = 0;
   return 0;
 oom:
   free(cnt), free(ost), free(q.p), free(nbr), free(w), free(d);
@@ -496,38 +510,55 @@ static tb_mat3 stress(const tb_meshless *m, tb_mat3 e) {
   return e;
 }
 
-/* The forces; with skip != 0, the stencils whose points all have mark ==
- * skip (all driven this step) are left out: they move no free point, so
- * the free points' forces are the same, sums in the same order. */
-static void forces(const tb_meshless *m, tb_vec3 *f, unsigned skip, double *emax) {
+/* Stencil i's forces added to f (m->u = x - X already set); returns the
+ * largest |strain component|. */
+static double stencil_forces(const tb_meshless *m, int i, tb_vec3 *f) {
+  const tb_vec3 *u = m->u, *d = m->d;
+  const int *nbr = m->nbr;
+  tb_vec3 ui = u[i];
+  double j00 = 1, j01 = 0, j02 = 0, j10 = 0, j11 = 1, j12 = 0, j20 = 0, j21 = 0, j22 = 1;
+  for (int k = m->start[i]; k < m->start[i + 1]; k++) { /* J = I + sum_j (u_j - u_i) d_ij^T */
+    tb_vec3 du = tb_sub(u[nbr[k]], ui), q = d[k];
+    j00 += du.x * q.x, j01 += du.x * q.y, j02 += du.x * q.z;
+    j10 += du.y * q.x, j11 += du.y * q.y, j12 += du.y * q.z;
+    j20 += du.z * q.x, j21 += du.z * q.y, j22 += du.z * q.z;
+  }
+  tb_mat3 J = {{{j00, j01, j02}, {j10, j11, j12}, {j20, j21, j22}}};
+  tb_mat3 e = tb_m3_mul(tb_m3_transpose(J), J);
+  double big = 0;
+  for (int a = 0; a < 3; a++) e.m[a][a] -= 1;
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) e.m[a][b] *= 0.5, big = fmax(big, fabs(e.m[a][b]));
+  tb_mat3 Fe = tb_m3_mul(J, stress(m, e));
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) Fe.m[a][b] *= -m->vol[i];
+  tb_vec3 sum = tb_v3(0, 0, 0);
+  for (int k = m->start[i]; k < m->start[i + 1]; k++) {
+    tb_vec3 fj = tb_m3_mulv(Fe, d[k]);
+    f[nbr[k]] = tb_add(f[nbr[k]], fj);
+    sum = tb_add(sum, fj);
+  }
+  f[i] = tb_sub(f[i], sum);
+  return big;
+}
+
+/* The forces of the nlist stencils of list (NULL: every active one; each
+ * must be active), in list order. With the live list (the stencils holding a
+ * free point) the free points' forces are those of all stencils, sums in
+ * the same order; the driven points' are partial. */
+static void forces(const tb_meshless *m, tb_vec3 *f, int nlist, const int *list, double *emax) {
+  for (int i = 0; i < m->n; i++) m->u[i] = tb_sub(m->x[i], m->X[i]);
   memset(f, 0, sizeof(tb_vec3) * (size_t)m->n);
   double big = 0;
-  for (int i = 0; i < m->n; i++) {
-    if (!m->active[i]) continue;
-    if (skip && m->mark[i] == skip) {
-      int k = m->start[i];
-      while (k < m->start[i + 1] && m->mark[m->nbr[k]] == skip) k++;
-      if (k == m->start[i + 1]) continue;
-    }
-    tb_mat3 J = tb_meshless_jacobian(m, i), e = tb_m3_mul(tb_m3_transpose(J), J);
-    for (int a = 0; a < 3; a++) e.m[a][a] -= 1;
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) e.m[a][b] *= 0.5, big = fmax(big, fabs(e.m[a][b]));
-    tb_mat3 Fe = tb_m3_mul(J, stress(m, e));
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) Fe.m[a][b] *= -m->vol[i];
-    tb_vec3 sum = tb_v3(0, 0, 0);
-    for (int k = m->start[i]; k < m->start[i + 1]; k++) {
-      tb_vec3 fj = tb_m3_mulv(Fe, m->d[k]);
-      f[m->nbr[k]] = tb_add(f[m->nbr[k]], fj);
-      sum = tb_add(sum, fj);
-    }
-    f[i] = tb_sub(f[i], sum);
-  }
+  if (list)
+    for (int k = 0; k < nlist; k++) big = fmax(big, stencil_forces(m, list[k], f));
+  else
+    for (int i = 0; i < m->n; i++)
+      if (m->active[i]) big = fmax(big, stencil_forces(m, i, f));
   if (emax) *emax = big;
 }
 
-void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0, NULL); }
+void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0, NULL, NULL); }
 double tb_meshless_max_strain(const tb_meshless *m) { return m->emax; }
 
 double tb_meshless_energy(const tb_meshless *m) {
@@ -633,6 +664,23 @@ void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngr
 
 /* ---- time stepping ---- */
 
+/* The free points and the live stencils for the driven set marked with the
+ * current stamp (ids, nfixed), kept for the next steps when it fits. */
+static void live_lists(tb_meshless *m, int nfixed, const int *ids) {
+  unsigned st = m->stamp;
+  m->nfree = m->nlive = 0;
+  for (int i = 0; i < m->n; i++) {
+    if (m->mark[i] != st) m->freep[m->nfree++] = i;
+    if (!m->active[i]) continue;
+    int k = m->start[i];
+    if (m->mark[i] == st)
+      while (k < m->start[i + 1] && m->mark[m->nbr[k]] == st) k++;
+    if (m->mark[i] != st || k < m->start[i + 1]) m->live[m->nlive++] = i;
+  }
+  m->lvalid = nfixed <= m->n;
+  if (m->lvalid) memcpy(m->lids, ids, sizeof(int) * (size_t)nfixed), m->nlids = nfixed;
+}
+
 int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, const int *ids,
                      const tb_vec3 *fixed_x, tb_error *err) {
   if (!(dt > 0)) return tb_error_set(err, "meshless", 0, "dt must be positive");
@@ -643,15 +691,21 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
     memset(m->mark, 0, sizeof(unsigned) * (size_t)m->n), m->stamp = 1, m->fvalid = 0;
   }
   for (int k = 0; k < nfixed; k++) m->mark[ids[k]] = m->stamp;
-  /* the last step's forces left out stencils driven then: valid unless a
-   * point driven then is free now */
-  for (int i = 0; i < m->n && m->fvalid; i++)
-    if (m->stamp > 1 && m->mark[i] == m->stamp - 1) m->fvalid = 0;
-  int verlet = m->integrator == TB_MESHLESS_ALTERNATING;
+  int same = m->lvalid && nfixed == m->nlids &&
+             (nfixed == 0 || !memcmp(ids, m->lids, sizeof(int) * (size_t)nfixed));
+  if (!same) {
+    /* the last step's forces left out stencils driven then: valid unless a
+     * point driven then is free now */
+    for (int i = 0; i < m->n && m->fvalid; i++)
+      if (m->stamp > 1 && m->mark[i] == m->stamp - 1) m->fvalid = 0;
+    live_lists(m, nfixed, ids);
+  }
+  int verlet = m->integrator == TB_MESHLESS_ALTERNATING, nf = m->nfree;
+  const int *fr = m->freep;
   double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt;
-  if (!m->fvalid) forces(m, m->f, m->stamp, &m->emax);
-  for (int i = 0; i < m->n; i++) {
-    if (m->mark[i] == m->stamp) continue;
+  if (!m->fvalid) forces(m, m->f, m->nlive, m->live, &m->emax);
+  for (int k = 0; k < nf; k++) {
+    int i = fr[k];
     m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
     if (!verlet) m->v[i] = tb_scale(m->v[i], damp);
     m->x[i] = tb_madd(m->x[i], dt, m->v[i]);
@@ -663,10 +717,10 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   }
   m->fvalid = 0;
   if (verlet) {
-    forces(m, m->f, m->stamp, &m->emax);
+    forces(m, m->f, m->nlive, m->live, &m->emax);
     m->fvalid = 1;
-    for (int i = 0; i < m->n; i++) {
-      if (m->mark[i] == m->stamp) continue;
+    for (int k = 0; k < nf; k++) {
+      int i = fr[k];
       m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
       m->v[i] = tb_scale(m->v[i], damp);
     }
@@ -683,7 +737,7 @@ void tb_meshless_set_damping(tb_meshless *m, double c) { m->damping = c > 0 ? c 
 void tb_meshless_set_flatness(tb_meshless *m, double c) {
   m->flat = c > 0 ? fmin(c, 0.5) : 0;
   moments(m);
-  m->fvalid = 0;
+  m->fvalid = 0, m->lvalid = 0;
 }
 void tb_meshless_set_velocities(tb_meshless *m, const tb_vec3 *v) {
   memcpy(m->v, v, sizeof(tb_vec3) * (size_t)m->n);
