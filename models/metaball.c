@@ -109,11 +109,12 @@ static int build_units(tb_metaball *m) {
 }
 
 /* Vertex v bound anew over the alive spheres (see the head). */
-static void bind_vertex(tb_metaball *m, int v) {
+static void bind_vertex(tb_metaball *m, int v, int ncand, const int *cand) {
   int best[3] = {-1, -1, -1}, any = -1;
   double kb[3] = {INFINITY, INFINITY, INFINITY}, kany = INFINITY;
   tb_vec3 x = m->x0[v];
-  for (int s = 0; s < m->n; s++) { /* k^2, no root: the same order */
+  for (int t = 0; t < (cand ? ncand : m->n); t++) { /* k^2, no root: the same order */
+    int s = cand ? cand[t] : t;
     if (!m->alive[s]) continue;
     tb_vec3 d = tb_sub(x, m->c0[s]);
     double k = tb_dot(d, d) / (m->r[s] * m->r[s]);
@@ -122,6 +123,10 @@ static void bind_vertex(tb_metaball *m, int v) {
     int at = 2; /* insert into the three smallest, ties by index */
     while (at > 0 && k < kb[at - 1]) kb[at] = kb[at - 1], best[at] = best[at - 1], at--;
     kb[at] = k, best[at] = s;
+  }
+  if (best[0] < 0 && cand) { /* the fallback: the nearest of all */
+    bind_vertex(m, v, 0, NULL);
+    return;
   }
   if (best[0] < 0) best[0] = any, kb[0] = kany, m->nfallback++;
   double sum = 0;
@@ -246,7 +251,7 @@ tb_metaball *tb_metaball_create(int n, const tb_vec3 *c, const double *r, const 
   if (build_units(m)) goto oom;
   if (surface) {
     memcpy(m->x0, surface->x, sizeof(tb_vec3) * (size_t)m->nv);
-    for (int v = 0; v < m->nv; v++) bind_vertex(m, v);
+    for (int v = 0; v < m->nv; v++) bind_vertex(m, v, 0, NULL);
     skin(m);
   }
   return m;
@@ -338,7 +343,11 @@ void tb_metaball_remove_set(tb_metaball *m, int k, const int *ids) {
       if (!gone[j]) gone[j] = 2, rest_centre(m, j);
     }
   }
-  for (int v = 0; v < m->nv; v++) { /* their vertices: the other spheres, or bound anew */
+  /* their vertices: the other spheres, or bound anew (among the spheres
+   * that reach the box of those vertices, d <= 2 r) */
+  int nre = 0, *re = malloc(sizeof(int) * (size_t)(m->nv + m->n)), *cand = re + m->nv, nc = 0;
+  tb_vec3 lo = tb_v3(INFINITY, INFINITY, INFINITY), hi = tb_scale(lo, -1);
+  for (int v = 0; v < m->nv; v++) {
     double left = 1;
     int hit = 0;
     for (int q = 0; q < 3; q++) {
@@ -347,12 +356,23 @@ void tb_metaball_remove_set(tb_metaball *m, int k, const int *ids) {
       left -= m->bw[v][q], m->bind[v][q] = -1, m->bw[v][q] = 0, hit = 1;
     }
     if (!hit) continue;
-    if (left > 1e-12)
+    if (left > 1e-12) {
       for (int q = 0; q < 3; q++) m->bw[v][q] /= left;
-    else
-      bind_vertex(m, v), m->nfallback--; /* not a fallback of the packing */
+    } else if (re) {
+      re[nre++] = v, lo = tb_vmin(lo, m->x0[v]), hi = tb_vmax(hi, m->x0[v]);
+    } else {
+      bind_vertex(m, v, 0, NULL), m->nfallback--; /* not a fallback of the packing */
+    }
   }
-  free(gone);
+  for (int s = 0; s < m->n && nre; s++) {
+    double R = 2 * m->r[s] * (1 + 1e-9); /* d <= 2 r, with room for rounding */
+    tb_vec3 c = m->c0[s];
+    if (m->alive[s] && c.x + R >= lo.x && c.x - R <= hi.x && c.y + R >= lo.y && c.y - R <= hi.y &&
+        c.z + R >= lo.z && c.z - R <= hi.z)
+      cand[nc++] = s;
+  }
+  for (int k = 0; k < nre; k++) bind_vertex(m, re[k], nc, cand), m->nfallback--;
+  free(re), free(gone);
 }
 
 void tb_metaball_remove(tb_metaball *m, int i) { tb_metaball_remove_set(m, 1, &i); }
