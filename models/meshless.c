@@ -639,25 +639,29 @@ double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *dr
   return sqrt(w2);
 }
 
-void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngroups, double *k) {
+void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngroups, double *k,
+                                 tb_vec3 *scratch) {
   double kappa = 2 * m->mu + 3 * m->lambda;
-  for (int g = 0; g < ngroups; g++) k[g] = 0;
+  for (int g = 0; g < ngroups; g++) k[g] = 0, scratch[g] = tb_v3(0, 0, 0);
   for (int i = 0; i < m->n; i++) {
     if (!m->active[i]) continue;
-    tb_vec3 dii = stencil_d(m, i, -1);
-    /* g_i per group present in the stencil: a short scan, stencils are small */
-    for (int a = -1; a < m->start[i + 1] - m->start[i]; a++) {
-      int pa = a < 0 ? i : m->nbr[m->start[i] + a], ga = group[pa], first = 1;
-      if (ga < 0 || ga >= ngroups) continue;
-      for (int b = -1; b < a && first; b++) /* only the group's first member sums */
-        first = group[b < 0 ? i : m->nbr[m->start[i] + b]] != ga;
-      if (!first) continue;
-      tb_vec3 g = tb_v3(0, 0, 0);
-      for (int b = a; b < m->start[i + 1] - m->start[i]; b++) {
-        int pb = b < 0 ? i : m->nbr[m->start[i] + b];
-        if (group[pb] == ga) g = tb_add(g, b < 0 ? dii : m->d[m->start[i] + b]);
-      }
-      k[ga] += m->vol[i] * kappa * tb_dot(g, g);
+    int k0 = m->start[i] - 1, k1 = m->start[i + 1]; /* k0: i itself */
+    /* g_i per group in the stencil, summed in stencil order; each group's
+     * term added at its first member (NaN marks it added), then cleared */
+    for (int q = k0; q < k1; q++) {
+      int g = group[q == k0 ? i : m->nbr[q]];
+      if (g >= 0 && g < ngroups)
+        scratch[g] = tb_add(scratch[g], q == k0 ? stencil_d(m, i, -1) : m->d[q]);
+    }
+    for (int q = k0; q < k1; q++) {
+      int g = group[q == k0 ? i : m->nbr[q]];
+      if (g < 0 || g >= ngroups || isnan(scratch[g].x)) continue;
+      k[g] += m->vol[i] * kappa * tb_dot(scratch[g], scratch[g]);
+      scratch[g].x = NAN;
+    }
+    for (int q = k0; q < k1; q++) {
+      int g = group[q == k0 ? i : m->nbr[q]];
+      if (g >= 0 && g < ngroups) scratch[g] = tb_v3(0, 0, 0);
     }
   }
 }

@@ -367,7 +367,7 @@ static int drive(tb_metaball *m, tb_metaball_cutstate *c, int from) {
  * models/meshless.c's head; no iteration, no force evaluation). */
 static void stiffness(tb_metaball_cutstate *c, int nsph) {
   c->omega = tb_meshless_frequency_bound(c->ml, c->isdriven, c->row);
-  tb_meshless_group_stiffness(c->ml, c->driver, nsph, c->ks);
+  tb_meshless_group_stiffness(c->ml, c->driver, nsph, c->ks, c->fel); /* fel: scratch here */
 }
 
 static int total_links(const tb_meshless *ml) {

@@ -78,8 +78,9 @@ void tb_meshless_set_velocities(tb_meshless *m, const tb_vec3 *v);
 double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *driven, double *row);
 /* k[g] (g < ngroups): an upper bound of the stiffness of the points with
  * group[i] == g moved together by a common translation, the others held
- * (group[i] < 0: no group). */
-void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngroups, double *k);
+ * (group[i] < 0: no group). scratch: ngroups vectors. O(links). */
+void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngroups, double *k,
+                                 tb_vec3 *scratch);
 
 int tb_meshless_count(const tb_meshless *m);
 const tb_vec3 *tb_meshless_positions(const tb_meshless *m);

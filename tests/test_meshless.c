@@ -547,7 +547,8 @@ static void group_stiffness_bounds(void) {
   if (!m) goto done;
   for (int i = 0; i < n; i++) group[i] = X[i].x < 2.5 * S ? 0 : (X[i].z < 2.5 * S ? 1 : -1);
   double k[3] = {-1, -1, -1};
-  tb_meshless_group_stiffness(m, group, 2, k);
+  tb_vec3 scratch[2];
+  tb_meshless_group_stiffness(m, group, 2, k, scratch);
   TB_CHECK(k[2] == -1 && k[0] > 0 && k[1] > 0);
   static const tb_vec3 dirs[4] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.6, 0, 0.8}};
   double eps = 1e-6 * S;
