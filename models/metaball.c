@@ -414,6 +414,99 @@ tb_mat3 tb_metaball_turns(tb_mat3 a, tb_mat3 r, int turns, double tol) {
   return r;
 }
 
+#ifdef __SSE2__
+static inline __m128d pair3(const tb_vec3 *p, int j0, int j1, int c) { /* (p[j0].c, p[j1].c) */
+  const double *a = &p[j0].x, *b = &p[j1].x;
+  return _mm_loadh_pd(_mm_load_sd(a + c), b + c);
+}
+static inline double hsum(__m128d v) { return _mm_cvtsd_f64(_mm_add_sd(v, _mm_unpackhi_pd(v, v))); }
+#endif
+
+/* Constraint i's sums over its members (see unit_constraints): M, sum m_j d_j
+ * and A = sum m_j d_j q_j^T, d_j = p_j - p_i. With SSE2 two members at a
+ * time, one in each lane, the lanes added at the end. */
+static double unit_sums(const tb_metaball *m, int i, double s[3], double A[9]) {
+  const int *member = m->cmember;
+  const double *em = m->em;
+  const tb_vec3 *eq = m->eq, *p = m->p;
+  int k = m->cstart[i], k1 = m->cstart[i + 1];
+  tb_vec3 pi = p[i];
+  double mass = 0, sx = 0, sy = 0, sz = 0;
+  double a00 = 0, a01 = 0, a02 = 0, a10 = 0, a11 = 0, a12 = 0, a20 = 0, a21 = 0, a22 = 0;
+#ifdef __SSE2__
+  __m128d vm = _mm_setzero_pd(), vx = vm, vy = vm, vz = vm;
+  __m128d b00 = vm, b01 = vm, b02 = vm, b10 = vm, b11 = vm, b12 = vm, b20 = vm, b21 = vm, b22 = vm;
+  const __m128d px = _mm_set1_pd(pi.x), py = _mm_set1_pd(pi.y), pz = _mm_set1_pd(pi.z);
+  for (; k + 1 < k1; k += 2) {
+    int j0 = member[k], j1 = member[k + 1];
+    __m128d e = _mm_loadu_pd(em + k);
+    __m128d dx = _mm_mul_pd(_mm_sub_pd(pair3(p, j0, j1, 0), px), e);
+    __m128d dy = _mm_mul_pd(_mm_sub_pd(pair3(p, j0, j1, 1), py), e);
+    __m128d dz = _mm_mul_pd(_mm_sub_pd(pair3(p, j0, j1, 2), pz), e);
+    __m128d qx = pair3(eq, k, k + 1, 0), qy = pair3(eq, k, k + 1, 1), qz = pair3(eq, k, k + 1, 2);
+    vm = _mm_add_pd(vm, e), vx = _mm_add_pd(vx, dx), vy = _mm_add_pd(vy, dy);
+    vz = _mm_add_pd(vz, dz);
+    b00 = _mm_add_pd(b00, _mm_mul_pd(dx, qx)), b01 = _mm_add_pd(b01, _mm_mul_pd(dx, qy));
+    b02 = _mm_add_pd(b02, _mm_mul_pd(dx, qz)), b10 = _mm_add_pd(b10, _mm_mul_pd(dy, qx));
+    b11 = _mm_add_pd(b11, _mm_mul_pd(dy, qy)), b12 = _mm_add_pd(b12, _mm_mul_pd(dy, qz));
+    b20 = _mm_add_pd(b20, _mm_mul_pd(dz, qx)), b21 = _mm_add_pd(b21, _mm_mul_pd(dz, qy));
+    b22 = _mm_add_pd(b22, _mm_mul_pd(dz, qz));
+  }
+  mass = hsum(vm), sx = hsum(vx), sy = hsum(vy), sz = hsum(vz);
+  a00 = hsum(b00), a01 = hsum(b01), a02 = hsum(b02), a10 = hsum(b10), a11 = hsum(b11);
+  a12 = hsum(b12), a20 = hsum(b20), a21 = hsum(b21), a22 = hsum(b22);
+#endif
+  for (; k < k1; k++) { /* the sums in scalars, not an array: they stay in registers */
+    tb_vec3 md = tb_scale(tb_sub(p[member[k]], pi), em[k]), q = eq[k];
+    mass += em[k], sx += md.x, sy += md.y, sz += md.z;
+    a00 += md.x * q.x, a01 += md.x * q.y, a02 += md.x * q.z;
+    a10 += md.y * q.x, a11 += md.y * q.y, a12 += md.y * q.z;
+    a20 += md.z * q.x, a21 += md.z * q.y, a22 += md.z * q.z;
+  }
+  s[0] = sx, s[1] = sy, s[2] = sz;
+  A[0] = a00, A[1] = a01, A[2] = a02, A[3] = a10, A[4] = a11, A[5] = a12;
+  A[6] = a20, A[7] = a21, A[8] = a22;
+  return mass;
+}
+
+/* Constraint i's goals, p_j += unit (cm + R q_j - p_j) for its free members;
+ * with SSE2 two at a time, the scalar operations in the same order. */
+static void unit_goals(tb_metaball *m, int i, tb_vec3 cm, tb_mat3 R) {
+  const int *member = m->cmember;
+  const double *wf = m->wf, unit = m->set.unit;
+  const tb_vec3 *eq = m->eq;
+  tb_vec3 *p = m->p;
+  int k = m->cstart[i], k1 = m->cstart[i + 1];
+#ifdef __SSE2__
+  const __m128d u = _mm_set1_pd(unit), cx = _mm_set1_pd(cm.x), cy = _mm_set1_pd(cm.y),
+                cz = _mm_set1_pd(cm.z);
+  __m128d r[3][3];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) r[a][b] = _mm_set1_pd(R.m[a][b]);
+  for (; k + 1 < k1; k += 2) {
+    int j0 = member[k], j1 = member[k + 1];
+    int f0 = wf[j0] != 0, f1 = wf[j1] != 0; /* fixed or removed: left */
+    if (!f0 && !f1) continue;
+    __m128d q[3] = {pair3(eq, k, k + 1, 0), pair3(eq, k, k + 1, 1), pair3(eq, k, k + 1, 2)};
+    __m128d c[3] = {cx, cy, cz};
+    for (int a = 0; a < 3; a++) {
+      __m128d rq = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r[a][0], q[0]), _mm_mul_pd(r[a][1], q[1])),
+                              _mm_mul_pd(r[a][2], q[2]));
+      __m128d pj = pair3(p, j0, j1, a), goal = _mm_add_pd(c[a], rq);
+      pj = _mm_add_pd(pj, _mm_mul_pd(u, _mm_sub_pd(goal, pj)));
+      if (f0) _mm_storel_pd(&p[j0].x + a, pj);
+      if (f1) _mm_storeh_pd(&p[j1].x + a, pj);
+    }
+  }
+#endif
+  for (; k < k1; k++) {
+    int j = member[k];
+    if (wf[j] == 0) continue; /* fixed or removed */
+    tb_vec3 goal = tb_add(cm, tb_m3_mulv(R, eq[k]));
+    p[j] = tb_madd(p[j], unit, tb_sub(goal, p[j]));
+  }
+}
+
 /* The unit constraints (see the head), in sphere order; each sphere's
  * rotation is its own constraint's. One pass over the members gives the
  * centre of mass and A = sum_j m_j (p_j - cm) q_j^T: with d_j = p_j - p_i
@@ -421,38 +514,19 @@ tb_mat3 tb_metaball_turns(tb_mat3 a, tb_mat3 r, int turns, double tol) {
  * origin), cm = p_i + sum m_j d_j / M and A = sum m_j d_j q_j^T - (cm -
  * p_i) (sum m_j q_j)^T, the last sum 0 but for rounding (rest_centre). */
 static void unit_constraints(tb_metaball *m) {
-  const int *member = m->cmember;
-  const double *em = m->em, *wf = m->wf;
-  const tb_vec3 *eq = m->eq;
-  tb_vec3 *p = m->p;
-  double unit = m->set.unit;
   for (int i = 0; i < m->n; i++) {
     if (!m->alive[i]) continue;
+    double s[3], a[9], mass = unit_sums(m, i, s, a);
+    tb_vec3 rel = tb_scale(tb_v3(s[0], s[1], s[2]), 1 / mass), cm = tb_add(m->p[i], rel),
+            c = m->smq[i];
+    tb_mat3 A = {{{a[0] - rel.x * c.x, a[1] - rel.x * c.y, a[2] - rel.x * c.z},
+                  {a[3] - rel.y * c.x, a[4] - rel.y * c.y, a[5] - rel.y * c.z},
+                  {a[6] - rel.z * c.x, a[7] - rel.z * c.y, a[8] - rel.z * c.z}}};
     int k0 = m->cstart[i], k1 = m->cstart[i + 1];
-    tb_vec3 pi = p[i];
-    /* the sums in scalars, not an array: they stay in registers */
-    double mass = 0, sx = 0, sy = 0, sz = 0;
-    double a00 = 0, a01 = 0, a02 = 0, a10 = 0, a11 = 0, a12 = 0, a20 = 0, a21 = 0, a22 = 0;
-    for (int k = k0; k < k1; k++) {
-      tb_vec3 md = tb_scale(tb_sub(p[member[k]], pi), em[k]), q = eq[k];
-      mass += em[k], sx += md.x, sy += md.y, sz += md.z;
-      a00 += md.x * q.x, a01 += md.x * q.y, a02 += md.x * q.z;
-      a10 += md.y * q.x, a11 += md.y * q.y, a12 += md.y * q.z;
-      a20 += md.z * q.x, a21 += md.z * q.y, a22 += md.z * q.z;
-    }
-    tb_vec3 rel = tb_scale(tb_v3(sx, sy, sz), 1 / mass), cm = tb_add(pi, rel), c = m->smq[i];
-    tb_mat3 A = {{{a00 - rel.x * c.x, a01 - rel.x * c.y, a02 - rel.x * c.z},
-                  {a10 - rel.y * c.x, a11 - rel.y * c.y, a12 - rel.y * c.z},
-                  {a20 - rel.z * c.x, a21 - rel.z * c.y, a22 - rel.z * c.z}}};
     tb_mat3 rot =
         k1 - k0 > 1 && !m->fixed[i] ? tb_metaball_turns(A, m->rot[i], 4, 1e-12) : m->rot[i];
     m->rot[i] = rot;
-    for (int k = k0; k < k1; k++) {
-      int j = member[k];
-      if (wf[j] == 0) continue; /* fixed or removed */
-      tb_vec3 goal = tb_add(cm, tb_m3_mulv(rot, eq[k]));
-      p[j] = tb_madd(p[j], unit, tb_sub(goal, p[j]));
-    }
+    unit_goals(m, i, cm, rot);
   }
 }
 
@@ -484,11 +558,12 @@ static void stretch_sweeps(tb_metaball *m) {
     for (; e + 1 < nl; e += 2) {
       int a0 = L[2 * e], b0 = L[2 * e + 1], a1 = L[2 * e + 2], b1 = L[2 * e + 3];
       __m128d wa = _mm_set_pd(wf[a1], wf[a0]), wb = _mm_set_pd(wf[b1], wf[b0]);
-      __m128d ax = _mm_loadh_pd(_mm_load_sd(&p[a0].x), &p[a1].x);
-      __m128d ay = _mm_loadh_pd(_mm_load_sd(&p[a0].y), &p[a1].y);
+      /* (x, y) of each sphere in one load, then transposed to a lane per link */
+      __m128d a0xy = _mm_loadu_pd(&p[a0].x), a1xy = _mm_loadu_pd(&p[a1].x);
+      __m128d b0xy = _mm_loadu_pd(&p[b0].x), b1xy = _mm_loadu_pd(&p[b1].x);
+      __m128d ax = _mm_unpacklo_pd(a0xy, a1xy), ay = _mm_unpackhi_pd(a0xy, a1xy);
+      __m128d bx = _mm_unpacklo_pd(b0xy, b1xy), by = _mm_unpackhi_pd(b0xy, b1xy);
       __m128d az = _mm_loadh_pd(_mm_load_sd(&p[a0].z), &p[a1].z);
-      __m128d bx = _mm_loadh_pd(_mm_load_sd(&p[b0].x), &p[b1].x);
-      __m128d by = _mm_loadh_pd(_mm_load_sd(&p[b0].y), &p[b1].y);
       __m128d bz = _mm_loadh_pd(_mm_load_sd(&p[b0].z), &p[b1].z);
       __m128d dx = _mm_sub_pd(bx, ax), dy = _mm_sub_pd(by, ay), dz = _mm_sub_pd(bz, az);
       __m128d q =
@@ -507,11 +582,11 @@ static void stretch_sweeps(tb_metaball *m) {
       ax = _mm_add_pd(ax, _mm_mul_pd(sa, dx)), ay = _mm_add_pd(ay, _mm_mul_pd(sa, dy));
       az = _mm_add_pd(az, _mm_mul_pd(sa, dz)), bx = _mm_add_pd(bx, _mm_mul_pd(sb, dx));
       by = _mm_add_pd(by, _mm_mul_pd(sb, dy)), bz = _mm_add_pd(bz, _mm_mul_pd(sb, dz));
-      _mm_storel_pd(&p[a0].x, ax), _mm_storeh_pd(&p[a1].x, ax);
-      _mm_storel_pd(&p[a0].y, ay), _mm_storeh_pd(&p[a1].y, ay);
+      _mm_storeu_pd(&p[a0].x, _mm_unpacklo_pd(ax, ay));
+      _mm_storeu_pd(&p[a1].x, _mm_unpackhi_pd(ax, ay));
+      _mm_storeu_pd(&p[b0].x, _mm_unpacklo_pd(bx, by));
+      _mm_storeu_pd(&p[b1].x, _mm_unpackhi_pd(bx, by));
       _mm_storel_pd(&p[a0].z, az), _mm_storeh_pd(&p[a1].z, az);
-      _mm_storel_pd(&p[b0].x, bx), _mm_storeh_pd(&p[b1].x, bx);
-      _mm_storel_pd(&p[b0].y, by), _mm_storeh_pd(&p[b1].y, by);
       _mm_storel_pd(&p[b0].z, bz), _mm_storeh_pd(&p[b1].z, bz);
     }
 #endif
