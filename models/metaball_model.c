@@ -33,7 +33,8 @@
  * ball every vertex is also bound to the big central sphere, whose d / r
  * is the smallest): that sphere follows the rigid motion that best maps its
  * prescribed points' rest positions onto their targets (centroids, and
- * the rotation of the polar decomposition of their covariance when there
+ * the rotation of the polar decomposition of their covariance, iterated from
+ * the last one by tb_metaball_turns, when there
  * are 3 or more; else it keeps its rotation), and it is fixed for the
  * step: it does not move in the sweeps and its unit constraint keeps that
  * rotation (models/metaball.c), so the body follows it without pivoting
@@ -78,8 +79,7 @@ static void destroy(void *self) {
   mb_model *s = self;
   if (!s) return;
   tb_metaball_destroy(s->mb);
-  free(s->x), free(s->v), free(s->xold), free(s->skin0), free(s->mass), free(s->fs),
-      free(s->cstart);
+  free(s->x), free(s->v), free(s->skin0), free(s->mass), free(s->fs), free(s->cstart);
   free(s->hold), free(s->hold0), free(s->apq), free(s->nhold), free(s->held), free(s->push),
       free(s->keep), free(s->cids);
   free(s->cp), free(s->cdepth), free(s->dominant), free(s->tri);
@@ -145,7 +145,6 @@ int mb_grow(mb_model *s, int nv, int ns) {
   } while (0)
   GROW(x, V, s->nv);
   GROW(v, V, s->nv);
-  GROW(xold, V, s->nv);
   GROW(skin0, V, s->nv);
   GROW(mass, V, s->nv);
   GROW(dominant, V, s->nv);
@@ -298,7 +297,6 @@ static int step(void *self, const tb_step *in, tb_error *err) {
       return tb_error_set(err, "metaball", 0,
                           "prescribed nodes must be strictly ascending in [0, %d): entry %d is %d",
                           s->nv, p, in->fixed[p]);
-  memcpy(s->xold, s->x, sizeof(tb_vec3) * (size_t)s->nv);
   memcpy(s->skin0, m->x, sizeof(tb_vec3) * (size_t)s->nv);
   memcpy(s->cstart, m->c, sizeof(tb_vec3) * (size_t)s->ns);
   /* node forces to the spheres by the binding weights */
@@ -336,7 +334,8 @@ static int step(void *self, const tb_step *in, tb_error *err) {
   }
   for (int k = 0; k < nh; k++) {
     int b = s->held[k];
-    if (s->nhold[b] >= 3 && fabs(tb_m3_det(s->apq[b])) > 0) m->rot[b] = tb_m3_polar(s->apq[b]);
+    if (s->nhold[b] >= 3 && fabs(tb_m3_det(s->apq[b])) > 0) /* warm-started: a turn or two */
+      m->rot[b] = tb_metaball_turns(s->apq[b], m->rot[b], 50, 1e-14);
     tb_vec3 at = tb_sub(s->hold[b], tb_m3_mulv(m->rot[b], tb_sub(s->hold0[b], m->c0[b])));
     s->nhold[b] = m->fixed[b] ? 2 : 1; /* 2: fixed before */
     m->v[b] = tb_scale(tb_sub(at, m->c[b]), 1 / dt), m->c[b] = at, m->fixed[b] = 1;
@@ -354,11 +353,13 @@ static int step(void *self, const tb_step *in, tb_error *err) {
   if (rc) return -1;
   damp(s, dt);
   if (in->ground) ground(s, in->ground, dt);
-  memcpy(s->x, m->x, sizeof(tb_vec3) * (size_t)s->nv);
-  for (int v = 0; v < s->nv; v++) s->v[v] = tb_scale(tb_sub(s->x[v], s->skin0[v]), 1 / dt);
-  for (int p = 0; p < nfixed; p++) {
-    int v = in->fixed[p];
-    s->x[v] = in->fixed_x[p], s->v[v] = tb_scale(tb_sub(s->x[v], s->xold[v]), 1 / dt);
+  /* the points: the skin, or their targets (ascending), each with its velocity */
+  for (int v = 0, p = 0; v < s->nv; v++) {
+    if (p < nfixed && in->fixed[p] == v) {
+      s->v[v] = tb_scale(tb_sub(in->fixed_x[p], s->x[v]), 1 / dt), s->x[v] = in->fixed_x[p++];
+      continue;
+    }
+    s->v[v] = tb_scale(tb_sub(m->x[v], s->skin0[v]), 1 / dt), s->x[v] = m->x[v];
   }
   return 0;
 }

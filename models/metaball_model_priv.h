@@ -18,8 +18,8 @@ typedef struct mb_model {
   mb_settings set;
   tb_metaball *mb;
   int nv, ns;
-  tb_vec3 *x, *v, *xold; /* the points (nodes) and their velocities, x at a step's start */
-  tb_vec3 *skin0;        /* the skin at a step's start */
+  tb_vec3 *x, *v; /* the points (nodes) and their velocities */
+  tb_vec3 *skin0; /* the skin at a step's start */
   double *mass;
   tb_vec3 *fs;           /* per-sphere forces of a step */
   tb_vec3 *cstart;       /* sphere centres at a step's start */
