@@ -94,7 +94,7 @@ struct tb_meshless {
   double *vol, *mass;
   double *nn;       /* distance to the nearest other point */
   int *start, *nbr; /* CSR links: nbr[start[i] .. start[i+1]-1] */
-  double *w;        /* w_ij per link (rest) */
+  double *dl;       /* |d_ij| per link (the stability bound's) */
   tb_vec3 *d;       /* d_ij = A_i^-1 X_ij w_ij per link */
   unsigned char *active;
   unsigned *mark; /* driven this step when mark[i] == stamp */
@@ -226,27 +226,29 @@ static int link(tb_meshless *m, tb_meshless_crosses crosses, void *ctx) {
   }
   m->start[m->n] = len;
   grid_free(&g);
-  m->w = malloc(sizeof(double) * (size_t)(len + 1));
+  m->dl = malloc(sizeof(double) * (size_t)(len + 1));
   m->d = malloc(sizeof(tb_vec3) * (size_t)(len + 1));
-  return m->w && m->d ? 0 : -1;
+  return m->dl && m->d ? 0 : -1;
 }
 
-/* w_ij, A_i, d_ij and the active flag of point i from its links. */
+/* A_i, d_ij (w_ij from the rest positions), |d_ij| and the active flag of
+ * point i from its links. */
 static void moment(tb_meshless *m, int i) {
   tb_mat3 A = {{{0}}};
   for (int k = m->start[i]; k < m->start[i + 1]; k++) {
     tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
-    double p[3] = {e.x, e.y, e.z};
-    m->w[k] = kernel(tb_len(e), m->h);
+    double p[3] = {e.x, e.y, e.z}, w = kernel(tb_len(e), m->h);
     for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) A.m[a][b] += m->w[k] * p[a] * p[b];
+      for (int b = 0; b < 3; b++) A.m[a][b] += w * p[a] * p[b];
   }
   double tr = (A.m[0][0] + A.m[1][1] + A.m[2][2]) / 3, det = tb_m3_det(A);
   m->active[i] = tr > 0 && det > m->flat * tr * tr * tr;
   tb_mat3 inv = tb_m3_transpose(tb_m3_cofactor(A));
   for (int k = m->start[i]; k < m->start[i + 1]; k++) {
     tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
-    m->d[k] = m->active[i] ? tb_scale(tb_m3_mulv(inv, e), m->w[k] / det) : tb_v3(0, 0, 0);
+    double w = kernel(tb_len(e), m->h);
+    m->d[k] = m->active[i] ? tb_scale(tb_m3_mulv(inv, e), w / det) : tb_v3(0, 0, 0);
+    m->dl[k] = tb_len(m->d[k]);
   }
 }
 
@@ -320,7 +322,7 @@ oom:
 void tb_meshless_destroy(tb_meshless *m) {
   if (!m) return;
   free(m->X), free(m->x), free(m->v), free(m->f), free(m->vol), free(m->mass);
-  free(m->start), free(m->nbr), free(m->w), free(m->d), free(m->active), free(m->mark);
+  free(m->start), free(m->nbr), free(m->dl), free(m->d), free(m->active), free(m->mark);
   free(m->nn), free(m->lids), free(m->freep), free(m->live), free(m->u), free(m);
 }
 
@@ -332,7 +334,7 @@ int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, t
     m->start[i] = len;
     for (int k = b; k < e; k++)
       if (!crosses || !crosses(ctx, m->x[i], m->x[m->nbr[k]])) {
-        m->nbr[len] = m->nbr[k], m->w[len] = m->w[k], m->d[len++] = m->d[k];
+        m->nbr[len] = m->nbr[k], m->dl[len] = m->dl[k], m->d[len++] = m->d[k];
       }
     if (len - at < e - b) m->active[i] = 2; /* lost links: its moments anew, below */
   }
@@ -436,7 +438,7 @@ int tb_meshless_add(tb_meshless *m, int k, const tb_vec3 *X, const tb_vec3 *x, c
       return tb_error_set(err, "meshless", 0, "added point %d: non-finite or bad volume", i);
   if (k == 0) return 0;
   int n0 = m->n, n = n0 + k, *cnt = NULL, *nbr = NULL, *ost = NULL;
-  double *w = NULL, s = m->h / 2;
+  double *dl = NULL, s = m->h / 2;
   tb_vec3 *d = NULL;
   pairs q = {0};
   if (grow(m, n)) goto oom;
@@ -452,21 +454,21 @@ int tb_meshless_add(tb_meshless *m, int k, const tb_vec3 *X, const tb_vec3 *x, c
   /* the new CSR: an old point's list, then its new entries (all ascending) */
   for (int e = 0; e < q.n; e++) cnt[q.p[e][0] + 1]++;
   int len = ost[n0] + q.n;
-  nbr = malloc(sizeof(int) * (size_t)(len + 1)), w = malloc(sizeof(double) * (size_t)(len + 1));
+  nbr = malloc(sizeof(int) * (size_t)(len + 1)), dl = malloc(sizeof(double) * (size_t)(len + 1));
   d = malloc(sizeof(tb_vec3) * (size_t)(len + 1));
-  if (!nbr || !w || !d) goto oom;
+  if (!nbr || !dl || !d) goto oom;
   int *fill = cnt; /* reused: fill[i] = where i's next new entry goes */
   for (int i = 0, at = 0; i < n; i++) {
     int b = i < n0 ? ost[i] : 0, e = i < n0 ? ost[i + 1] : 0, extra = cnt[i + 1];
     memcpy(nbr + at, m->nbr + b, sizeof(int) * (size_t)(e - b));
-    memcpy(w + at, m->w + b, sizeof(double) * (size_t)(e - b));
+    memcpy(dl + at, m->dl + b, sizeof(double) * (size_t)(e - b));
     memcpy(d + at, m->d + b, sizeof(tb_vec3) * (size_t)(e - b));
     m->start[i] = at, fill[i] = at + (e - b), at += e - b + extra;
     m->start[i + 1] = at;
   }
   for (int e = 0; e < q.n; e++) nbr[fill[q.p[e][0]]++] = q.p[e][1];
-  free(m->nbr), free(m->w), free(m->d);
-  m->nbr = nbr, m->w = w, m->d = d, m->n = n;
+  free(m->nbr), free(m->dl), free(m->d);
+  m->nbr = nbr, m->dl = dl, m->d = d, m->n = n;
   /* stencils that changed: the new points', and the old ones that gained */
   for (int e = 0; e < q.n; e++) m->active[q.p[e][0]] = 2;
   for (int i = n0; i < n; i++) sort_ints(m->nbr + m->start[i], m->start[i + 1] - m->start[i]);
@@ -476,7 +478,7 @@ int tb_meshless_add(tb_meshless *m, int k, const tb_vec3 *X, const tb_vec3 *x, c
   m->fvalid = 0, m->lvalid = 0;
   return 0;
 oom:
-  free(cnt), free(ost), free(q.p), free(nbr), free(w), free(d);
+  free(cnt), free(ost), free(q.p), free(nbr), free(dl), free(d);
   return tb_error_set(err, "meshless", 0, "out of memory");
 }
 
@@ -614,10 +616,10 @@ double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *dr
     if (!m->active[i]) continue;
     double dii = tb_len(stencil_d(m, i, -1)), sum = driven && driven[i] ? 0 : dii;
     for (int k = m->start[i]; k < m->start[i + 1]; k++)
-      if (!driven || !driven[m->nbr[k]]) sum += tb_len(m->d[k]);
+      if (!driven || !driven[m->nbr[k]]) sum += m->dl[k];
     double a = m->vol[i] * kappa * sum;
     row[i] += a * dii;
-    for (int k = m->start[i]; k < m->start[i + 1]; k++) row[m->nbr[k]] += a * tb_len(m->d[k]);
+    for (int k = m->start[i]; k < m->start[i + 1]; k++) row[m->nbr[k]] += a * m->dl[k];
   }
   for (int i = 0; i < m->n; i++) {
     if (!m->active[i]) continue;
@@ -627,7 +629,7 @@ double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *dr
       int b = k < m->start[i] ? i : m->nbr[k];
       if (driven && driven[b]) continue;
       tb_vec3 d = k < m->start[i] ? stencil_d(m, i, -1) : m->d[k];
-      double len = tb_len(d);
+      double len = k < m->start[i] ? tb_len(d) : m->dl[k];
       if (!(len > 0)) continue;
       double s = row[b] / (m->mass[b] * len);
       S += len;

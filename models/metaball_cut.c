@@ -273,7 +273,8 @@ static int disjoint(tb_vec3 lo, tb_vec3 hi, tb_vec3 blo, tb_vec3 bhi) {
 int tb_metaball_cut_crosses(void *ctx, tb_vec3 a, tb_vec3 b) {
   const tb_metaball_cutstate *c = ctx;
   tb_vec3 lo = tb_vmin(a, b), hi = tb_vmax(a, b);
-  if (disjoint(lo, hi, c->flo, c->fhi)) return 0;
+  int fresh = c->piece_from > 0 && c->piece_from == c->nfrom; /* the new pieces' box */
+  if (disjoint(lo, hi, fresh ? c->nlo : c->flo, fresh ? c->nhi : c->fhi)) return 0;
   for (int k = c->piece_from; k < c->fold.npieces; k++) {
     if (disjoint(lo, hi, c->plo[k], c->phi[k])) continue;
     tb_fold one = {2, 1, c->fold.depth, c->fold.p + k, c->fold.q + k, c->fold.piece + k};
@@ -307,7 +308,10 @@ static int copy_fold(tb_metaball_cutstate *c, const tb_fold *f, tb_error *err) {
     c->phi[k] = tb_vmax(tb_vmax(p[0], p[1]), tb_vmax(q[0], q[1]));
     c->flo = tb_vmin(c->flo, c->plo[k]), c->fhi = tb_vmax(c->fhi, c->phi[k]);
   }
-  c->piece_from = from, c->has_fold = 1;
+  c->nlo = c->plo[from], c->nhi = c->phi[from];
+  for (int k = from; k < np; k++)
+    c->nlo = tb_vmin(c->nlo, c->plo[k]), c->nhi = tb_vmax(c->nhi, c->phi[k]);
+  c->piece_from = c->nfrom = from, c->has_fold = 1;
   return 0;
 }
 
@@ -410,9 +414,7 @@ int tb_metaball_cut_advance(tb_metaball *m, const tb_fold *f, tb_error *err) {
   int from = c->piece_from;
   tb_fold fresh = {c->fold.count - from, c->fold.npieces - from, c->fold.depth,
                    c->fold.p + from,     c->fold.q + from,       c->fold.piece + from};
-  tb_vec3 blo = c->plo[from], bhi = c->phi[from];
-  for (int k = from; k < c->fold.npieces; k++)
-    blo = tb_vmin(blo, c->plo[k]), bhi = tb_vmax(bhi, c->phi[k]);
+  tb_vec3 blo = c->nlo, bhi = c->nhi;
   for (int s = 0; s < m->n; s++) {
     tb_vec3 rr = tb_v3(m->r[s], m->r[s], m->r[s]);
     if (!m->alive[s] || disjoint(tb_sub(m->c[s], rr), tb_add(m->c[s], rr), blo, bhi) ||

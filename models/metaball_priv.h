@@ -61,6 +61,8 @@ typedef struct tb_metaball_cut {
    * cut test looks at, and scratch for the stability bound */
   tb_vec3 *plo, *phi;
   int piece_from;
+  int nfrom;        /* the first new piece of the last fold given, and ... */
+  tb_vec3 nlo, nhi; /* ... the box of the pieces from it on */
   unsigned char *isdriven;
   double *row;
   tb_vec3 *vbuf;
