@@ -60,27 +60,38 @@
  * frequency of the free points (sqrt of the largest eigenvalue of M^-1 K,
  * K the stiffness at rest). tb_meshless_frequency_bound bounds it without
  * iterating: U_i = V_i psi(H_i) with H_i = sum_b u_b d_ib^T over i's
- * stencil (b = i included, d_ii = -sum_j d_ij), and psi's Hessian in H has
- * norm at most kappa = 2 mu + 3 lambda (the bulk mode; Green strain at
- * rest), so K = sum_i K_i with u^T K_i u <= V_i kappa |H_i|^2, b over the
- * free points only (the driven ones are prescribed). The element
+ * stencil (b = i included, d_ii = -sum_j d_ij), psi's Hessian at rest is
+ * Hooke's, H : C : H = 2 mu |sym H|^2 + lambda (tr H)^2, so K = sum_i K_i
+ * with u^T K_i u <= V_i (2 mu |H_i|^2 + lambda (sum_b u_b . d_ib)^2), b over
+ * the free points only (the driven ones are prescribed). The element
  * eigenvalue theorem (Irons 1970; Fried 1972, "Bounds on the extremal
  * eigenvalues of the finite element stiffness and mass matrices", the
  * explicit FEM's critical step) splits each point's mass among the
  * stencils holding it, m_b = sum_i m_ib, and gives omega^2 <= max_i of
- * stencil i's own largest eigenvalue, here at most V_i kappa lambda_max(sum_b
- * d_ib d_ib^T / m_ib) (|U D|_F^2 <= |U M^1/2|^2 lambda_max(D^T M^-1 D)).
- * The split: m_ib = m_b t_ib / T_b with t_ib = V_i S_i |d_ib|, S_i = sum
- * over i's free b of |d_ib|, T_b = sum_i t_ib; with the trace for
- * lambda_max this is block Gershgorin (Feingold & Varga 1962), omega^2 <=
- * max_b kappa T_b / m_b, the bound used until 2026-11, so the eigenvalue
- * (Smith 1961) is never looser and up to 3 times tighter in omega^2 (a
- * 6^3 lattice: 1.42 x the power-iterated omega against 1.65; the liver's
- * cut: 10.8 substeps a frame against 13.8). The same per-stencil bound
+ * stencil i's own largest eigenvalue against its masses, here at most
+ * V_i (2 mu lambda_max(G_i) + lambda tr(G_i)), G_i = sum_b d_ib d_ib^T / m_ib
+ * (|U D|_F^2 <= |U M^1/2|_F^2 lambda_max(D^T M^-1 D), and Cauchy-Schwarz for
+ * the trace term). The split: m_ib = m_b t_ib / T_b with t_ib = V_i S_i
+ * |d_ib|, S_i = sum over i's free b of |d_ib|, T_b = sum_i t_ib; bounding
+ * the bracket by kappa tr(G_i), kappa = 2 mu + 3 lambda, would give block
+ * Gershgorin (Feingold & Varga 1962), omega^2 <= max_b kappa T_b / m_b, the
+ * bound used until 2026-11, so this one is never looser (eigenvalue:
+ * Smith 1961). A 6^3 lattice: 1.05 x the power-iterated omega against 1.65;
+ * the liver's cut: 8.1 substeps a frame against 13.8. Away from rest the
+ * bound is of the forces linearised at the current positions: the Hessian
+ * of psi in J = F is 2 mu |sym(F^T H)|^2 + lambda (F : H)^2 + S : H^T H
+ * (S = sigma, the second Piola-Kirchhoff stress), at most
+ * sigma_max(F)^2 (2 mu |H|^2 + lambda (tr-like term)) + max(lambda_max(S),
+ * 0) |H|^2, so stencil i's bound is multiplied by sigma_max(F_i)^2 +
+ * max(lambda_max(S_i), 0) / (2 mu) (sigma_max^2 = 1 + 2 lambda_max(eps)):
+ * 1 at rest. (Until 2026-11 a global sqrt(1 + 3 eps_max), the uniaxial
+ * tangent, scaled omega; with the tighter bound the steak held at one end
+ * and cut blew up under it.) The same Hessian at rest
  * gives a group's stiffness under a common translation t of its
  * points (u_b = t for b in the group): H_i = t g_i^T, g_i = sum over the
- * group's points b in i's stencil of d_ib, so the energy's curvature is at
- * most sum_i V_i kappa |g_i|^2 (tb_meshless_group_stiffness). */
+ * group's points b in i's stencil of d_ib, |sym H_i| <= |t| |g_i| and
+ * (tr H_i)^2 <= |t|^2 |g_i|^2, so the energy's curvature is at most
+ * sum_i V_i (2 mu + lambda) |g_i|^2 (tb_meshless_group_stiffness). */
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -107,7 +118,6 @@ struct tb_meshless {
   double h, lambda, mu, damping, density;
   double flat; /* a stencil with det A <= flat (tr A / 3)^3 is inactive */
   int integrator, fvalid;
-  double emax; /* largest |strain component| at the step's last force evaluation */
 };
 
 /* ---- uniform grid: points binned by cell, ascending index in a cell ---- */
@@ -326,23 +336,34 @@ void tb_meshless_destroy(tb_meshless *m) {
   free(m->nn), free(m->lids), free(m->freep), free(m->live), free(m->u), free(m);
 }
 
-int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err) {
-  (void)err; /* compacts in place: cannot fail */
+/* Keeps the links with crosses(x_i, x_j) == 0 (crosses NULL: all) and
+ * keep(i, j) != 0 (keep NULL: all), in place; changed stencils anew. */
+static void filter(tb_meshless *m, tb_meshless_crosses crosses, tb_meshless_keep keep, void *ctx) {
   int len = 0;
   for (int i = 0; i < m->n; i++) {
     int b = m->start[i], e = m->start[i + 1], at = len;
     m->start[i] = len;
-    for (int k = b; k < e; k++)
-      if (!crosses || !crosses(ctx, m->x[i], m->x[m->nbr[k]])) {
-        m->nbr[len] = m->nbr[k], m->dl[len] = m->dl[k], m->d[len++] = m->d[k];
-      }
+    for (int k = b; k < e; k++) {
+      int j = m->nbr[k];
+      if ((crosses && crosses(ctx, m->x[i], m->x[j])) || (keep && !keep(ctx, i, j))) continue;
+      m->nbr[len] = j, m->dl[len] = m->dl[k], m->d[len++] = m->d[k];
+    }
     if (len - at < e - b) m->active[i] = 2; /* lost links: its moments anew, below */
   }
   m->start[m->n] = len;
   for (int i = 0; i < m->n; i++)
     if (m->active[i] == 2) moment(m, i);
   m->fvalid = 0, m->lvalid = 0;
+}
+
+int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err) {
+  (void)err; /* compacts in place: cannot fail */
+  filter(m, crosses, NULL, ctx);
   return 0;
+}
+
+void tb_meshless_unlink(tb_meshless *m, tb_meshless_keep keep, void *ctx) {
+  filter(m, NULL, keep, ctx);
 }
 
 /* ---- incremental insertion ---- */
@@ -512,9 +533,8 @@ static tb_mat3 stress(const tb_meshless *m, tb_mat3 e) {
   return e;
 }
 
-/* Stencil i's forces added to f (m->u = x - X already set); returns the
- * largest |strain component|. */
-static double stencil_forces(const tb_meshless *m, int i, tb_vec3 *f) {
+/* Stencil i's forces added to f (m->u = x - X already set). */
+static void stencil_forces(const tb_meshless *m, int i, tb_vec3 *f) {
   const tb_vec3 *u = m->u, *d = m->d;
   const int *nbr = m->nbr;
   tb_vec3 ui = u[i];
@@ -527,10 +547,9 @@ static double stencil_forces(const tb_meshless *m, int i, tb_vec3 *f) {
   }
   tb_mat3 J = {{{j00, j01, j02}, {j10, j11, j12}, {j20, j21, j22}}};
   tb_mat3 e = tb_m3_mul(tb_m3_transpose(J), J);
-  double big = 0;
   for (int a = 0; a < 3; a++) e.m[a][a] -= 1;
   for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) e.m[a][b] *= 0.5, big = fmax(big, fabs(e.m[a][b]));
+    for (int b = 0; b < 3; b++) e.m[a][b] *= 0.5;
   tb_mat3 Fe = tb_m3_mul(J, stress(m, e));
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) Fe.m[a][b] *= -m->vol[i];
@@ -541,27 +560,23 @@ static double stencil_forces(const tb_meshless *m, int i, tb_vec3 *f) {
     sum = tb_add(sum, fj);
   }
   f[i] = tb_sub(f[i], sum);
-  return big;
 }
 
 /* The forces of the nlist stencils of list (NULL: every active one; each
  * must be active), in list order. With the live list (the stencils holding a
  * free point) the free points' forces are those of all stencils, sums in
  * the same order; the driven points' are partial. */
-static void forces(const tb_meshless *m, tb_vec3 *f, int nlist, const int *list, double *emax) {
+static void forces(const tb_meshless *m, tb_vec3 *f, int nlist, const int *list) {
   for (int i = 0; i < m->n; i++) m->u[i] = tb_sub(m->x[i], m->X[i]);
   memset(f, 0, sizeof(tb_vec3) * (size_t)m->n);
-  double big = 0;
   if (list)
-    for (int k = 0; k < nlist; k++) big = fmax(big, stencil_forces(m, list[k], f));
+    for (int k = 0; k < nlist; k++) stencil_forces(m, list[k], f);
   else
     for (int i = 0; i < m->n; i++)
-      if (m->active[i]) big = fmax(big, stencil_forces(m, i, f));
-  if (emax) *emax = big;
+      if (m->active[i]) stencil_forces(m, i, f);
 }
 
-void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0, NULL, NULL); }
-double tb_meshless_max_strain(const tb_meshless *m) { return m->emax; }
+void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0, NULL); }
 
 double tb_meshless_energy(const tb_meshless *m) {
   double U = 0;
@@ -608,6 +623,15 @@ static double sym3_max_eig(const double a[6]) { /* xx yy zz xy xz yz */
   return q + 2 * p * cos(phi) + 1e-9 * scale;
 }
 
+/* Stencil i's stiffening at the current positions (see the head):
+ * sigma_max(J)^2 + max(lambda_max(S), 0) / (2 mu), 1 at rest. */
+static double stiffening(const tb_meshless *m, int i) {
+  tb_mat3 e = tb_meshless_strain(m, i), S = stress(m, e);
+  double ev[6] = {e.m[0][0], e.m[1][1], e.m[2][2], e.m[0][1], e.m[0][2], e.m[1][2]};
+  double sv[6] = {S.m[0][0], S.m[1][1], S.m[2][2], S.m[0][1], S.m[0][2], S.m[1][2]};
+  return fmax(1 + 2 * sym3_max_eig(ev), 0) + fmax(sym3_max_eig(sv), 0) / (2 * m->mu);
+}
+
 double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *driven, double *row) {
   double kappa = 2 * m->mu + 3 * m->lambda, w2 = 0;
   /* row[b] = kappa T_b (see the head) */
@@ -623,7 +647,7 @@ double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *dr
   }
   for (int i = 0; i < m->n; i++) {
     if (!m->active[i]) continue;
-    /* lambda_i <= lambda_max(sum over free b of d_ib d_ib^T / |d_ib| row[b] / m_b) / S_i */
+    /* g = sum over free b of d_ib d_ib^T / |d_ib| row[b] / m_b */
     double g[6] = {0, 0, 0, 0, 0, 0}, S = 0;
     for (int k = m->start[i] - 1; k < m->start[i + 1]; k++) {
       int b = k < m->start[i] ? i : m->nbr[k];
@@ -636,14 +660,17 @@ double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *dr
       g[0] += s * d.x * d.x, g[1] += s * d.y * d.y, g[2] += s * d.z * d.z;
       g[3] += s * d.x * d.y, g[4] += s * d.x * d.z, g[5] += s * d.y * d.z;
     }
-    if (S > 0) w2 = fmax(w2, sym3_max_eig(g) / S);
+    if (S > 0) /* row holds kappa: G_i = g / (kappa V_i S_i) */
+      w2 = fmax(w2, stiffening(m, i) *
+                        (2 * m->mu * sym3_max_eig(g) + m->lambda * (g[0] + g[1] + g[2])) /
+                        (kappa * S));
   }
   return sqrt(w2);
 }
 
 void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngroups, double *k,
                                  tb_vec3 *scratch) {
-  double kappa = 2 * m->mu + 3 * m->lambda;
+  double kappa = 2 * m->mu + m->lambda; /* see the head */
   for (int g = 0; g < ngroups; g++) k[g] = 0, scratch[g] = tb_v3(0, 0, 0);
   for (int i = 0; i < m->n; i++) {
     if (!m->active[i]) continue;
@@ -709,7 +736,7 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   int verlet = m->integrator == TB_MESHLESS_ALTERNATING, nf = m->nfree;
   const int *fr = m->freep;
   double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt;
-  if (!m->fvalid) forces(m, m->f, m->nlive, m->live, &m->emax);
+  if (!m->fvalid) forces(m, m->f, m->nlive, m->live);
   for (int k = 0; k < nf; k++) {
     int i = fr[k];
     m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
@@ -723,7 +750,7 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   }
   m->fvalid = 0;
   if (verlet) {
-    forces(m, m->f, m->nlive, m->live, &m->emax);
+    forces(m, m->f, m->nlive, m->live);
     m->fvalid = 1;
     for (int k = 0; k < nf; k++) {
       int i = fr[k];

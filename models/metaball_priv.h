@@ -42,9 +42,8 @@ typedef struct tb_metaball_cut {
   double spacing;   /* the shared grid's spacing, or the smallest per-sphere one */
   double rfloor;    /* per_sphere: radii below it sampled as if this radius (coarse) */
   double density;
-  double omega;      /* the point set's largest free frequency (rad/s) */
+  double omega;      /* a bound of the point set's largest free frequency (rad/s) */
   int last_substeps; /* meshless steps in the last frame */
-  double stiffening; /* 1 + 3 x the largest Green strain at the last frame's end */
   tb_vec3 glo;       /* the shared grid's origin */
   int np, pcap;
   tb_vec3 *X, *x, *held; /* points: rest, current (at the last advance), held position */

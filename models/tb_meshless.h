@@ -52,6 +52,11 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
  * only for the stencils that lost links); returns 0.
  * err is unused (kept for symmetry). */
 int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err);
+/* Drops the links i -> j with keep(ctx, i, j) == 0 (either direction is
+ * asked on its own), in place; the stencils that lost links are computed
+ * anew. */
+typedef int (*tb_meshless_keep)(void *ctx, int i, int j);
+void tb_meshless_unlink(tb_meshless *m, tb_meshless_keep keep, void *ctx);
 
 /* Appends k >= 0 points at rest at X, now at x, with velocities v (NULL:
  * zero) and volumes (NULL: (h / 2)^3), keeping the support h of the body's
@@ -72,9 +77,9 @@ void tb_meshless_set_positions(tb_meshless *m, const tb_vec3 *x);
 void tb_meshless_set_velocities(tb_meshless *m, const tb_vec3 *v);
 
 /* An upper bound of the largest angular frequency of the points with
- * driven[i] == 0 (driven may be NULL: none) at rest, without iterating (the
- * head of models/meshless.c): explicit steps are stable below 2 / it. row:
- * scratch of n doubles. */
+ * driven[i] == 0 (driven may be NULL: none), the forces linearised at the
+ * current positions, without iterating (the head of models/meshless.c):
+ * explicit steps are stable below 2 / it. row: scratch of n doubles. */
 double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *driven, double *row);
 /* k[g] (g < ngroups): an upper bound of the stiffness of the points with
  * group[i] == g moved together by a common translation, the others held
@@ -106,10 +111,6 @@ tb_mat3 tb_meshless_jacobian(const tb_meshless *m, int i);
 tb_mat3 tb_meshless_strain(const tb_meshless *m, int i);
 /* Internal (elastic) forces at the current positions into f[n]. */
 void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f);
-/* The largest |eps_ab| over the stencils the last tb_meshless_step's
- * last force evaluation visited (those holding a point not driven), 0
- * before a step: cheap, for a stiffening safety factor. */
-double tb_meshless_max_strain(const tb_meshless *m);
 /* Elastic energy sum_i V_i eps_i : sigma_i / 2 at the current positions. */
 double tb_meshless_energy(const tb_meshless *m);
 /* Kinetic energy sum_i m_i |v_i|^2 / 2. */

@@ -478,7 +478,7 @@ static void timing(void) {
 /* The stability bound without iteration (tb_meshless_frequency_bound) lies
  * above the largest free frequency that power iteration on finite
  * differences of the forces finds (the bottom layer driven), within a
- * factor 1.6 (1.42 measured; block Gershgorin gave 1.65); steps at 0.9 x 2 / bound stay bounded;
+ * factor 1.25 (1.05 measured; block Gershgorin gave 1.65); steps at 0.9 x 2 / bound stay bounded;
  * dropping flat stencils (a larger flatness) never raises it. */
 static void frequency_bound_holds(void) {
   int nx = 6, n = nx * nx * nx;
@@ -510,7 +510,7 @@ static void frequency_bound_holds(void) {
   printf("frequency: power iteration %.4g rad/s, bound %.4g (%.2fx)\n", omega, bound,
          bound / omega);
   TB_CHECK_MSG(bound >= omega * (1 - 1e-6), "bound %g below %g", bound, omega);
-  TB_CHECK_MSG(bound <= 1.6 * omega, "bound %g, 1.6x over %g", bound, omega);
+  TB_CHECK_MSG(bound <= 1.25 * omega, "bound %g, 1.25x over %g", bound, omega);
   tb_meshless_set_positions(m, X);
   tb_meshless_set_damping(m, 0);
   int ids[36];
@@ -538,7 +538,8 @@ done:
 
 /* tb_meshless_group_stiffness bounds the curvature of the energy when a
  * group's points translate together (2 dU / eps^2 along several
- * directions), within a factor 20; points outside any group count nothing. */
+ * directions), within a factor 2 (1.09 and 1.53 measured); points outside any group count nothing.
+ */
 static void group_stiffness_bounds(void) {
   int nx = 6, n = nx * nx * nx;
   tb_vec3 *X = lattice(nx, nx, nx, 0.3, 6), *x = malloc(sizeof(tb_vec3) * (size_t)n);
@@ -563,7 +564,7 @@ static void group_stiffness_bounds(void) {
       most = fmax(most, curv);
     }
     printf("group %d: stiffness bound %.4g, largest measured %.4g\n", g, k[g], most);
-    TB_CHECK_MSG(most >= k[g] / 20, "group %d: bound %g, 20x over %g", g, k[g], most);
+    TB_CHECK_MSG(most >= k[g] / 2, "group %d: bound %g, 2x over %g", g, k[g], most);
   }
   for (int i = 0; i < n; i++) x[i] = tb_v3(0.1 * i, -0.2, 0.05 * (i % 3));
   tb_meshless_set_velocities(m, x);
