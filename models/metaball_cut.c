@@ -27,7 +27,9 @@
  * fold, earlier points keep their state, new ones take their sphere's
  * velocity), keeping its support h; it is rebuilt over all points (as
  * before 2026-11, on every conversion: 0.5-1.6 ms a frame) only when the
- * mean spacing a rebuild would take drifts more than 10% from h / 2. The fold grows each frame:
+ * mean spacing a rebuild would take drifts more than 10% from h / 2, and a
+ * rebuild links two old points only if they were linked (tb_meshless_unlink):
+ * what the blade parted stays parted. The fold grows each frame:
  * every advance re-cuts the links, and when the new fold extends the last one (same depth, the old
  * path a prefix) only against the pieces the blade swept since (the last
  * old piece and the new ones), spheres too: material that later moves
@@ -59,19 +61,15 @@
  * / (1 + b), which keeps every equilibrium (F = -G, v = 0) and is stable
  * for any k_s; k_s bounds the stiffness of the sphere's driven points moved
  * together (tb_meshless_group_stiffness, from the stencils; an upper bound
- * only damps the coupling more). The meshless body is explicit (stable for
- * dt omega < 2): substeps of at most cfl x 2 / omega, omega an upper bound
- * of its largest free frequency (tb_meshless_frequency_bound: block
- * Gershgorin on the stencils, no iteration), both recomputed whenever its
- * points or links change. (Until 2026-11 both came from finite differences
- * of the forces, 40 power iterations and one force evaluation per sphere:
- * 80% of a frame; the bound is about 1.7-2.5x the iterated value, so cfl's
- * default went from 0.5 to 0.9.) The bound holds at rest; Green strain
- * stiffens in tension (a stretch lambda has the tangent stiffness
- * (3 lambda^2 - 1) / 2 = 1 + 3 eps of the rest one), so omega is scaled by
- * sqrt(1 + 3 eps) with eps the largest strain component of a stencil
- * holding a free point at the last frame's last force evaluation (the steak held at one end and cut
- * under gravity blew up without it: strains of 0.28).
+ * only damps the coupling more), recomputed whenever the points or links
+ * change. The meshless body is explicit (stable for dt omega < 2):
+ * substeps of at most cfl x 2 / omega, omega an upper bound of its largest
+ * free frequency with the forces linearised at the frame's start
+ * (tb_meshless_frequency_bound: per stencil, no iteration; models/meshless.c's
+ * head). (Until 2026-11 both came from finite differences of the forces,
+ * 40 power iterations and one force evaluation per sphere: 80% of a frame;
+ * then block Gershgorin, 1.7-2.5x the iterated omega, times a global
+ * sqrt(1 + 3 eps) for the stiffening in tension; now 1.05-1.3x.)
  *
  * (4) Points back to spheres (cut_end). Boundary points: a point with no
  * neighbour inside the cone of half-angle boundary_angle about its normal

@@ -6,8 +6,10 @@
  * other falls freely (and does not when uncut); a cut stopping inside keeps
  * the body one piece; the re-packing's counts and radii; determinism; the
  * skin re-bound at the current configuration follows a rigid motion; bad
- * calls; and the cost on a packed liver. */
+ * calls; points the blade parted stay parted through a rebuild (the steak);
+ * and the cost on a packed liver. */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -441,6 +443,107 @@ static void bad_calls(void) {
 /* The cost on a liver of 725 surface vertices packed to 540 spheres, cut
  * through its middle across x by a blade moving in 20 frames: ms per frame
  * (advance + cut_step) and the cut's end. */
+static int cmp_key(const void *a, const void *b) {
+  uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+  return (x > y) - (x < y);
+}
+
+/* The point set's links as sorted keys i << 32 | j (malloc'ed; count). */
+static int link_keys(const tb_meshless *ml, uint64_t **out) {
+  int n = tb_meshless_count(ml), total = 0;
+  for (int i = 0; i < n; i++) total += tb_meshless_neighbours(ml, i, NULL);
+  uint64_t *k = malloc(sizeof(uint64_t) * (size_t)(total + 1));
+  for (int i = 0, at = 0; k && i < n; i++) {
+    const int *nb;
+    int c = tb_meshless_neighbours(ml, i, &nb);
+    for (int q = 0; q < c; q++) k[at++] = (uint64_t)i << 32 | (uint32_t)nb[q];
+  }
+  if (k) qsort(k, (size_t)total, sizeof(uint64_t), cmp_key);
+  *out = k;
+  return k ? total : -1;
+}
+
+/* Once the blade has parted two points they stay parted, also when the
+ * point set is rebuilt with a new support (it is on the steak here, whose
+ * spheres' radii vary, so the spacing drifts): the steak held at one end
+ * and cut across under gravity, its free end falling below the fold while
+ * the blade goes on; in every frame each link between points that existed
+ * the frame before was a link then. (Before 2026-11 a rebuild linked anew
+ * every pair the whole fold did not separate at the current positions, and
+ * the fallen half came back: strain energy x 18, then a blow-up.) */
+static void parted_stay_parted(void) {
+  tb_mesh surf = {0};
+  tb_spheres sp = {0};
+  tb_error err;
+  const tb_organ_info *info = tb_organ_find("steak");
+  tb_sphpack_def pd = tb_sphpack_default_def(info ? info->spheres : 539);
+  if (!info || tb_organ_surface("steak", 0, 1, &surf, &err) ||
+      tb_sphere_pack(&surf, "steak", &pd, &sp, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", info ? err.msg : "no steak");
+    tb_mesh_free(&surf);
+    return;
+  }
+  tb_metaball_settings set;
+  tb_metaball_settings_default(&set);
+  tb_metaball *m = tb_metaball_create(sp.n, sp.c, sp.r, &surf, &set, &err);
+  TB_CHECK_MSG(m != NULL, "%s", err.msg);
+  tb_vec3 lo = sp.c[0], hi = sp.c[0];
+  for (int i = 0; i < sp.n; i++) lo = tb_vmin(lo, sp.c[i]), hi = tb_vmax(hi, sp.c[i]);
+  int ax = hi.x - lo.x >= hi.y - lo.y ? 0 : 1; /* held at the low end of the long axis */
+  for (int i = 0; m && i < sp.n; i++)
+    tb_metaball_fix(
+        m, i, tb_comp(sp.c[i], ax) < tb_comp(lo, ax) + 0.2 * (tb_comp(hi, ax) - tb_comp(lo, ax)));
+  tb_metaball_cut_settings cs;
+  tb_metaball_cut_settings_default(&cs);
+  cs.per_sphere = 40;
+  uint64_t *prev = NULL;
+  int nprev = 0, npts_prev = 0, rebuilds = 0, back = 0, frames = 0;
+  double h = 0;
+  if (!m || tb_metaball_cut_begin(m, &cs, &err)) goto done;
+  double at = tb_comp(lo, ax) + 0.6 * (tb_comp(hi, ax) - tb_comp(lo, ax)), top = hi.z + 0.5;
+  int ox = 1 - ax; /* the blade goes along the other axis */
+  double o0 = tb_comp(lo, ox) - 0.3, o1 = tb_comp(hi, ox) + 0.3;
+  tb_vec3 path[31];
+  for (int k = 0; k <= 30; k++) {
+    double o = o0 + (o1 - o0) * k / 30;
+    path[k] = ax == 0 ? tb_v3(at, o, top) : tb_v3(o, at, top);
+  }
+  for (int k = 1; k <= 30; k++) {
+    tb_fold f;
+    if (tb_fold_init(&f, path, k + 1, tb_v3(0, 0, -(hi.z - lo.z + 1)), &err)) break;
+    int rc = tb_metaball_cut_advance(m, &f, &err) < 0 ||
+             tb_metaball_cut_step(m, 0.01, tb_v3(0, 0, -9.81), NULL, &err);
+    tb_fold_free(&f);
+    TB_CHECK_MSG(!rc, "frame %d: %s", k, err.msg);
+    if (rc) break;
+    const tb_meshless *ml = tb_metaball_cut_meshless(m);
+    if (!ml) continue;
+    uint64_t *keys;
+    int nk = link_keys(ml, &keys);
+    if (nk < 0) break;
+    if (h > 0 && tb_meshless_support(ml) != h) rebuilds++;
+    h = tb_meshless_support(ml);
+    for (int q = 0; q < nk && prev; q++) {
+      int i = (int)(keys[q] >> 32), j = (int)(uint32_t)keys[q];
+      if (i < npts_prev && j < npts_prev &&
+          !bsearch(&keys[q], prev, (size_t)nprev, sizeof(uint64_t), cmp_key))
+        back++;
+    }
+    free(prev);
+    prev = keys, nprev = nk, npts_prev = tb_meshless_count(ml), frames++;
+  }
+  printf("steak: %d frames with points, %d rebuilds, %d links back\n", frames, rebuilds, back);
+  TB_CHECK_MSG(frames >= 10, "only %d frames had points", frames);
+  TB_CHECK_MSG(rebuilds >= 1, "no rebuild: the test does not reach it");
+  TB_CHECK_MSG(back == 0, "%d links came back between parted points", back);
+  TB_CHECK(tb_metaball_cut_end(m, NULL, &err) == 0);
+done:
+  free(prev);
+  tb_metaball_destroy(m);
+  tb_spheres_free(&sp);
+  tb_mesh_free(&surf);
+}
+
 static void liver_timing(void) {
   tb_liver_def def = tb_liver_default_def();
   tb_mesh surf = {0};
@@ -510,6 +613,7 @@ const tb_test_case tb_tests_metaball_cut[] = {
     {"same_cut_same_spheres", same_cut_same_spheres},
     {"skin_rebinds", skin_rebinds},
     {"bad_calls", bad_calls},
+    {"parted_stay_parted", parted_stay_parted},
     {"liver_timing", liver_timing},
     {NULL, NULL},
 };
