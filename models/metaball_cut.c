@@ -69,7 +69,9 @@
  * head). (Until 2026-11 both came from finite differences of the forces,
  * 40 power iterations and one force evaluation per sphere: 80% of a frame;
  * then block Gershgorin, 1.7-2.5x the iterated omega, times a global
- * sqrt(1 + 3 eps) for the stiffening in tension; now 1.05-1.3x.)
+ * sqrt(1 + 3 eps) for the stiffening in tension; now 1.05-1.3x, and cfl
+ * 0.7: at 0.9, dt omega up to 1.8 with omega taken at the frame's start,
+ * the liver's cut in the metaball suite blew up.)
  *
  * (4) Points back to spheres (cut_end). Boundary points: a point with no
  * neighbour inside the cone of half-angle boundary_angle about its normal
@@ -117,7 +119,7 @@
 void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s) {
   s->spacing = 0.3, s->per_sphere = 0, s->min_dist = 0.6;
   s->E = 1000, s->nu = 0.3, s->density = 0, s->damping = 2, s->coupling = 1;
-  s->substeps = 0, s->cfl = 0.9, s->boundary_angle = 45, s->boundary_offset = 0.25;
+  s->substeps = 0, s->cfl = 0.7, s->boundary_angle = 45, s->boundary_offset = 0.25;
   s->flatness = 0.02, s->coarse = 0.3;
 }
 

@@ -89,7 +89,7 @@ typedef struct tb_metaball_cut_settings {
 } tb_metaball_cut_settings;
 
 /* spacing 0.3, per_sphere 0, min_dist 0.6, E 1000, nu 0.3, density 0,
- * damping 2, coupling 1, substeps 0, cfl 0.9, boundary_angle 45,
+ * damping 2, coupling 1, substeps 0, cfl 0.7, boundary_angle 45,
  * boundary_offset 0.25, flatness 0.02, coarse 0.3. */
 void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s);
 
