@@ -632,8 +632,9 @@ static double stiffening(const tb_meshless *m, int i) {
   return fmax(1 + 2 * sym3_max_eig(ev), 0) + fmax(sym3_max_eig(sv), 0) / (2 * m->mu);
 }
 
-double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *driven, double *row) {
-  double kappa = 2 * m->mu + 3 * m->lambda, w2 = 0;
+void tb_meshless_rest_bounds(const tb_meshless *m, const unsigned char *driven, double *row,
+                             double *bound) {
+  double kappa = 2 * m->mu + 3 * m->lambda;
   /* row[b] = kappa T_b (see the head) */
   memset(row, 0, sizeof(double) * (size_t)m->n);
   for (int i = 0; i < m->n; i++) {
@@ -646,6 +647,7 @@ double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *dr
     for (int k = m->start[i]; k < m->start[i + 1]; k++) row[m->nbr[k]] += a * m->dl[k];
   }
   for (int i = 0; i < m->n; i++) {
+    bound[i] = 0;
     if (!m->active[i]) continue;
     /* g = sum over free b of d_ib d_ib^T / |d_ib| row[b] / m_b */
     double g[6] = {0, 0, 0, 0, 0, 0}, S = 0;
@@ -661,11 +663,21 @@ double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *dr
       g[3] += s * d.x * d.y, g[4] += s * d.x * d.z, g[5] += s * d.y * d.z;
     }
     if (S > 0) /* row holds kappa: G_i = g / (kappa V_i S_i) */
-      w2 = fmax(w2, stiffening(m, i) *
-                        (2 * m->mu * sym3_max_eig(g) + m->lambda * (g[0] + g[1] + g[2])) /
-                        (kappa * S));
+      bound[i] = (2 * m->mu * sym3_max_eig(g) + m->lambda * (g[0] + g[1] + g[2])) / (kappa * S);
   }
+}
+
+double tb_meshless_frequency_at(const tb_meshless *m, const double *bound) {
+  double w2 = 0;
+  for (int i = 0; i < m->n; i++)
+    if (bound[i] > 0) w2 = fmax(w2, stiffening(m, i) * bound[i]);
   return sqrt(w2);
+}
+
+double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *driven, double *row) {
+  double *bound = row + m->n;
+  tb_meshless_rest_bounds(m, driven, row, bound);
+  return tb_meshless_frequency_at(m, bound);
 }
 
 void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngroups, double *k,

@@ -65,7 +65,7 @@
  * change. The meshless body is explicit (stable for dt omega < 2):
  * substeps of at most cfl x 2 / omega, omega an upper bound of its largest
  * free frequency with the forces linearised at the frame's start
- * (tb_meshless_frequency_bound: per stencil, no iteration; models/meshless.c's
+ * (tb_meshless_frequency_at: per stencil, no iteration; models/meshless.c's
  * head). (Until 2026-11 both came from finite differences of the forces,
  * 40 power iterations and one force evaluation per sphere: 80% of a frame;
  * then block Gershgorin, 1.7-2.5x the iterated omega, times a global
@@ -335,7 +335,7 @@ static int drive(tb_metaball *m, tb_metaball_cutstate *c, int from) {
         grow_to((void **)&c->ids, n, sizeof(int)) || grow_to((void **)&c->fx0, n, v3) ||
         grow_to((void **)&c->fx1, n, v3) || grow_to((void **)&c->fx, n, v3) ||
         grow_to((void **)&c->fpts, n, v3) || grow_to((void **)&c->isdriven, n, 1) ||
-        grow_to((void **)&c->row, n, sizeof(double)))
+        grow_to((void **)&c->row, 2 * n, sizeof(double)))
       return -1;
     c->dcap = c->np;
   }
@@ -366,9 +366,12 @@ static int drive(tb_metaball *m, tb_metaball_cutstate *c, int from) {
   return 0;
 }
 
-/* Each driving sphere's coupling stiffness, from the stencils in one pass
- * (models/meshless.c's head; no iteration, no force evaluation). */
+/* Each driving sphere's coupling stiffness, from the stencils in one pass,
+ * and each stencil's bound of omega^2 at rest (row + np; the frame's bound
+ * scales them by the strain) (models/meshless.c's head; no iteration, no
+ * force evaluation). */
 static void stiffness(tb_metaball_cutstate *c, int nsph) {
+  tb_meshless_rest_bounds(c->ml, c->isdriven, c->row, c->row + c->np);
   tb_meshless_group_stiffness(c->ml, c->driver, nsph, c->ks, c->fel); /* fel: scratch here */
 }
 
@@ -512,7 +515,7 @@ int tb_metaball_cut_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_ve
     return 0;
   }
   tb_meshless_forces(c->ml, c->fpts);
-  c->omega = tb_meshless_frequency_bound(c->ml, c->isdriven, c->row); /* at the frame's start */
+  c->omega = tb_meshless_frequency_at(c->ml, c->row + c->np); /* at the frame's start */
   for (int i = 0; i < m->n; i++) c->fsph[i] = force ? force[i] : tb_v3(0, 0, 0);
   const tb_vec3 *x = tb_meshless_positions(c->ml);
   for (int k = 0; k < c->nd; k++) c->fx0[k] = x[c->ids[k]];

@@ -79,8 +79,15 @@ void tb_meshless_set_velocities(tb_meshless *m, const tb_vec3 *v);
 /* An upper bound of the largest angular frequency of the points with
  * driven[i] == 0 (driven may be NULL: none), the forces linearised at the
  * current positions, without iterating (the head of models/meshless.c):
- * explicit steps are stable below 2 / it. row: scratch of n doubles. */
+ * explicit steps are stable below 2 / it. row: scratch of 2 n doubles. */
 double tb_meshless_frequency_bound(const tb_meshless *m, const unsigned char *driven, double *row);
+/* The same in two parts: per stencil its bound of omega^2 at rest (0 when
+ * it holds no free point) into bound[n] (row: scratch of n), which depends
+ * only on the links and the driven set; then the bound at the current
+ * positions from them (each stencil's times its stiffening). */
+void tb_meshless_rest_bounds(const tb_meshless *m, const unsigned char *driven, double *row,
+                             double *bound);
+double tb_meshless_frequency_at(const tb_meshless *m, const double *bound);
 /* k[g] (g < ngroups): an upper bound of the stiffness of the points with
  * group[i] == g moved together by a common translation, the others held
  * (group[i] < 0: no group). scratch: ngroups vectors. O(links). */

@@ -485,7 +485,7 @@ static void frequency_bound_holds(void) {
   tb_vec3 *X = lattice(nx, nx, nx, 0.3, 5);
   tb_meshless *m = make(n, X, 1e5, NULL, NULL);
   unsigned char *drv = calloc((size_t)n, 1);
-  double *row = malloc(sizeof(double) * (size_t)n);
+  double *row = malloc(sizeof(double) * 2 * (size_t)n);
   tb_vec3 *u = malloc(sizeof(tb_vec3) * (size_t)n), *f0 = malloc(sizeof(tb_vec3) * (size_t)n),
           *f1 = malloc(sizeof(tb_vec3) * (size_t)n), *xs = malloc(sizeof(tb_vec3) * (size_t)n);
   if (!m) goto done;
