@@ -42,6 +42,10 @@ static void list_markdown(void) {
     for (int k = 0; k < c->nsettings; k++) {
       const tb_setting *st = &c->settings[k];
       printf("%s `%s` ", k ? "," : "", st->key);
+      if (st->type == TB_SETTING_FILE) {
+        printf("none");
+        continue;
+      }
       if (st->type != TB_SETTING_CHOICE) {
         printf("%g", st->def);
         continue;

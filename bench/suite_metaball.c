@@ -42,12 +42,14 @@
 #define NMAX (TB_NORGANS + 1)
 #define SPHERE_SCALE 0.35 /* the pictures draw the spheres at this share of their radius */
 
-/* One organ: its surface (z up) and sphere count, the patent's figures. */
+/* One organ: its surface (z up) and sphere count, the patent's figures;
+ * given: spheres to use instead of packing (SOFA's liver.sph), else n 0. */
 typedef struct organ {
   char name[32], source[96];
   int spheres;
   double deform_ms, cut_ms; /* the patent's (NAN: none) */
   tb_mesh surf;
+  tb_spheres given;
 } organ;
 
 /* What an organ's runs give. */
@@ -115,9 +117,9 @@ int tb_mbs_deform(tb_model *m, const tb_step *in, const tb_mbs_plan *p, double *
   return 0;
 }
 
-/* The organs: ours, then SOFA's liver-smooth (rotated so its y, SOFA's up,
- * is z) with liver.sph's count when the data is there (*sofa_why says why
- * not otherwise). */
+/* The organs: ours, then SOFA's liver-smooth with liver.sph's spheres (both
+ * rotated so that SOFA's up, y, is z) when the data is there (*sofa_why
+ * says why not otherwise). */
 static int organs(int only_steak, uint64_t seed, organ *o, char *sofa_why, size_t cap) {
   int n = 0;
   tb_error err;
@@ -136,20 +138,20 @@ static int organs(int only_steak, uint64_t seed, organ *o, char *sofa_why, size_
   }
   sofa_why[0] = 0;
   if (only_steak) return snprintf(sofa_why, cap, "left out at --scale < 1"), n;
-  tb_spheres sph = {0};
   organ *g = &o[n];
   memset(g, 0, sizeof *g);
-  if (tb_mesh_read(SOFA_SURF, &g->surf, &err) || tb_spheres_read(SOFA_SPH, &sph, &err)) {
-    tb_mesh_free(&g->surf);
+  if (tb_mesh_read(SOFA_SURF, &g->surf, &err) || tb_spheres_read(SOFA_SPH, &g->given, &err)) {
+    tb_mesh_free(&g->surf), tb_spheres_free(&g->given);
     snprintf(sofa_why, cap, "not run: %.150s", err.msg);
     return n;
   }
   for (int i = 0; i < g->surf.nv; i++) /* a rotation about x: y -> z, z -> -y */
     g->surf.x[i] = tb_v3(g->surf.x[i].x, -g->surf.x[i].z, g->surf.x[i].y);
+  for (int i = 0; i < g->given.n; i++)
+    g->given.c[i] = tb_v3(g->given.c[i].x, -g->given.c[i].z, g->given.c[i].y);
   snprintf(g->name, sizeof g->name, "SOFA liver-smooth");
-  snprintf(g->source, sizeof g->source, "SOFA liver-smooth.obj; spheres: liver.sph's count");
-  g->spheres = sph.n, g->deform_ms = g->cut_ms = NAN;
-  tb_spheres_free(&sph);
+  snprintf(g->source, sizeof g->source, "SOFA liver-smooth.obj and liver.sph");
+  g->spheres = g->given.n, g->deform_ms = g->cut_ms = NAN;
   return n + 1;
 }
 
@@ -229,16 +231,29 @@ static int run(const organ *g, int rep, const tb_mbs_plan *p, int grid, uint64_t
   tb_sphpack_def pd = tb_sphpack_default_def(g->spheres);
   pd.seed = seed % 2147483647u;
   tb_spheres sp = {0};
-  uint64_t t0 = tb_time_ns();
-  if (tb_sphere_pack(&g->surf, g->name, &pd, &sp, NULL, err)) return -1;
-  w->pack[w->npack++] = (double)(tb_time_ns() - t0) * 1e-6;
-  if (rep == 0 && tb_sphere_coverage_of(&g->surf, g->name, &sp, grid, &w->cov, err))
+  char sph[1100] = "";
+  if (g->given.n) { /* the model reads them from a file: the rotated ones, written here */
+    snprintf(sph, sizeof sph, "%s/%s-z-up.sph", dir, stem);
+    if (rep == 0 && tb_spheres_write(sph, &g->given, err)) return -1;
+  } else {
+    uint64_t t0 = tb_time_ns();
+    if (tb_sphere_pack(&g->surf, g->name, &pd, &sp, NULL, err)) return -1;
+    w->pack[w->npack++] = (double)(tb_time_ns() - t0) * 1e-6;
+  }
+  if (rep == 0 &&
+      tb_sphere_coverage_of(&g->surf, g->name, g->given.n ? &g->given : &sp, grid, &w->cov, err))
     return tb_spheres_free(&sp), -1;
   tb_spheres_free(&sp);
   tb_settings set;
   tb_settings_init(&set);
-  tb_settings_setd(&set, "spheres", g->spheres, NULL);
-  tb_settings_setd(&set, "seed", (double)pd.seed, NULL);
+  if (g->given.n) {
+    char kv[1200];
+    snprintf(kv, sizeof kv, "spheres_file=%s", sph);
+    if (tb_settings_set(&set, kv, err)) return -1;
+  } else {
+    tb_settings_setd(&set, "spheres", g->spheres, NULL);
+    tb_settings_setd(&set, "seed", (double)pd.seed, NULL);
+  }
   tb_model m;
   if (tb_model_create(&m, "metaball", &g->surf, &set, err)) return -1;
   tb_model_spheres ms = m.cls->spheres(m.self);
@@ -446,7 +461,7 @@ static void record(tb_suite *su, const organ *g, const row *w, const char *stem)
   tb_suite_counter(su, name, "closed_manifold", w->closed);
   tb_suite_counter(su, name, "identical_repetitions", w->identical);
   snprintf(name, sizeof name, "metaball/%s/pack", stem);
-  tb_suite_bench(su, name, w->pack, NULL, w->npack, "ms");
+  if (w->npack) tb_suite_bench(su, name, w->pack, NULL, w->npack, "ms"); /* given spheres: none */
   tb_suite_counter(su, name, "volume_covered", w->cov.volume);
   tb_suite_counter(su, name, "skin_reach", w->cov.reach);
 }
@@ -535,9 +550,9 @@ int tb_suite_metaball(const tb_suite_opts *o) {
       grid, TB_MBS_DT, TB_MBS_G, TB_MBS_END_SHARE, p.warm, p.nblocks, p.block, CUT_FRAMES,
       AFTER_FRAMES, reps, failed ? "NO (or a run failed)" : "yes",
       why[0] ? why
-             : "rotated so that SOFA's up (y) is z; the model has no way to take given spheres, so "
-               "it is packed by tb_sphere_pack to liver.sph's count (34) instead of using the "
-               "file's spheres",
+             : "liver.sph's spheres (34) and the surface rotated so that SOFA's up (y) is z, the "
+               "spheres written to sofa-liver-smooth-z-up.sph and given to the model "
+               "(spheres_file); no packing, so no packing time",
       cx->cpu, cx->cores, cx->have_load ? cx->load[0] : NAN);
   table1(su, g, w, n);
   repack_table(su, g, w, n);
@@ -576,7 +591,8 @@ int tb_suite_metaball(const tb_suite_opts *o) {
   for (int k = 0; k < n; k++) {
     free(w[k].pack), free(w[k].deform), free(w[k].cut), free(w[k].end), free(w[k].move);
     free(w[k].cstep);
-    free(w[k].x_after), free(w[k].tri_after), tb_mesh_free(&g[k].surf);
+    free(w[k].x_after), free(w[k].tri_after), tb_mesh_free(&g[k].surf),
+        tb_spheres_free(&g[k].given);
   }
   tb_renderer_free(r);
   if (tb_suite_end(su, &err)) fprintf(stderr, "metaball: %s\n", err.msg), failed = 1;

@@ -8,7 +8,9 @@
  * tb_sphere_pack to `spheres` spheres (0: the patent's ratio, 570 spheres
  * for the 8128-vertex liver, i.e. round(nsurf * 570 / 8128) surface
  * vertices, within [40, 600] so that a coarse beam still has enough and
- * create stays fast), then tb_metaball_create binds every node.
+ * create stays fast), then tb_metaball_create binds every node. Or the
+ * spheres come from a SOFA .sph file (spheres_file; SOFA's liver.sph for its
+ * liver-smooth), read by tb_spheres_read, with spheres left at 0.
  *
  * Points. The model's points are the mesh's nodes, skinned: a surface
  * vertex by the patent's Gaussian rule (at most 3 spheres with
@@ -181,8 +183,15 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   tb_sphpack_def def = tb_sphpack_default_def(sphere_count(&s->set, nsurf));
   def.samples = s->set.samples, def.seed = (uint64_t)s->set.seed;
   tb_spheres sp = {0};
-  if (tb_sphere_pack(&surf, "mesh", &def, &sp, NULL, err)) {
+  if (s->set.spheres_file[0] && s->set.spheres) {
+    tb_error_set(err, "metaball", 0, "give spheres or spheres_file, not both");
     free(tri);
+    return destroy(s), NULL;
+  }
+  if (s->set.spheres_file[0] ? tb_spheres_read(s->set.spheres_file, &sp, err)
+                             : tb_sphere_pack(&surf, "mesh", &def, &sp, NULL, err)) {
+    free(tri);
+    tb_spheres_free(&sp);
     return destroy(s), NULL;
   }
   double vs = 0;
@@ -419,6 +428,8 @@ static const tb_setting settings[] = {
                  "cut: points a sphere the blade touches turns into (the patent's second mode)"),
     TB_SETTING_R(S, cut_E, 1000.0, 0.0, HUGE_VAL, TB_OPEN_LO,
                  "cut: Young's modulus of the meshless point set"),
+    TB_SETTING_F(S, spheres_file,
+                 "SOFA .sph spheres (sph 1.0) to use instead of the packing; spheres must be 0"),
 };
 #undef S
 

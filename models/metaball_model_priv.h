@@ -10,8 +10,9 @@
 typedef struct mb_settings {
   double density, node_mass, stretch, unit, damping, sigma, overlap;
   int iterations, spheres, samples, seed;
-  int cut_points; /* points per converted sphere */
-  double cut_E;   /* the point set's Young's modulus */
+  int cut_points;                         /* points per converted sphere */
+  double cut_E;                           /* the point set's Young's modulus */
+  char spheres_file[TB_SETTING_TEXT_MAX]; /* SOFA .sph spheres instead of the packing ("": pack) */
 } mb_settings;
 
 typedef struct mb_model {

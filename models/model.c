@@ -144,6 +144,19 @@ static int value_of(const tb_model_class *c, const tb_setting *st, const tb_sett
   return 0;
 }
 
+/* A FILE setting's text (set's, else ""), copied into dst's field. */
+static int file_of(const tb_model_class *c, const tb_setting *st, const tb_settings *set, void *dst,
+                   tb_error *err) {
+  const char *text = "";
+  for (int i = 0; set && i < set->n; i++)
+    if (!strcmp(set->kv[i].key, st->key)) text = set->kv[i].value;
+  if (strlen(text) >= TB_SETTING_TEXT_MAX)
+    return tb_error_set(err, c->name, 0, "%s: a file name of at most %d characters", st->key,
+                        TB_SETTING_TEXT_MAX - 1);
+  if (dst) memcpy((char *)dst + st->offset, text, strlen(text) + 1);
+  return 0;
+}
+
 /* Fills dst (NULL: only checks) from the table's defaults and set's values. */
 static int resolve(const tb_model_class *c, const tb_settings *set, void *dst, tb_error *err) {
   for (int i = 0; set && i < set->n; i++)
@@ -159,6 +172,10 @@ static int resolve(const tb_model_class *c, const tb_settings *set, void *dst, t
     }
   for (int i = 0; i < c->nsettings; i++) {
     double x;
+    if (c->settings[i].type == TB_SETTING_FILE) {
+      if (file_of(c, &c->settings[i], set, dst, err)) return -1;
+      continue;
+    }
     if (value_of(c, &c->settings[i], set, &x, err) < 0) return -1;
     if (dst) store(&c->settings[i], dst, x);
   }
@@ -192,8 +209,13 @@ int tb_model_check_settings(const char *name, const tb_settings *set, tb_error *
 int tb_model_setting(const char *name, const tb_settings *set, const char *key, double *out) {
   const tb_model_class *c = tb_model_find(name);
   const tb_setting *st = c ? find_setting(c, key) : NULL;
-  if (!st) return -1;
+  if (!st || st->type == TB_SETTING_FILE) return -1;
   return value_of(c, st, set, out, NULL) < 0 ? -1 : 0;
+}
+
+int tb_model_has_setting(const char *name, const char *key) {
+  const tb_model_class *c = tb_model_find(name);
+  return c && find_setting(c, key) != NULL;
 }
 
 void tb_model_print_settings(FILE *f, const tb_model_class *c) {
@@ -203,11 +225,13 @@ void tb_model_print_settings(FILE *f, const tb_model_class *c) {
     if (st->type == TB_SETTING_CHOICE) {
       choice_name(st->choices, (int)st->def, def, sizeof def);
       snprintf(range, sizeof range, "%s", st->choices);
+    } else if (st->type == TB_SETTING_FILE) {
+      snprintf(def, sizeof def, "none"), snprintf(range, sizeof range, "a file name");
     } else {
       snprintf(def, sizeof def, "%g", st->def);
       range_text(st, range, sizeof range);
     }
-    static const char *const types[] = {"real", "int", "choice"};
+    static const char *const types[] = {"real", "int", "choice", "file"};
     fprintf(f, "    %-18s %-6s %-9s %-24s %s\n", st->key, types[st->type], def, range, st->doc);
   }
 }

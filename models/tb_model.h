@@ -28,11 +28,12 @@
  * values, each parsed and range-checked against the table. `simulate
  * --set`, `simulate --list` and the README's lists come from the tables. */
 #define TB_SETTINGS_MAX 32
+#define TB_SETTING_TEXT_MAX 256 /* a value's text, and a FILE setting's field, with its NUL */
 typedef struct tb_settings {
   int n;
   struct {
     char key[32];
-    char value[64];
+    char value[TB_SETTING_TEXT_MAX];
   } kv[TB_SETTINGS_MAX];
 } tb_settings;
 
@@ -45,13 +46,19 @@ int tb_settings_set(tb_settings *s, const char *key_eq_value, tb_error *err);
 /* key=v with v printed %.17g (reads back exactly). */
 int tb_settings_setd(tb_settings *s, const char *key, double v, tb_error *err);
 
-typedef enum { TB_SETTING_REAL, TB_SETTING_INT, TB_SETTING_CHOICE } tb_setting_type;
+typedef enum {
+  TB_SETTING_REAL,
+  TB_SETTING_INT,
+  TB_SETTING_CHOICE,
+  TB_SETTING_FILE
+} tb_setting_type;
 /* tb_setting.open: which bounds of [lo, hi] are excluded. */
 enum { TB_OPEN_LO = 1, TB_OPEN_HI = 2 };
 
 /* One entry of a model's settings table. REAL is a double in the model's
  * struct, INT and CHOICE an int (CHOICE: the index into choices; the value
- * text is a name or the index). */
+ * text is a name or the index), FILE a char[TB_SETTING_TEXT_MAX] holding a
+ * file name as given ("" by default: none; the model reads the file). */
 typedef struct tb_setting {
   const char *key;
   tb_setting_type type;
@@ -71,6 +78,8 @@ typedef struct tb_setting {
   { #key, TB_SETTING_INT, offsetof(T, key), def, lo, hi, NULL, doc, 0 }
 #define TB_SETTING_C(T, key, def, hi, choices, doc) \
   { #key, TB_SETTING_CHOICE, offsetof(T, key), def, 0, hi, choices, doc, 0 }
+#define TB_SETTING_F(T, key, doc) \
+  { #key, TB_SETTING_FILE, offsetof(T, key), 0, 0, 0, NULL, doc, 0 }
 
 /* Table fragments the models share. Every model takes the mass settings;
  * node_mass_def is its default (msm, sm: 1, the thesis's unit masses). */
@@ -223,8 +232,10 @@ int tb_model_create(tb_model *m, const char *name, const tb_mesh *mesh, const tb
 int tb_model_check_settings(const char *name, const tb_settings *set, tb_error *err);
 /* The effective value of key for model name: set's value, else the
  * default (CHOICE: the index). -1 when the model has no such key (or the
- * value does not parse), 0 otherwise. */
+ * value does not parse, or it is a FILE setting), 0 otherwise. */
 int tb_model_setting(const char *name, const tb_settings *set, const char *key, double *out);
+/* 1 when model `name` has a setting `key` (of any type), else 0. */
+int tb_model_has_setting(const char *name, const char *key);
 /* One line per key: key, type, default, range, doc. */
 void tb_model_print_settings(FILE *f, const tb_model_class *c);
 

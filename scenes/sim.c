@@ -291,8 +291,7 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
     char key[64];
     snprintf(key, sizeof key, "%.*s", (int)strcspn(s->desc.model_set[i], "="),
              s->desc.model_set[i]);
-    double unused;
-    if (other && tb_model_setting(mname, NULL, key, &unused) < 0) continue;
+    if (other && !tb_model_has_setting(mname, key)) continue;
     tb_settings one;
     tb_settings_init(&one);
     tb_error e2;
@@ -304,7 +303,7 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
     }
   }
   for (int i = 0; set && i < set->n; i++) {
-    char kv[100];
+    char kv[sizeof set->kv[0].key + sizeof set->kv[0].value + 2];
     snprintf(kv, sizeof kv, "%s=%s", set->kv[i].key, set->kv[i].value);
     if (tb_settings_set(&all, kv, err)) goto fail;
   }

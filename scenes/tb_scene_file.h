@@ -149,7 +149,7 @@ typedef struct tb_scene_desc {
   tb_mesh_source mesh;
   char model[32]; /* default model ("" : none, --model must say) */
   int nmodel_set;
-  char model_set[TB_SCENE_MAX_SETTINGS][96]; /* "key=value" */
+  char model_set[TB_SCENE_MAX_SETTINGS][288]; /* "key=value": key < 32, value < 256 (tb_model.h) */
   int model_set_line[TB_SCENE_MAX_SETTINGS];
   int nfix;
   tb_selection fix[TB_SCENE_MAX_ITEMS];

@@ -1,6 +1,6 @@
 /* Tests of the metaball model behind the model interface
  * (models/metaball_model.c): rest, rigid skin, sag to rest, recovery after
- * a push, free fall, prescribed nodes. */
+ * a push, free fall, prescribed nodes, spheres from a .sph file. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -226,9 +226,58 @@ static void inputs(void) {
   tb_mesh_free(&beam);
 }
 
+/* spheres_file: the model takes a SOFA .sph file's spheres instead of
+ * packing (their count, centres and radii, every node skinned and at
+ * rest); with spheres also set, a missing file or a malformed one, create
+ * fails saying why (the file's name; FILE:LINE for a bad line). */
+static void spheres_from_file(void) {
+  tb_mesh mesh;
+  tb_error err;
+  TB_CHECK(tb_geosphere(252, 1.0, &mesh, &err) == 0);
+  const char *good =
+      tb_test_file("ball.sph",
+                   "sph 1.0\n#nums 5\nsphe 0 0 0 0 0.7\nsphe 1 0.45 0 0 0.5\n"
+                   "sphe 2 -0.45 0 0 0.5\nsphe 3 0 0.45 0 0.5\nsphe 4 0 -0.45 0 0.5\n",
+                   -1);
+  char kv[700];
+  snprintf(kv, sizeof kv, "spheres_file=%s", good);
+  tb_settings s = tb_test_settings(kv);
+  tb_model m;
+  int rc = tb_model_create(&m, "metaball", &mesh, &s, &err);
+  TB_CHECK_MSG(rc == 0, "%s", err.msg);
+  if (rc == 0) {
+    tb_model_spheres ms = m.cls->spheres(m.self);
+    TB_CHECK_MSG(ms.n == 5, "%d spheres, the file has 5", ms.n);
+    TB_CHECK(ms.n == 5 && ms.r[0] == 0.7 && ms.c[1].x == 0.45 && ms.r[4] == 0.5);
+    TB_CHECK(max_move(&mesh, tb_model_positions(&m)) < 1e-12);
+    tb_model_destroy(&m);
+  }
+  snprintf(kv, sizeof kv, "spheres_file=%s spheres=5", good);
+  s = tb_test_settings(kv);
+  TB_CHECK(tb_model_create(&m, "metaball", &mesh, &s, &err) != 0);
+  TB_CHECK_MSG(strstr(err.msg, "not both"), "%s", err.msg);
+  s = tb_test_settings("spheres_file=/nonexistent/x.sph");
+  TB_CHECK(tb_model_create(&m, "metaball", &mesh, &s, &err) != 0);
+  TB_CHECK_MSG(strstr(err.msg, "/nonexistent/x.sph"), "%s", err.msg);
+  const char *bad =
+      tb_test_file("bad.sph", "sph 1.0\n#nums 2\nsphe 0 0 0 0 0.5\nsphe 1 0 0 x 0.5\n", -1);
+  snprintf(kv, sizeof kv, "spheres_file=%s", bad);
+  s = tb_test_settings(kv);
+  TB_CHECK(tb_model_create(&m, "metaball", &mesh, &s, &err) != 0);
+  char want[700];
+  snprintf(want, sizeof want, "%s:4", bad);
+  TB_CHECK_MSG(strstr(err.msg, want), "%s", err.msg);
+  tb_mesh_free(&mesh);
+}
+
 const tb_test_case tb_tests_metaball_model[] = {
-    {"rest_stays", rest_stays},   {"rigid_skin", rigid_skin},
-    {"sag_to_rest", sag_to_rest}, {"push_and_recover", push_and_recover},
-    {"free_fall", free_fall},     {"prescribed_exact", prescribed_exact},
-    {"inputs", inputs},           {NULL, NULL},
+    {"rest_stays", rest_stays},
+    {"rigid_skin", rigid_skin},
+    {"sag_to_rest", sag_to_rest},
+    {"push_and_recover", push_and_recover},
+    {"free_fall", free_fall},
+    {"prescribed_exact", prescribed_exact},
+    {"inputs", inputs},
+    {"spheres_from_file", spheres_from_file},
+    {NULL, NULL},
 };
