@@ -218,6 +218,14 @@ int tb_model_has_setting(const char *name, const char *key) {
   return c && find_setting(c, key) != NULL;
 }
 
+int tb_model_file_setting(const char *key) {
+  for (int i = 0; i < tb_model_count; i++) {
+    const tb_setting *st = find_setting(tb_model_classes[i], key);
+    if (st && st->type == TB_SETTING_FILE) return 1;
+  }
+  return 0;
+}
+
 void tb_model_print_settings(FILE *f, const tb_model_class *c) {
   for (int i = 0; i < c->nsettings; i++) {
     const tb_setting *st = &c->settings[i];

@@ -236,6 +236,9 @@ int tb_model_check_settings(const char *name, const tb_settings *set, tb_error *
 int tb_model_setting(const char *name, const tb_settings *set, const char *key, double *out);
 /* 1 when model `name` has a setting `key` (of any type), else 0. */
 int tb_model_has_setting(const char *name, const char *key);
+/* 1 when some model's setting `key` is a FILE one (a scene resolves its
+ * value as a path), else 0. */
+int tb_model_file_setting(const char *key);
 /* One line per key: key, type, default, range, doc. */
 void tb_model_print_settings(FILE *f, const tb_model_class *c);
 

@@ -12,6 +12,7 @@
 
 #include "scene_priv.h"
 #include "tb_generators.h"
+#include "tb_model.h"
 
 const char *const tb_scene_param_names[TB_P_COUNT] = {
     "dt",        "duration", "amplitude",     "release",      "nodes",      "gravity", "vmax",
@@ -292,6 +293,13 @@ static int model_key(parser *p, const char *key, const char *value) {
   tb_scene_desc *d = p->d;
   if (!strcmp(key, "name")) return snprintf(d->model, sizeof d->model, "%s", value), 1;
   if (d->nmodel_set == TB_SCENE_MAX_SETTINGS) return fail(p, "too many model settings%s%s", "", "");
+  char path[TB_SETTING_TEXT_MAX];
+  const char *why;
+  if (tb_model_file_setting(key)) { /* a file: relative to the scene, or data: */
+    if (tb_scene_resolve_path(p->dir, value, path, sizeof path, &why))
+      return fail(p, "%s: %s", key, why);
+    value = path;
+  }
   if (snprintf(d->model_set[d->nmodel_set], sizeof d->model_set[0], "%s=%s", key, value) >=
       (int)sizeof d->model_set[0])
     return fail(p, "setting too long: %s%s", key, "");

@@ -58,6 +58,23 @@ static void file_errors(void) {
   expect_cli_error("cut-fem.ini",
                    BEAM "[cut]\npoint = 0,-1,-1\npoint = 0,2,-1\ndepth = 0,0,3\nstop = 0.1\n", 7,
                    "fem model cannot be cut");
+  /* a model's file setting: relative to the scene, and read */
+  expect_cli_error("sph-missing.ini", BEAM "[model]\nspheres_file = no-such.sph\n", 7,
+                   "spheres_file: cannot read the file");
+  {
+    const char *sph = tb_test_file("beam-spheres.sph",
+                                   "sph 1.0\n#nums 5\nsphe 0 1 0.5 0.5 0.8\nsphe 1 3 0.5 0.5 "
+                                   "0.8\nsphe 2 5 0.5 0.5 0.8\nsphe 3 7 0.5 0.5 0.8\nsphe 4 9 "
+                                   "0.5 0.5 0.8\n",
+                                   -1);
+    (void)sph; /* beside the scene: named relative to it */
+    const char *sc = scene_file("sph-beam.ini", "[scene]\nduration = 0.05\n" BEAM
+                                                "[model]\nspheres_file = beam-spheres.sph\n");
+    char args[1400];
+    snprintf(args, sizeof args, "simulate --model metaball --scene %s", sc);
+    int rc = tb_test_cli_run(args);
+    TB_CHECK_MSG(rc == 0 && strstr(tb_test_out, "stable"), "exit %d: %s", rc, tb_test_out);
+  }
   /* the id file's own line */
   const char *ids = tb_test_file("ids.txt", "# fixed nodes\n0 1\n2 x3\n", -1);
   char text[1200];
