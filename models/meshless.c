@@ -77,7 +77,8 @@
  * Gershgorin (Feingold & Varga 1962), omega^2 <= max_b kappa T_b / m_b, the
  * bound used until 2026-11, so this one is never looser (eigenvalue:
  * Smith 1961). A 6^3 lattice: 1.05 x the power-iterated omega against 1.65;
- * the liver's cut: 8.1 substeps a frame against 13.8. Away from rest the
+ * the liver's point set at the end of tools/metaball_cut_timing's cut, the
+ * bound linearised there as below: 1.21 x (before: about 1.75). Away from rest the
  * bound is of the forces linearised at the current positions: the Hessian
  * of psi in J = F is 2 mu |sym(F^T H)|^2 + lambda (F : H)^2 + S : H^T H
  * (S = sigma, the second Piola-Kirchhoff stress), at most
