@@ -723,8 +723,8 @@ static void live_lists(tb_meshless *m, int nfixed, const int *ids) {
       while (k < m->start[i + 1] && m->mark[m->nbr[k]] == st) k++;
     if (m->mark[i] != st || k < m->start[i + 1]) m->live[m->nlive++] = i;
   }
-  m->lvalid = nfixed <= m->n;
-  if (m->lvalid) memcpy(m->lids, ids, sizeof(int) * (size_t)nfixed), m->nlids = nfixed;
+  m->lvalid = nfixed <= m->n, m->nlids = nfixed;
+  if (m->lvalid && nfixed > 0) memcpy(m->lids, ids, sizeof(int) * (size_t)nfixed);
 }
 
 int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, const int *ids,
