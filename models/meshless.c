@@ -730,25 +730,26 @@ static void live_lists(tb_meshless *m, int nfixed, const int *ids) {
 int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, const int *ids,
                      const tb_vec3 *fixed_x, tb_error *err) {
   if (!(dt > 0)) return tb_error_set(err, "meshless", 0, "dt must be positive");
-  for (int k = 0; k < nfixed; k++)
-    if (ids[k] < 0 || ids[k] >= m->n)
-      return tb_error_set(err, "meshless", 0, "driven point %d out of range", ids[k]);
-  if (++m->stamp == 0) {
-    memset(m->mark, 0, sizeof(unsigned) * (size_t)m->n), m->stamp = 1, m->fvalid = 0;
-  }
-  for (int k = 0; k < nfixed; k++) m->mark[ids[k]] = m->stamp;
+  /* the same driven set as the last step: its marks, lists and check stand */
   int same = m->lvalid && nfixed == m->nlids &&
              (nfixed == 0 || !memcmp(ids, m->lids, sizeof(int) * (size_t)nfixed));
   if (!same) {
+    for (int k = 0; k < nfixed; k++)
+      if (ids[k] < 0 || ids[k] >= m->n)
+        return tb_error_set(err, "meshless", 0, "driven point %d out of range", ids[k]);
+    if (++m->stamp == 0) {
+      memset(m->mark, 0, sizeof(unsigned) * (size_t)m->n), m->stamp = 1, m->fvalid = 0;
+    }
+    for (int k = 0; k < nfixed; k++) m->mark[ids[k]] = m->stamp;
     /* the last step's forces left out stencils driven then: valid unless a
      * point driven then is free now */
     for (int i = 0; i < m->n && m->fvalid; i++)
       if (m->stamp > 1 && m->mark[i] == m->stamp - 1) m->fvalid = 0;
     live_lists(m, nfixed, ids);
   }
-  int verlet = m->integrator == TB_MESHLESS_ALTERNATING, nf = m->nfree;
+  int verlet = m->integrator == TB_MESHLESS_ALTERNATING, nf = m->nfree, bad = -1;
   const int *fr = m->freep;
-  double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt;
+  double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt, inv = 1 / dt;
   if (!m->fvalid) forces(m, m->f, m->nlive, m->live);
   for (int k = 0; k < nf; k++) {
     int i = fr[k];
@@ -758,8 +759,9 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   }
   for (int k = 0; k < nfixed; k++) {
     int i = ids[k];
-    m->v[i] = tb_scale(tb_sub(fixed_x[k], m->x[i]), 1 / dt);
+    m->v[i] = tb_scale(tb_sub(fixed_x[k], m->x[i]), inv);
     m->x[i] = fixed_x[k];
+    if (bad < 0 && !tb_isfinite3(m->x[i])) bad = i;
   }
   m->fvalid = 0;
   if (verlet) {
@@ -771,9 +773,10 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
       m->v[i] = tb_scale(m->v[i], damp);
     }
   }
-  for (int i = 0; i < m->n; i++)
-    if (!tb_isfinite3(m->x[i]) || !tb_isfinite3(m->v[i]))
-      return tb_error_set(err, "meshless", 0, "point %d: non-finite state (dt too large?)", i);
+  for (int k = 0; k < nf && bad < 0; k++)
+    if (!tb_isfinite3(m->x[fr[k]]) || !tb_isfinite3(m->v[fr[k]])) bad = fr[k];
+  if (bad >= 0)
+    return tb_error_set(err, "meshless", 0, "point %d: non-finite state (dt too large?)", bad);
   return 0;
 }
 
