@@ -40,6 +40,11 @@
  * freely when it has no active neighbour; no NaN comes from it. (A dt
  * beyond the explicit bound still blows up: tb_meshless_step reports it.)
  *
+ * The forces are gathered: each stencil's P_i = -V_i J_i sigma_i, then each
+ * point's sum over the stencils holding it through the transposed links, in
+ * ascending order; both loops split among threads (OpenMP), each result
+ * computed whole by one thread, so the thread count changes no bit.
+ *
  * Volumes: given, or s^3. Masses m_i = density V_i.
  *
  * Time integration. The patent (normalised to simplified script; its "显示"
@@ -116,10 +121,17 @@ struct tb_meshless {
    * set and the links stay; u = x - X for the forces */
   int *lids, nlids, *freep, nfree, *live, nlive, lvalid;
   tb_vec3 *u;
+  /* the forces as gathers: each stencil's -V J sigma (P), and the links
+   * transposed (point j: the stencils i holding it, t: j's entry in i's
+   * list), rebuilt when the links change */
+  tb_mat3 *P;
+  int *rstart, *rsrc, *rpos, rcap;
   double h, lambda, mu, damping, density;
   double flat; /* a stencil with det A <= flat (tr A / 3)^3 is inactive */
   int integrator, fvalid;
 };
+
+static int transpose(tb_meshless *m);
 
 /* ---- uniform grid: points binned by cell, ascending index in a cell ---- */
 
@@ -289,9 +301,10 @@ tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, d
   m->mark = calloc(nv, sizeof(unsigned)), m->nn = malloc(sizeof(double) * nv);
   m->lids = malloc(sizeof(int) * nv), m->freep = malloc(sizeof(int) * nv);
   m->live = malloc(sizeof(int) * nv), m->u = malloc(sizeof(tb_vec3) * nv);
+  m->P = malloc(sizeof(tb_mat3) * nv), m->rstart = malloc(sizeof(int) * (nv + 1));
   grid g = {0};
   if (!m->X || !m->x || !m->v || !m->f || !m->vol || !m->mass || !m->start || !m->active ||
-      !m->mark || !m->nn || !m->lids || !m->freep || !m->live || !m->u)
+      !m->mark || !m->nn || !m->lids || !m->freep || !m->live || !m->u || !m->P || !m->rstart)
     goto oom;
   memcpy(m->X, x, sizeof(tb_vec3) * nv), memcpy(m->x, x, sizeof(tb_vec3) * nv);
   /* Spacing s: mean nearest-neighbour distance, on a grid of ~1 point/cell. */
@@ -320,7 +333,7 @@ tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, d
   tb_lame(E, nu, &m->lambda, &m->mu);
   m->density = density;
   m->flat = 1e-3;
-  if (link(m, crosses, ctx)) goto oom;
+  if (link(m, crosses, ctx) || transpose(m)) goto oom;
   moments(m);
   return m;
 oom:
@@ -334,7 +347,34 @@ void tb_meshless_destroy(tb_meshless *m) {
   if (!m) return;
   free(m->X), free(m->x), free(m->v), free(m->f), free(m->vol), free(m->mass);
   free(m->start), free(m->nbr), free(m->dl), free(m->d), free(m->active), free(m->mark);
-  free(m->nn), free(m->lids), free(m->freep), free(m->live), free(m->u), free(m);
+  free(m->nn), free(m->lids), free(m->freep), free(m->live), free(m->u), free(m->P);
+  free(m->rstart), free(m->rsrc), free(m->rpos), free(m);
+}
+
+/* The links transposed: for point j, the stencils i holding it (ascending)
+ * and j's entry in i's list. 0, or -1 out of memory (links only shrink
+ * after create but through tb_meshless_add, which can fail). */
+static int transpose(tb_meshless *m) {
+  int n = m->n, len = m->start[n];
+  if (len > m->rcap) {
+    int *a = realloc(m->rsrc, sizeof(int) * (size_t)(len + 1));
+    if (a) m->rsrc = a;
+    int *b = realloc(m->rpos, sizeof(int) * (size_t)(len + 1));
+    if (b) m->rpos = b;
+    if (!a || !b) return -1;
+    m->rcap = len;
+  }
+  memset(m->rstart, 0, sizeof(int) * (size_t)(n + 1));
+  for (int k = 0; k < len; k++) m->rstart[m->nbr[k] + 1]++;
+  for (int j = 0; j < n; j++) m->rstart[j + 1] += m->rstart[j];
+  for (int i = 0; i < n; i++)
+    for (int k = m->start[i]; k < m->start[i + 1]; k++) {
+      int at = m->rstart[m->nbr[k]]++; /* the cursor: j's start, moved on */
+      m->rsrc[at] = i, m->rpos[at] = k;
+    }
+  for (int j = n; j > 0; j--) m->rstart[j] = m->rstart[j - 1];
+  m->rstart[0] = 0;
+  return 0;
 }
 
 /* Keeps the links with crosses(x_i, x_j) == 0 (crosses NULL: all) and
@@ -355,6 +395,7 @@ static void filter(tb_meshless *m, tb_meshless_crosses crosses, tb_meshless_keep
   for (int i = 0; i < m->n; i++)
     if (m->active[i] == 2) moment(m, i);
   m->fvalid = 0, m->lvalid = 0;
+  transpose(m); /* fewer links: no allocation, cannot fail */
 }
 
 int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err) {
@@ -407,6 +448,12 @@ static int grow(tb_meshless *m, int n) {
   if (ac) m->active = ac;
   unsigned *mk = realloc(m->mark, sizeof(unsigned) * N);
   if (mk) m->mark = mk;
+  tb_mat3 *P = realloc(m->P, sizeof(tb_mat3) * N);
+  if (!P) return -1;
+  m->P = P;
+  int *rs = realloc(m->rstart, sizeof(int) * (N + 1));
+  if (!rs) return -1;
+  m->rstart = rs;
   int **i1[] = {&m->lids, &m->freep, &m->live};
   for (int a = 0; a < 3; a++) {
     int *t = realloc(*i1[a], sizeof(int) * N);
@@ -498,6 +545,7 @@ int tb_meshless_add(tb_meshless *m, int k, const tb_vec3 *X, const tb_vec3 *x, c
     if (i >= n0 || m->active[i] == 2) moment(m, i);
   free(cnt), free(ost), free(q.p);
   m->fvalid = 0, m->lvalid = 0;
+  if (transpose(m)) return tb_error_set(err, "meshless", 0, "out of memory");
   return 0;
 oom:
   free(cnt), free(ost), free(q.p), free(nbr), free(dl), free(d);
@@ -534,8 +582,9 @@ static tb_mat3 stress(const tb_meshless *m, tb_mat3 e) {
   return e;
 }
 
-/* Stencil i's forces added to f (m->u = x - X already set). */
-static void stencil_forces(const tb_meshless *m, int i, tb_vec3 *f) {
+/* Stencil i's P_i = -V_i J_i sigma_i (m->u = x - X already set): its
+ * force on neighbour j is P_i d_ij, on i itself P_i d_ii. */
+static void stencil_P(const tb_meshless *m, int i) {
   const tb_vec3 *u = m->u, *d = m->d;
   const int *nbr = m->nbr;
   tb_vec3 ui = u[i];
@@ -551,33 +600,55 @@ static void stencil_forces(const tb_meshless *m, int i, tb_vec3 *f) {
   for (int a = 0; a < 3; a++) e.m[a][a] -= 1;
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) e.m[a][b] *= 0.5;
-  tb_mat3 Fe = tb_m3_mul(J, stress(m, e));
+  tb_mat3 P = tb_m3_mul(J, stress(m, e));
   for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) Fe.m[a][b] *= -m->vol[i];
-  tb_vec3 sum = tb_v3(0, 0, 0);
-  for (int k = m->start[i]; k < m->start[i + 1]; k++) {
-    tb_vec3 fj = tb_m3_mulv(Fe, d[k]);
-    f[nbr[k]] = tb_add(f[nbr[k]], fj);
-    sum = tb_add(sum, fj);
+    for (int b = 0; b < 3; b++) P.m[a][b] *= -m->vol[i];
+  m->P[i] = P;
+}
+
+/* Point j's force, gathered: its own stencil's P_j d_jj = -P_j sum_k d_jk
+ * and P_i d_ij from each active stencil i holding it (the transposed links,
+ * ascending i): each point's sum in a fixed order, whoever computes it. */
+static tb_vec3 gather(const tb_meshless *m, int j) {
+  tb_vec3 f = tb_v3(0, 0, 0);
+  if (m->active[j]) {
+    tb_vec3 s = tb_v3(0, 0, 0);
+    for (int k = m->start[j]; k < m->start[j + 1]; k++) s = tb_add(s, m->d[k]);
+    f = tb_scale(tb_m3_mulv(m->P[j], s), -1);
   }
-  f[i] = tb_sub(f[i], sum);
+  for (int r = m->rstart[j]; r < m->rstart[j + 1]; r++) {
+    int i = m->rsrc[r];
+    if (m->active[i]) f = tb_add(f, tb_m3_mulv(m->P[i], m->d[m->rpos[r]]));
+  }
+  return f;
 }
 
-/* The forces of the nlist stencils of list (NULL: every active one; each
- * must be active), in list order. With the live list (the stencils holding a
- * free point) the free points' forces are those of all stencils, sums in
- * the same order; the driven points' are partial. */
-static void forces(const tb_meshless *m, tb_vec3 *f, int nlist, const int *list) {
-  for (int i = 0; i < m->n; i++) m->u[i] = tb_sub(m->x[i], m->X[i]);
-  memset(f, 0, sizeof(tb_vec3) * (size_t)m->n);
-  if (list)
-    for (int k = 0; k < nlist; k++) stencil_forces(m, list[k], f);
-  else
-    for (int i = 0; i < m->n; i++)
-      if (m->active[i]) stencil_forces(m, i, f);
+/* The forces on the npts points of pts (NULL: all) from the nlist stencils
+ * of list (NULL: every active one), which must hold every active stencil
+ * holding those points (the live list does for the free points). Threads
+ * split both loops into fixed parts; each P_i and f_j is computed whole by
+ * one thread in a fixed order, so the count changes nothing. */
+static void forces(const tb_meshless *m, tb_vec3 *f, int nlist, const int *list, int npts,
+                   const int *pts) {
+  int n = m->n, ns = list ? nlist : n, np = pts ? npts : n;
+#pragma omp parallel if (ns > 256)
+  {
+#pragma omp for schedule(static)
+    for (int i = 0; i < n; i++) m->u[i] = tb_sub(m->x[i], m->X[i]);
+#pragma omp for schedule(static)
+    for (int k = 0; k < ns; k++) {
+      int i = list ? list[k] : k;
+      if (m->active[i]) stencil_P(m, i);
+    }
+#pragma omp for schedule(static)
+    for (int k = 0; k < np; k++) {
+      int j = pts ? pts[k] : k;
+      f[j] = gather(m, j);
+    }
+  }
 }
 
-void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0, NULL); }
+void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0, NULL, 0, NULL); }
 
 double tb_meshless_energy(const tb_meshless *m) {
   double U = 0;
@@ -750,7 +821,7 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   int verlet = m->integrator == TB_MESHLESS_ALTERNATING, nf = m->nfree, bad = -1;
   const int *fr = m->freep;
   double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt, inv = 1 / dt;
-  if (!m->fvalid) forces(m, m->f, m->nlive, m->live);
+  if (!m->fvalid) forces(m, m->f, m->nlive, m->live, m->nfree, m->freep);
   for (int k = 0; k < nf; k++) {
     int i = fr[k];
     m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
@@ -765,7 +836,7 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   }
   m->fvalid = 0;
   if (verlet) {
-    forces(m, m->f, m->nlive, m->live);
+    forces(m, m->f, m->nlive, m->live, m->nfree, m->freep);
     m->fvalid = 1;
     for (int k = 0; k < nf; k++) {
       int i = fr[k];

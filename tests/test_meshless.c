@@ -11,6 +11,7 @@
 #include "tb_meshless.h"
 #include "tb_rng.h"
 #include "tb_test.h"
+#include "tb_threads.h"
 #include "tb_timer.h"
 
 #define S 0.01 /* sample spacing (m) */
@@ -424,13 +425,15 @@ static void bad_input(void) {
   free(X);
 }
 
-/* Same inputs, bit-identical positions and velocities, both integrators. */
+/* Same inputs, bit-identical positions and velocities, both integrators,
+ * on one thread and on two (the forces are gathered per point). */
 static void deterministic(void) {
-  int n = 7 * 6 * 5;
-  tb_vec3 *X = lattice(7, 6, 5, 0.2, 10), *r[2][2];
+  int n = 9 * 7 * 6, threads = tb_threads();
+  tb_vec3 *X = lattice(9, 7, 6, 0.2, 10), *r[2][2];
   double cut = 3.5 * S;
   for (int integ = 0; integ < 2; integ++)
     for (int run = 0; run < 2; run++) {
+      tb_threads_set(run ? 2 : 1); /* the second run on two threads: the same bits */
       tb_meshless *m = make(n, X, 1e4, plane_x, &cut);
       if (!m) return;
       tb_meshless_set_integrator(m, integ);
@@ -447,6 +450,7 @@ static void deterministic(void) {
         for (int k = 0; k < 2; k++) free(r[0][k]), free(r[1][k]);
       }
     }
+  tb_threads_set(threads);
   free(X);
 }
 
