@@ -125,7 +125,7 @@ struct tb_meshless {
    * transposed (point j: the stencils i holding it, t: j's entry in i's
    * list), rebuilt when the links change */
   tb_mat3 *P;
-  int *rstart, *rsrc, *rpos, rcap;
+  int *rstart, *rsrc, *rpos, rcap, rvalid; /* rvalid: rebuilt before the next forces */
   double h, lambda, mu, damping, density;
   double flat; /* a stencil with det A <= flat (tr A / 3)^3 is inactive */
   int integrator, fvalid;
@@ -333,7 +333,7 @@ tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, d
   tb_lame(E, nu, &m->lambda, &m->mu);
   m->density = density;
   m->flat = 1e-3;
-  if (link(m, crosses, ctx) || transpose(m)) goto oom;
+  if (link(m, crosses, ctx)) goto oom;
   moments(m);
   return m;
 oom:
@@ -351,11 +351,11 @@ void tb_meshless_destroy(tb_meshless *m) {
   free(m->rstart), free(m->rsrc), free(m->rpos), free(m);
 }
 
-/* The links transposed: for point j, the stencils i holding it (ascending)
- * and j's entry in i's list. 0, or -1 out of memory (links only shrink
- * after create but through tb_meshless_add, which can fail). */
+/* The links transposed (when changed since): for point j, the stencils i
+ * holding it (ascending) and j's entry in i's list. 0, or -1 out of memory. */
 static int transpose(tb_meshless *m) {
   int n = m->n, len = m->start[n];
+  if (m->rvalid) return 0;
   if (len > m->rcap) {
     int *a = realloc(m->rsrc, sizeof(int) * (size_t)(len + 1));
     if (a) m->rsrc = a;
@@ -374,6 +374,7 @@ static int transpose(tb_meshless *m) {
     }
   for (int j = n; j > 0; j--) m->rstart[j] = m->rstart[j - 1];
   m->rstart[0] = 0;
+  m->rvalid = 1;
   return 0;
 }
 
@@ -394,8 +395,7 @@ static void filter(tb_meshless *m, tb_meshless_crosses crosses, tb_meshless_keep
   m->start[m->n] = len;
   for (int i = 0; i < m->n; i++)
     if (m->active[i] == 2) moment(m, i);
-  m->fvalid = 0, m->lvalid = 0;
-  transpose(m); /* fewer links: no allocation, cannot fail */
+  m->fvalid = 0, m->lvalid = 0, m->rvalid = 0;
 }
 
 int tb_meshless_relink(tb_meshless *m, tb_meshless_crosses crosses, void *ctx, tb_error *err) {
@@ -544,8 +544,7 @@ int tb_meshless_add(tb_meshless *m, int k, const tb_vec3 *X, const tb_vec3 *x, c
   for (int i = 0; i < n; i++)
     if (i >= n0 || m->active[i] == 2) moment(m, i);
   free(cnt), free(ost), free(q.p);
-  m->fvalid = 0, m->lvalid = 0;
-  if (transpose(m)) return tb_error_set(err, "meshless", 0, "out of memory");
+  m->fvalid = 0, m->lvalid = 0, m->rvalid = 0;
   return 0;
 oom:
   free(cnt), free(ost), free(q.p), free(nbr), free(dl), free(d);
@@ -628,9 +627,10 @@ static tb_vec3 gather(const tb_meshless *m, int j) {
  * holding those points (the live list does for the free points). Threads
  * split both loops into fixed parts; each P_i and f_j is computed whole by
  * one thread in a fixed order, so the count changes nothing. */
-static void forces(const tb_meshless *m, tb_vec3 *f, int nlist, const int *list, int npts,
-                   const int *pts) {
+static int forces(tb_meshless *m, tb_vec3 *f, int nlist, const int *list, int npts,
+                  const int *pts) {
   int n = m->n, ns = list ? nlist : n, np = pts ? npts : n;
+  if (transpose(m)) return -1;
 #pragma omp parallel if (ns > 256)
   {
 #pragma omp for schedule(static)
@@ -646,9 +646,10 @@ static void forces(const tb_meshless *m, tb_vec3 *f, int nlist, const int *list,
       f[j] = gather(m, j);
     }
   }
+  return 0;
 }
 
-void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f) { forces(m, f, 0, NULL, 0, NULL); }
+int tb_meshless_forces(tb_meshless *m, tb_vec3 *f) { return forces(m, f, 0, NULL, 0, NULL); }
 
 double tb_meshless_energy(const tb_meshless *m) {
   double U = 0;
@@ -821,7 +822,8 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   int verlet = m->integrator == TB_MESHLESS_ALTERNATING, nf = m->nfree, bad = -1;
   const int *fr = m->freep;
   double damp = exp(-m->damping * dt), kick = verlet ? 0.5 * dt : dt, inv = 1 / dt;
-  if (!m->fvalid) forces(m, m->f, m->nlive, m->live, m->nfree, m->freep);
+  if (!m->fvalid && forces(m, m->f, m->nlive, m->live, m->nfree, m->freep))
+    return tb_error_set(err, "meshless", 0, "out of memory");
   for (int k = 0; k < nf; k++) {
     int i = fr[k];
     m->v[i] = tb_madd(tb_madd(m->v[i], kick / m->mass[i], m->f[i]), kick, gravity);
@@ -836,7 +838,8 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
   }
   m->fvalid = 0;
   if (verlet) {
-    forces(m, m->f, m->nlive, m->live, m->nfree, m->freep);
+    if (forces(m, m->f, m->nlive, m->live, m->nfree, m->freep))
+      return tb_error_set(err, "meshless", 0, "out of memory");
     m->fvalid = 1;
     for (int k = 0; k < nf; k++) {
       int i = fr[k];

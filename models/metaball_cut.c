@@ -514,7 +514,8 @@ int tb_metaball_cut_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_ve
     tb_metaball_step(m, dt, gravity, force);
     return 0;
   }
-  tb_meshless_forces(c->ml, c->fpts);
+  if (tb_meshless_forces(c->ml, c->fpts))
+    return tb_error_set(err, "metaball cut", 0, "out of memory");
   c->omega = tb_meshless_frequency_at(c->ml, c->row + c->np); /* at the frame's start */
   for (int i = 0; i < m->n; i++) c->fsph[i] = force ? force[i] : tb_v3(0, 0, 0);
   const tb_vec3 *x = tb_meshless_positions(c->ml);

@@ -116,8 +116,9 @@ int tb_meshless_active(const tb_meshless *m, int i);
 tb_mat3 tb_meshless_jacobian(const tb_meshless *m, int i);
 /* Green strain eps_i = (J^T J - I) / 2. */
 tb_mat3 tb_meshless_strain(const tb_meshless *m, int i);
-/* Internal (elastic) forces at the current positions into f[n]. */
-void tb_meshless_forces(const tb_meshless *m, tb_vec3 *f);
+/* Internal (elastic) forces at the current positions into f[n]; 0, or -1
+ * out of memory (the transposed links are rebuilt after a link change). */
+int tb_meshless_forces(tb_meshless *m, tb_vec3 *f);
 /* Elastic energy sum_i V_i eps_i : sigma_i / 2 at the current positions. */
 double tb_meshless_energy(const tb_meshless *m);
 /* Kinetic energy sum_i m_i |v_i|^2 / 2. */
