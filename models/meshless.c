@@ -741,7 +741,8 @@ void tb_meshless_rest_bounds(const tb_meshless *m, const unsigned char *driven, 
 }
 
 double tb_meshless_frequency_at(const tb_meshless *m, const double *bound) {
-  double w2 = 0;
+  double w2 = 0; /* a maximum: the same for any thread count */
+#pragma omp parallel for schedule(static) reduction(max : w2) if (m->n > 256)
   for (int i = 0; i < m->n; i++)
     if (bound[i] > 0) w2 = fmax(w2, stiffening(m, i) * bound[i]);
   return sqrt(w2);

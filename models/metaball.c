@@ -148,6 +148,7 @@ void tb_metaball_bind_offsets(tb_metaball *m, int v) {
 
 /* x = sum_s w_s (c_s + R_s (x0 - c0_s)), the offsets x0 - c0_s stored. */
 static void skin(tb_metaball *m) {
+#pragma omp parallel for schedule(static) if (m->nv > 2048) /* each vertex alone: any count */
   for (int v = 0; v < m->nv; v++) {
     tb_vec3 x = tb_v3(0, 0, 0);
     for (int q = 0; q < 3; q++) {

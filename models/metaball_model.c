@@ -81,7 +81,8 @@ static void destroy(void *self) {
   mb_model *s = self;
   if (!s) return;
   tb_metaball_destroy(s->mb);
-  free(s->x), free(s->v), free(s->skin0), free(s->mass), free(s->fs), free(s->cstart);
+  free(s->x), free(s->v), free(s->skin0), free(s->presc), free(s->mass), free(s->fs),
+      free(s->cstart);
   free(s->hold), free(s->hold0), free(s->apq), free(s->nhold), free(s->held), free(s->push),
       free(s->keep), free(s->cids);
   free(s->cp), free(s->cdepth), free(s->dominant), free(s->tri);
@@ -150,6 +151,7 @@ int mb_grow(mb_model *s, int nv, int ns) {
   GROW(skin0, V, s->nv);
   GROW(mass, V, s->nv);
   GROW(dominant, V, s->nv);
+  GROW(presc, V, s->nv);
   GROW(fs, N, s->ns);
   GROW(cstart, N, s->ns);
   GROW(hold, N, s->ns);
@@ -362,14 +364,17 @@ static int step(void *self, const tb_step *in, tb_error *err) {
   if (rc) return -1;
   damp(s, dt);
   if (in->ground) ground(s, in->ground, dt);
-  /* the points: the skin, or their targets (ascending), each with its velocity */
-  for (int v = 0, p = 0; v < s->nv; v++) {
-    if (p < nfixed && in->fixed[p] == v) {
-      s->v[v] = tb_scale(tb_sub(in->fixed_x[p], s->x[v]), 1 / dt), s->x[v] = in->fixed_x[p++];
-      continue;
-    }
-    s->v[v] = tb_scale(tb_sub(m->x[v], s->skin0[v]), 1 / dt), s->x[v] = m->x[v];
+  /* the points: the prescribed ones at their targets, the others on the
+   * skin, each with its velocity (each point alone: any thread count) */
+  for (int p = 0; p < nfixed; p++) {
+    int v = in->fixed[p];
+    s->v[v] = tb_scale(tb_sub(in->fixed_x[p], s->x[v]), 1 / dt), s->x[v] = in->fixed_x[p];
+    s->presc[v] = 1;
   }
+#pragma omp parallel for schedule(static) if (s->nv > 2048)
+  for (int v = 0; v < s->nv; v++)
+    if (!s->presc[v]) s->v[v] = tb_scale(tb_sub(m->x[v], s->skin0[v]), 1 / dt), s->x[v] = m->x[v];
+  for (int p = 0; p < nfixed; p++) s->presc[in->fixed[p]] = 0;
   return 0;
 }
 

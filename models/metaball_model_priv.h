@@ -33,6 +33,7 @@ typedef struct mb_model {
   double *cdepth;
   int dominant_ok;
   int *dominant;          /* per point: the sphere it holds when prescribed */
+  unsigned char *presc;   /* per point: prescribed this step (0 between steps) */
   int ntri, *tri;         /* the current surface over the points */
   unsigned long version;  /* changes with every cut that changes the surface */
   int cutting, have_fold; /* a cut is running; its folded plane exists (2+ path points) */
