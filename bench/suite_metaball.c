@@ -29,6 +29,7 @@
 #include "tb_meshgen.h"
 #include "tb_render.h"
 #include "tb_sphpack.h"
+#include "tb_threads.h"
 #include "tb_timer.h"
 
 #define CUT_FRAMES 20   /* the blade crosses the organ in this many frames */
@@ -546,14 +547,15 @@ int tb_suite_metaball(const tb_suite_opts *o) {
       "split and closed) timed apart. Then %d frames more before the after picture. Medians over "
       "%d repetitions, each from scratch (packing, model, frames, cut); every repetition's "
       "surface after the cut is bit-identical to the first's: %s. SOFA liver-smooth: %s. This "
-      "machine: %s (%d cores), load average %.2f at the start.",
+      "machine: %s (%d cores), %d threads (the skin, the point set's forces and bound; the "
+      "same bits on any count), load average %.2f at the start.",
       grid, TB_MBS_DT, TB_MBS_G, TB_MBS_END_SHARE, p.warm, p.nblocks, p.block, CUT_FRAMES,
       AFTER_FRAMES, reps, failed ? "NO (or a run failed)" : "yes",
       why[0] ? why
              : "liver.sph's spheres (34) and the surface rotated so that SOFA's up (y) is z, the "
                "spheres written to sofa-liver-smooth-z-up.sph and given to the model "
                "(spheres_file); no packing, so no packing time",
-      cx->cpu, cx->cores, cx->have_load ? cx->load[0] : NAN);
+      cx->cpu, cx->cores, tb_threads(), cx->have_load ? cx->load[0] : NAN);
   table1(su, g, w, n);
   repack_table(su, g, w, n);
   tb_suite_note(su,
