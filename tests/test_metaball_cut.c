@@ -443,6 +443,26 @@ static void bad_calls(void) {
 /* The cost on a liver of 725 surface vertices packed to 540 spheres, cut
  * through its middle across x by a blade moving in 20 frames: ms per frame
  * (advance + cut_step) and the cut's end. */
+/* A metaball model at its defaults on surf packed to count spheres (kept in
+ * *sp), and the box of their centres; NULL (a failed check) when packing or
+ * creating fails (*sp and surf are the caller's to free). */
+static tb_metaball *packed(const tb_mesh *surf, const char *name, int count, tb_spheres *sp,
+                           tb_vec3 *lo, tb_vec3 *hi) {
+  tb_error err;
+  tb_sphpack_def pd = tb_sphpack_default_def(count);
+  if (tb_sphere_pack(surf, name, &pd, sp, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return NULL;
+  }
+  tb_metaball_settings set;
+  tb_metaball_settings_default(&set);
+  tb_metaball *m = tb_metaball_create(sp->n, sp->c, sp->r, surf, &set, &err);
+  TB_CHECK_MSG(m != NULL, "%s", err.msg);
+  *lo = *hi = sp->c[0];
+  for (int i = 0; i < sp->n; i++) *lo = tb_vmin(*lo, sp->c[i]), *hi = tb_vmax(*hi, sp->c[i]);
+  return m;
+}
+
 static int cmp_key(const void *a, const void *b) {
   uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
   return (x > y) - (x < y);
@@ -476,19 +496,12 @@ static void parted_stay_parted(void) {
   tb_spheres sp = {0};
   tb_error err;
   const tb_organ_info *info = tb_organ_find("steak");
-  tb_sphpack_def pd = tb_sphpack_default_def(info ? info->spheres : 539);
-  if (!info || tb_organ_surface("steak", 0, 1, &surf, &err) ||
-      tb_sphere_pack(&surf, "steak", &pd, &sp, NULL, &err)) {
+  if (!info || tb_organ_surface("steak", 0, 1, &surf, &err)) {
     TB_CHECK_MSG(0, "%s", info ? err.msg : "no steak");
-    tb_mesh_free(&surf);
     return;
   }
-  tb_metaball_settings set;
-  tb_metaball_settings_default(&set);
-  tb_metaball *m = tb_metaball_create(sp.n, sp.c, sp.r, &surf, &set, &err);
-  TB_CHECK_MSG(m != NULL, "%s", err.msg);
-  tb_vec3 lo = sp.c[0], hi = sp.c[0];
-  for (int i = 0; i < sp.n; i++) lo = tb_vmin(lo, sp.c[i]), hi = tb_vmax(hi, sp.c[i]);
+  tb_vec3 lo = {0}, hi = {0};
+  tb_metaball *m = packed(&surf, "steak", info->spheres, &sp, &lo, &hi);
   int ax = hi.x - lo.x >= hi.y - lo.y ? 0 : 1; /* held at the low end of the long axis */
   for (int i = 0; m && i < sp.n; i++)
     tb_metaball_fix(
@@ -549,18 +562,12 @@ static void liver_timing(void) {
   tb_mesh surf = {0};
   tb_spheres sp = {0};
   tb_error err;
-  tb_sphpack_def pd = tb_sphpack_default_def(540);
-  if (tb_liver_surface(&def, &surf, &err) || tb_sphere_pack(&surf, "liver", &pd, &sp, NULL, &err)) {
+  if (tb_liver_surface(&def, &surf, &err)) {
     TB_CHECK_MSG(0, "%s", err.msg);
-    tb_mesh_free(&surf);
     return;
   }
-  tb_metaball_settings set;
-  tb_metaball_settings_default(&set);
-  tb_metaball *m = tb_metaball_create(sp.n, sp.c, sp.r, &surf, &set, &err);
-  TB_CHECK_MSG(m != NULL, "%s", err.msg);
-  tb_vec3 lo = sp.c[0], hi = sp.c[0];
-  for (int i = 0; i < sp.n; i++) lo = tb_vmin(lo, sp.c[i]), hi = tb_vmax(hi, sp.c[i]);
+  tb_vec3 lo = {0}, hi = {0};
+  tb_metaball *m = packed(&surf, "liver", 540, &sp, &lo, &hi);
   tb_metaball_cut_settings cs;
   tb_metaball_cut_settings_default(&cs);
   cs.per_sphere = 40; /* radii from a few hundredths to about one */
