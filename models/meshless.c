@@ -181,6 +181,19 @@ static int grid_build(grid *g, int n, const tb_vec3 *p, double cell) {
   return 0;
 }
 
+/* The cells of the 3 x 3 x 3 block around p's cell that lie in the grid,
+ * z, then y, then x ascending; their count. */
+static int grid_around(const grid *g, tb_vec3 p, int cells[27]) {
+  int c[3], n = 0;
+  grid_cell(g, p, c);
+  for (int e = c[2] - 1; e <= c[2] + 1; e++)
+    for (int b = c[1] - 1; b <= c[1] + 1; b++)
+      for (int a = c[0] - 1; a <= c[0] + 1; a++)
+        if (a >= 0 && b >= 0 && e >= 0 && a < g->dim[0] && b < g->dim[1] && e < g->dim[2])
+          cells[n++] = (e * g->dim[1] + b) * g->dim[0] + a;
+  return n;
+}
+
 static void grid_free(grid *g) {
   free(g->start), free(g->pt);
   g->start = NULL, g->pt = NULL;
@@ -221,30 +234,23 @@ static void sort_ints(int *a, int n) {
 /* Links every pair closer than h (w > 0) that does not cross the cut. */
 static int link(tb_meshless *m, tb_meshless_crosses crosses, void *ctx) {
   grid g = {0};
-  int cap = 32 * m->n + 16, len = 0, c[3];
+  int cap = 32 * m->n + 16, len = 0, cells[27];
   m->nbr = malloc(sizeof(int) * (size_t)cap);
   if (!m->nbr || grid_build(&g, m->n, m->X, m->h)) return grid_free(&g), -1;
   for (int i = 0; i < m->n; i++) {
     m->start[i] = len;
-    grid_cell(&g, m->X[i], c);
-    for (int dz = -1; dz <= 1; dz++)
-      for (int dy = -1; dy <= 1; dy++)
-        for (int dx = -1; dx <= 1; dx++) {
-          int a = c[0] + dx, b = c[1] + dy, e = c[2] + dz;
-          if (a < 0 || b < 0 || e < 0 || a >= g.dim[0] || b >= g.dim[1] || e >= g.dim[2]) continue;
-          int k = (e * g.dim[1] + b) * g.dim[0] + a;
-          for (int q = g.start[k]; q < g.start[k + 1]; q++) {
-            int j = g.pt[q];
-            if (j == i || kernel(tb_dist(m->X[i], m->X[j]), m->h) <= 0) continue;
-            if (crosses && crosses(ctx, m->x[i], m->x[j])) continue;
-            if (len == cap) {
-              int *t = realloc(m->nbr, sizeof(int) * (size_t)(cap *= 2));
-              if (!t) return grid_free(&g), -1;
-              m->nbr = t;
-            }
-            m->nbr[len++] = j;
-          }
+    for (int t = 0, nc = grid_around(&g, m->X[i], cells); t < nc; t++)
+      for (int q = g.start[cells[t]]; q < g.start[cells[t] + 1]; q++) {
+        int j = g.pt[q];
+        if (j == i || kernel(tb_dist(m->X[i], m->X[j]), m->h) <= 0) continue;
+        if (crosses && crosses(ctx, m->x[i], m->x[j])) continue;
+        if (len == cap) {
+          int *grown = realloc(m->nbr, sizeof(int) * (size_t)(cap *= 2));
+          if (!grown) return grid_free(&g), -1;
+          m->nbr = grown;
         }
+        m->nbr[len++] = j;
+      }
     sort_ints(m->nbr + m->start[i], len - m->start[i]);
   }
   m->start[m->n] = len;
@@ -469,29 +475,21 @@ static int grow(tb_meshless *m, int n) {
 static int new_links(tb_meshless *m, int n0, int n, tb_meshless_crosses crosses, void *ctx,
                      pairs *out) {
   grid g = {0};
-  int c[3];
+  int cells[27];
   if (grid_build(&g, n, m->X, m->h)) return grid_free(&g), -1;
   for (int j = n0; j < n; j++) m->nn[j] = nearest(&g, m->X, j);
-  for (int j = n0; j < n; j++) {
-    grid_cell(&g, m->X[j], c);
-    for (int dz = -1; dz <= 1; dz++)
-      for (int dy = -1; dy <= 1; dy++)
-        for (int dx = -1; dx <= 1; dx++) {
-          int a = c[0] + dx, b = c[1] + dy, e = c[2] + dz;
-          if (a < 0 || b < 0 || e < 0 || a >= g.dim[0] || b >= g.dim[1] || e >= g.dim[2]) continue;
-          int cell = (e * g.dim[1] + b) * g.dim[0] + a;
-          for (int k = g.start[cell]; k < g.start[cell + 1]; k++) {
-            int q = g.pt[k];
-            double r = tb_dist(m->X[j], m->X[q]);
-            if (q == j || kernel(r, m->h) <= 0) continue;
-            m->nn[q] = fmin(m->nn[q], r);
-            if ((!crosses || !crosses(ctx, m->x[j], m->x[q])) && pairs_push(out, j, q))
-              return grid_free(&g), -1;
-            if (q < n0 && (!crosses || !crosses(ctx, m->x[q], m->x[j])) && pairs_push(out, q, j))
-              return grid_free(&g), -1;
-          }
-        }
-  }
+  for (int j = n0; j < n; j++)
+    for (int t = 0, nc = grid_around(&g, m->X[j], cells); t < nc; t++)
+      for (int k = g.start[cells[t]]; k < g.start[cells[t] + 1]; k++) {
+        int q = g.pt[k];
+        double r = tb_dist(m->X[j], m->X[q]);
+        if (q == j || kernel(r, m->h) <= 0) continue;
+        m->nn[q] = fmin(m->nn[q], r);
+        if ((!crosses || !crosses(ctx, m->x[j], m->x[q])) && pairs_push(out, j, q))
+          return grid_free(&g), -1;
+        if (q < n0 && (!crosses || !crosses(ctx, m->x[q], m->x[j])) && pairs_push(out, q, j))
+          return grid_free(&g), -1;
+      }
   grid_free(&g);
   return 0;
 }
