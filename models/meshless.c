@@ -113,6 +113,7 @@ struct tb_meshless {
   int *start, *nbr; /* CSR links: nbr[start[i] .. start[i+1]-1] */
   double *dl;       /* |d_ij| per link (the stability bound's) */
   tb_vec3 *d;       /* d_ij = A_i^-1 X_ij w_ij per link */
+  tb_vec3 *dii;     /* per point: d_ii = -sum_j d_ij */
   unsigned char *active;
   unsigned *mark; /* driven this step when mark[i] == stamp */
   unsigned stamp;
@@ -279,6 +280,9 @@ static void moment(tb_meshless *m, int i) {
     m->d[k] = m->active[i] ? tb_scale(tb_m3_mulv(inv, e), w / det) : tb_v3(0, 0, 0);
     m->dl[k] = tb_len(m->d[k]);
   }
+  tb_vec3 s = tb_v3(0, 0, 0);
+  for (int k = m->start[i]; k < m->start[i + 1]; k++) s = tb_sub(s, m->d[k]);
+  m->dii[i] = s;
 }
 
 static void moments(tb_meshless *m) {
@@ -308,9 +312,11 @@ tb_meshless *tb_meshless_create(int n, const tb_vec3 *x, const double *volume, d
   m->lids = malloc(sizeof(int) * nv), m->freep = malloc(sizeof(int) * nv);
   m->live = malloc(sizeof(int) * nv), m->u = malloc(sizeof(tb_vec3) * nv);
   m->P = malloc(sizeof(tb_mat3) * nv), m->rstart = malloc(sizeof(int) * (nv + 1));
+  m->dii = malloc(sizeof(tb_vec3) * nv);
   grid g = {0};
   if (!m->X || !m->x || !m->v || !m->f || !m->vol || !m->mass || !m->start || !m->active ||
-      !m->mark || !m->nn || !m->lids || !m->freep || !m->live || !m->u || !m->P || !m->rstart)
+      !m->mark || !m->nn || !m->lids || !m->freep || !m->live || !m->u || !m->P || !m->rstart ||
+      !m->dii)
     goto oom;
   memcpy(m->X, x, sizeof(tb_vec3) * nv), memcpy(m->x, x, sizeof(tb_vec3) * nv);
   /* Spacing s: mean nearest-neighbour distance, on a grid of ~1 point/cell. */
@@ -354,7 +360,7 @@ void tb_meshless_destroy(tb_meshless *m) {
   free(m->X), free(m->x), free(m->v), free(m->f), free(m->vol), free(m->mass);
   free(m->start), free(m->nbr), free(m->dl), free(m->d), free(m->active), free(m->mark);
   free(m->nn), free(m->lids), free(m->freep), free(m->live), free(m->u), free(m->P);
-  free(m->rstart), free(m->rsrc), free(m->rpos), free(m);
+  free(m->rstart), free(m->rsrc), free(m->rpos), free(m->dii), free(m);
 }
 
 /* The links transposed (when changed since): for point j, the stencils i
@@ -436,8 +442,8 @@ static int pairs_push(pairs *q, int owner, int nb) {
 static int grow(tb_meshless *m, int n) {
   size_t N = (size_t)n;
   m->lvalid = 0;
-  tb_vec3 **v3[] = {&m->X, &m->x, &m->v, &m->f, &m->u};
-  for (int a = 0; a < 5; a++) {
+  tb_vec3 **v3[] = {&m->X, &m->x, &m->v, &m->f, &m->u, &m->dii};
+  for (int a = 0; a < 6; a++) {
     tb_vec3 *t = realloc(*v3[a], sizeof(tb_vec3) * N);
     if (!t) return -1;
     *v3[a] = t;
@@ -603,16 +609,12 @@ static void stencil_P(const tb_meshless *m, int i) {
   m->P[i] = P;
 }
 
-/* Point j's force, gathered: its own stencil's P_j d_jj = -P_j sum_k d_jk
- * and P_i d_ij from each active stencil i holding it (the transposed links,
- * ascending i): each point's sum in a fixed order, whoever computes it. */
+/* Point j's force, gathered: its own stencil's P_j d_jj and P_i d_ij from each active stencil i
+ * holding it (the transposed links, ascending i): each point's sum in a fixed order, whoever
+ * computes it. */
 static tb_vec3 gather(const tb_meshless *m, int j) {
   tb_vec3 f = tb_v3(0, 0, 0);
-  if (m->active[j]) {
-    tb_vec3 s = tb_v3(0, 0, 0);
-    for (int k = m->start[j]; k < m->start[j + 1]; k++) s = tb_add(s, m->d[k]);
-    f = tb_scale(tb_m3_mulv(m->P[j], s), -1);
-  }
+  if (m->active[j]) f = tb_m3_mulv(m->P[j], m->dii[j]);
   for (int r = m->rstart[j]; r < m->rstart[j + 1]; r++) {
     int i = m->rsrc[r];
     if (m->active[i]) f = tb_add(f, tb_m3_mulv(m->P[i], m->d[m->rpos[r]]));
@@ -670,14 +672,6 @@ double tb_meshless_kinetic(const tb_meshless *m) {
 
 /* ---- stability bound and group stiffness (see the head) ---- */
 
-/* d_ib for b = the k-th entry of i's stencil, k = -1 for i itself. */
-static tb_vec3 stencil_d(const tb_meshless *m, int i, int k) {
-  if (k >= 0) return m->d[k];
-  tb_vec3 s = tb_v3(0, 0, 0);
-  for (int q = m->start[i]; q < m->start[i + 1]; q++) s = tb_sub(s, m->d[q]);
-  return s;
-}
-
 /* The largest eigenvalue of a symmetric 3x3 matrix (Smith 1961, "Eigenvalues
  * of a symmetric 3 x 3 matrix": a = q I + p B, det B / 2 = cos 3 phi), raised
  * by 1e-9 of its scale so that rounding never puts it below the true one. */
@@ -710,7 +704,7 @@ void tb_meshless_rest_bounds(const tb_meshless *m, const unsigned char *driven, 
   memset(row, 0, sizeof(double) * (size_t)m->n);
   for (int i = 0; i < m->n; i++) {
     if (!m->active[i]) continue;
-    double dii = tb_len(stencil_d(m, i, -1)), sum = driven && driven[i] ? 0 : dii;
+    double dii = tb_len(m->dii[i]), sum = driven && driven[i] ? 0 : dii;
     for (int k = m->start[i]; k < m->start[i + 1]; k++)
       if (!driven || !driven[m->nbr[k]]) sum += m->dl[k];
     double a = m->vol[i] * kappa * sum;
@@ -725,7 +719,7 @@ void tb_meshless_rest_bounds(const tb_meshless *m, const unsigned char *driven, 
     for (int k = m->start[i] - 1; k < m->start[i + 1]; k++) {
       int b = k < m->start[i] ? i : m->nbr[k];
       if (driven && driven[b]) continue;
-      tb_vec3 d = k < m->start[i] ? stencil_d(m, i, -1) : m->d[k];
+      tb_vec3 d = k < m->start[i] ? m->dii[i] : m->d[k];
       double len = k < m->start[i] ? tb_len(d) : m->dl[k];
       if (!(len > 0)) continue;
       double s = row[b] / (m->mass[b] * len);
@@ -763,8 +757,7 @@ void tb_meshless_group_stiffness(const tb_meshless *m, const int *group, int ngr
      * term added at its first member (NaN marks it added), then cleared */
     for (int q = k0; q < k1; q++) {
       int g = group[q == k0 ? i : m->nbr[q]];
-      if (g >= 0 && g < ngroups)
-        scratch[g] = tb_add(scratch[g], q == k0 ? stencil_d(m, i, -1) : m->d[q]);
+      if (g >= 0 && g < ngroups) scratch[g] = tb_add(scratch[g], q == k0 ? m->dii[i] : m->d[q]);
     }
     for (int q = k0; q < k1; q++) {
       int g = group[q == k0 ? i : m->nbr[q]];
