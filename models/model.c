@@ -133,23 +133,28 @@ static void store(const tb_setting *st, void *dst, double x) {
   }
 }
 
+/* The text set gives for key, or NULL. */
+static const char *given(const tb_settings *set, const char *key) {
+  for (int i = 0; set && i < set->n; i++)
+    if (!strcmp(set->kv[i].key, key)) return set->kv[i].value;
+  return NULL;
+}
+
 /* The effective value of st (set's text, else the default); 1 when set has
  * the key, 0 when defaulted, -1 on a bad value. */
 static int value_of(const tb_model_class *c, const tb_setting *st, const tb_settings *set,
                     double *out, tb_error *err) {
+  const char *text = given(set, st->key);
   *out = st->def;
-  for (int i = 0; set && i < set->n; i++)
-    if (!strcmp(set->kv[i].key, st->key))
-      return parse_value(c, st, set->kv[i].value, out, err) ? -1 : 1;
-  return 0;
+  if (!text) return 0;
+  return parse_value(c, st, text, out, err) ? -1 : 1;
 }
 
 /* A FILE setting's text (set's, else ""), copied into dst's field. */
 static int file_of(const tb_model_class *c, const tb_setting *st, const tb_settings *set, void *dst,
                    tb_error *err) {
-  const char *text = "";
-  for (int i = 0; set && i < set->n; i++)
-    if (!strcmp(set->kv[i].key, st->key)) text = set->kv[i].value;
+  const char *text = given(set, st->key);
+  if (!text) text = "";
   if (strlen(text) >= TB_SETTING_TEXT_MAX)
     return tb_error_set(err, c->name, 0, "%s: a file name of at most %d characters", st->key,
                         TB_SETTING_TEXT_MAX - 1);
