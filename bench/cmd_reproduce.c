@@ -2,7 +2,10 @@
  * results/<suite>/ through the results pipeline (core/tb_results.h), then
  * results/REPORT.md gathering them in the documents' order; and
  * `tissuebench table NAME`: one suite by the name of the table it makes.
- * A suite is one entry of the table below. */
+ * A suite is one entry of the table below.
+ * `--shard k/N` runs a share of the work for `merge` (bench/cmd_merge.c):
+ * of a suite made of cases, every N-th case (counted over the run); of the
+ * others, every N-th suite whole (counted over the suites that run). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,55 +16,61 @@
 
 static const tb_suite_entry suites[] = {
     {"meshes", "meshes", NULL,
-     "generated meshes: counts beside the documents' (thesis §2.5, Bao 2006)", tb_suite_meshes},
+     "generated meshes: counts beside the documents' (thesis §2.5, Bao 2006)", tb_suite_meshes, 0},
     {"correctness", "correctness", NULL,
      "triangle tests: wrong answers against the exact oracle, per family of pairs",
-     tb_suite_correctness},
+     tb_suite_correctness, 0},
     {"table-4.1", "4.1", NULL,
-     "thesis table 4.1: time for 0.1-2 million tests; ns/pair on the JGT pairs", tb_suite_table41},
+     "thesis table 4.1: time for 0.1-2 million tests; ns/pair on the JGT pairs", tb_suite_table41,
+     0},
     {"table-4.2", "4.2", NULL,
      "thesis table 4.2: queries/s against intersecting pairs, liver against instrument",
-     tb_suite_table42},
+     tb_suite_table42, 0},
     {"refit", "refit", NULL, "the deforming liver: refit, rebuild, FCL refit, Bullet update, query",
-     tb_suite_refit},
+     tb_suite_refit, 0},
     {"table-3.5", "3.5", NULL,
      "thesis §3.5: steps/s of msm, fem, fem-corot, sm on the liver; recovery after a far stretch",
-     tb_suite_table35},
+     tb_suite_table35, 0},
     {"figure-3.10", NULL, "3.10",
      "thesis fig. 3.10: shape-matching time per frame against particles, clusters, variant",
-     tb_suite_fig310},
+     tb_suite_fig310, 0},
     {"reference", "reference", NULL,
      "the reference solver's refinement study: cantilever T4/T10 against beam theory",
-     tb_suite_reference},
+     tb_suite_reference, 0},
     {"calibration", "calibration", NULL,
      "model parameters fitted to the reference solution; errors with documents' vs fitted values",
-     tb_suite_calibration},
+     tb_suite_calibration, 0},
     {"pareto", NULL, "pareto",
      "error against the reference vs steps/s: every model x resolution x key parameter (--scene)",
-     tb_suite_pareto},
+     tb_suite_pareto, 1},
     {"stability", NULL, "stability",
      "stable/unstable over dt x stiffness per model (--model); large-deformation tests",
-     tb_suite_stability},
+     tb_suite_stability, 0},
     {"pbd-stiffness", NULL, "pbd-stiffness",
      "PBD and XPBD: the beam's static sag under gravity over the material's, against "
      "iterations and dt",
-     tb_suite_pbd_stiffness},
+     tb_suite_pbd_stiffness, 0},
     {"pbd", "pbd", NULL,
      "2022 patent tables 1-2: pbd-stvk solve time per step and element on 596-12829-tet livers "
      "dropped on a ground, 1 vs all threads (bit-identical?), Bullet btSoftBody beside it",
-     tb_suite_pbd},
+     tb_suite_pbd, 0},
     {"bao", "bao", NULL,
      "Bao 2006 table 1 and figs 6-8: msm-vvs on the sphere, base vs fully subdivided vs locally "
      "refined (time, accuracy), the conventional and the improved model pressed and released",
-     tb_suite_bao},
+     tb_suite_bao, 0},
     {"metaball", "metaball", "metaball",
      "metaball patent tables 1-2 and figs 7-10: organs of spheres driven by PBD, deform and cut "
      "ms per frame, re-packing, convergence against the tet models, the speed goal",
-     tb_suite_metaball},
+     tb_suite_metaball, 0},
     {"figures", NULL, "pictures",
-     "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures},
+     "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures, 0},
 };
 static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
+
+const tb_suite_entry *tb_suites(int *n) {
+  *n = nsuites;
+  return suites;
+}
 
 /* REPORT.md's order, the documents': the thesis' chapter 2 (meshes), its
  * chapter 3 (deformation: its table and figure, then our reference, the
@@ -98,8 +107,7 @@ static const char *const report_order[] = {
     "figures",
 };
 
-/* Writes <results>/REPORT.md: status[s] for every suite (TB_REPORT_*). */
-static int write_report(tb_report *r, const int *status) {
+int tb_reproduce_report(tb_report *r, const int *status) {
   for (size_t k = 0; k < sizeof report_order / sizeof report_order[0]; k++) {
     const char *e = report_order[k];
     if (e[0] == '#') {
@@ -117,8 +125,7 @@ static int write_report(tb_report *r, const int *status) {
   return 0;
 }
 
-/* Is name in the comma-separated list? */
-static int listed(const char *list, const char *name) {
+int tb_suite_listed(const char *list, const char *name) {
   size_t n = strlen(name);
   for (const char *p = list; p && *p;) {
     const char *c = strchr(p, ',');
@@ -132,6 +139,7 @@ static int listed(const char *list, const char *name) {
 int tb_cmd_reproduce(int argc, char **argv) {
   tb_suite_opts o = {0, 1.0, 1, TB_SOURCE_ROOT "/results", NULL, NULL};
   const char *only = NULL;
+  int shard_k = 0, shard_n = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     if (!strcmp(a, "--quick"))
@@ -157,6 +165,19 @@ int tb_cmd_reproduce(int argc, char **argv) {
         return TB_EXIT_INPUT;
       }
       o.scale = v;
+    } else if (!strcmp(a, "--shard") && i + 1 < argc) {
+      const char *v = argv[++i];
+      char *slash, *end;
+      long k = strtol(v, &slash, 10), n = *slash == '/' ? strtol(slash + 1, &end, 10) : 0;
+      if (slash == v || *slash != '/' || end == slash + 1 || *end || n < 1 || n > 10000 || k < 1 ||
+          k > n) {
+        fprintf(stderr,
+                "tissuebench reproduce: --shard needs k/N with 1 <= k <= N <= 10000, "
+                "got '%s'\n",
+                v);
+        return TB_EXIT_INPUT;
+      }
+      shard_k = (int)k, shard_n = (int)n;
     } else if (!strcmp(a, "--seed") && i + 1 < argc) {
       char *end;
       unsigned long long s = strtoull(argv[++i], &end, 10);
@@ -186,12 +207,29 @@ int tb_cmd_reproduce(int argc, char **argv) {
   }
   int failed = 0, status[sizeof suites / sizeof suites[0]];
   tb_error err = {{0}};
+  tb_shard_info info;
+  memset(&info, 0, sizeof info);
+  if (shard_n) {
+    if (tb_shard_set(shard_k, shard_n, o.results, &err)) {
+      fprintf(stderr, "tissuebench reproduce: %s\n", err.msg);
+      return TB_EXIT_FAIL;
+    }
+    info.k = shard_k, info.n = shard_n, info.full = o.full, info.scale = o.scale,
+    info.seed = o.seed;
+    snprintf(info.only, sizeof info.only, "%s", only ? only : "");
+    snprintf(info.model, sizeof info.model, "%s", o.model ? o.model : "");
+    snprintf(info.scene, sizeof info.scene, "%s", o.scene ? o.scene : "");
+  }
   tb_report *report = tb_report_begin(o.results, "tissuebench: the reproduction", o.seed, &err);
   if (!report) fprintf(stderr, "tissuebench reproduce: no REPORT.md: %s\n", err.msg);
   uint64_t t0 = tb_time_ns();
-  for (int s = 0; s < nsuites; s++) {
+  for (int s = 0, pos = 0; s < nsuites; s++) {
     status[s] = TB_REPORT_NOT_RUN;
-    if (only && !listed(only, suites[s].name)) continue;
+    if (only && !tb_suite_listed(only, suites[s].name)) continue;
+    if (shard_n && !suites[s].cases && pos++ % shard_n != shard_k - 1) {
+      info.status[s] = TB_SHARD_ELSEWHERE; /* a whole suite another shard runs */
+      continue;
+    }
     fprintf(stderr, "== %s (%s)\n", suites[s].name, o.full ? "full" : "quick");
     uint64_t ts = tb_time_ns();
     int rc = suites[s].run(&o);
@@ -199,8 +237,16 @@ int tb_cmd_reproduce(int argc, char **argv) {
             (double)(tb_time_ns() - ts) * 1e-9, o.results, suites[s].name);
     failed += rc != 0;
     status[s] = rc ? TB_REPORT_FAILED : TB_REPORT_DONE;
+    info.status[s] = rc ? TB_SHARD_FAILED : TB_SHARD_DONE;
   }
-  int no_report = !report || write_report(report, status);
+  if (shard_n) {
+    tb_shard_reset();
+    if (tb_shard_info_write(o.results, &info, &err)) {
+      fprintf(stderr, "tissuebench reproduce: %s\n", err.msg);
+      failed++;
+    }
+  }
+  int no_report = !report || tb_reproduce_report(report, status);
   if (!no_report) fprintf(stderr, "reproduce: report in %s/REPORT.md\n", o.results);
   fprintf(stderr, "reproduce: %d suite(s) failed, %.1f s in all\n", failed,
           (double)(tb_time_ns() - t0) * 1e-9);

@@ -22,12 +22,21 @@ static const tb_command commands[] = {
     {"help", "list the subcommands", "tissuebench help", cmd_help},
     {"reproduce", "run the reproduction suites into results/",
      "tissuebench reproduce [--quick|--full] [--seed N] [--only SUITE[,SUITE...]] [--results DIR]\n"
+     "                      [--shard k/N]\n"
      "  --quick   the default: every suite at reduced scale (under 10 minutes on 2 cores)\n"
      "  --full    every suite at the documents' scale\n"
      "  --only    run only the named suites (see --list)\n"
      "  --list    list the suites\n"
-     "  --scale F multiply every suite's pair and test counts by F (smoke tests)",
+     "  --scale F multiply every suite's pair and test counts by F (smoke tests)\n"
+     "  --shard k/N  this machine's share (k of N) of the run, for `merge`: every N-th case of\n"
+     "            the suites made of cases (pareto), every N-th of the other suites whole",
      tb_cmd_reproduce},
+    {"merge", "combine the folders of `reproduce --shard k/N` (k = 1..N) into one results folder",
+     "tissuebench merge SHARD_DIR... [--out DIR]\n"
+     "  the N folders written by `reproduce --shard k/N --results SHARD_DIR`; checks they are the\n"
+     "  N shards of one run (options, commit), then makes the suites' tables, charts and\n"
+     "  REPORT.md in DIR (default results/) as an unsharded run would (tools/slurm-array.sh)",
+     tb_cmd_merge},
     {"test", "run the whole test suite (ends with \"N passed, N failed\")",
      "tissuebench test [--list] [SUBSTRING...]\n"
      "  runs the test cases whose \"suite/name\" contains any SUBSTRING (all without);\n"

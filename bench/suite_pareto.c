@@ -86,17 +86,82 @@ static tb_point *add_point(scene_run *r) {
   return &r->pts[r->n++];
 }
 
-static void fill_point(tb_point *p, const variant *v, int res, int nodes, double dt, int substeps,
-                       const tb_fid_result *fr) {
+/* A case (one variant at one resolution, `reproduce --shard` runs them
+ * apart) keeps v[0] points, POINT_VALUES numbers each from v[1], and each
+ * point's state as a text. */
+#define POINT_VALUES 9
+#define MAX_POINTS 4
+
+/* Runs variant v on mesh fm: blown up at the scene's dt, again with 4, 16,
+ * then 64 substeps; every run is one point of the case c. */
+static int run_variant(const tb_fid_ref *ref, const tb_fid_mesh *fm, const tb_fid_plan *plan,
+                       const tb_sim_def *sd, const tb_fid_opts *fo, const variant *v, tb_case *c,
+                       tb_error *err) {
+  tb_settings md;
+  if (variant_def(v, &md, err) || tb_fid_masses(plan, &fm->mesh, v->model, &md, err)) return -1;
+  int np = 0;
+  for (int sub = 1; sub <= 64 && np < MAX_POINTS; sub *= 4) {
+    tb_fid_opts so = *fo;
+    so.substeps = sub;
+    tb_fid_result fr;
+    if (tb_fid_run(ref, fm, v->model, &md, sd, &so, &fr, err)) return -1;
+    double *o = c->v + 1 + POINT_VALUES * np;
+    double vals[POINT_VALUES] = {sub,
+                                 fm->mesh.nv,
+                                 fr.ms_step,
+                                 fr.rms_err,
+                                 fr.max_err,
+                                 fr.volume_change,
+                                 fr.reaction_err,
+                                 fr.settle_time,
+                                 fr.recovery_err};
+    memcpy(o, vals, sizeof vals);
+    snprintf(c->t[np], sizeof c->t[np], "%s", fr.state);
+    np++;
+    if (fr.stable) break;
+  }
+  c->v[0] = np, c->nv = 1 + POINT_VALUES * np, c->nt = np;
+  return 0;
+}
+
+/* A point of the table from a case's numbers o and state. */
+static void case_point(tb_point *p, const variant *v, int res, double dt, const double *o,
+                       const char *state) {
+  int substeps = (int)o[0];
   snprintf(p->model, sizeof p->model, "%s", v->model);
-  p->resolution = res, p->nodes = nodes;
+  p->resolution = res, p->nodes = (int)o[1];
   snprintf(p->params, sizeof p->params, "%s dt=%g", v->params, dt / substeps);
-  p->ms_step = fr->ms_step * substeps; /* per step of the scene's dt */
+  p->ms_step = o[2] * substeps; /* per step of the scene's dt */
   p->steps_per_s = p->ms_step > 0 ? 1e3 / p->ms_step : NAN;
-  p->rms_err = fr->rms_err, p->max_err = fr->max_err;
-  p->volume_change = fr->volume_change, p->reaction_err = fr->reaction_err;
-  p->settle_time = fr->settle_time, p->recovery_err = fr->recovery_err;
-  snprintf(p->state, sizeof p->state, "%s", fr->state);
+  p->rms_err = o[3], p->max_err = o[4];
+  p->volume_change = o[5], p->reaction_err = o[6];
+  p->settle_time = o[7], p->recovery_err = o[8];
+  snprintf(p->state, sizeof p->state, "%s", state);
+}
+
+/* The reference solution, a case every shard runs (each needs it for its
+ * own cases); replayed, only its numbers (for the notes) are known. */
+static int reference_case(tb_suite *su, const char *scene, const tb_fid_plan *plan, tb_fid_ref *ref,
+                          tb_error *err) {
+  memset(ref, 0, sizeof *ref);
+  tb_case c;
+  int mode = tb_suite_case(su, "reference", 1, &c);
+  if (mode == TB_CASE_RUN) {
+    tb_sim_def rd = plan->def;
+    rd.nodes = plan->ref_res;
+    if (tb_fid_reference(scene, &rd, plan->t_eq, NULL, ref, err)) return -1;
+    double v[] = {ref->umax,       ref->volume_change, ref->has_reaction, ref->seconds,
+                  ref->iterations, ref->load_steps,    ref->mesh.nv,      ref->mesh.ntet};
+    memcpy(c.v, v, sizeof v);
+    c.nv = (int)(sizeof v / sizeof v[0]);
+    tb_suite_case_done(su, &c);
+    return 0;
+  }
+  if (mode != TB_CASE_KNOWN || c.nv != 8) return tb_error_set(err, scene, 0, "no reference case");
+  ref->umax = c.v[0], ref->volume_change = c.v[1], ref->has_reaction = (int)c.v[2];
+  ref->seconds = c.v[3], ref->iterations = (int)c.v[4], ref->load_steps = (int)c.v[5];
+  ref->mesh.nv = (int)c.v[6], ref->mesh.ntet = (int)c.v[7];
+  return 0;
 }
 
 static void pct(tb_table *t, double v) {
@@ -190,9 +255,7 @@ static int run_scene(const tb_suite_opts *o, const char *scene) {
   for (int v = 0; v < NVARIANTS; v++) total += variants[v].level <= level ? plan.nres : 0;
   tb_progress("pareto", done++, total);
   tb_fid_ref ref;
-  tb_sim_def rd = plan.def;
-  rd.nodes = plan.ref_res;
-  if (tb_fid_reference(scene, &rd, plan.t_eq, NULL, &ref, &err)) {
+  if (reference_case(su, scene, &plan, &ref, &err)) {
     fprintf(stderr, "pareto: %s: reference: %s\n", scene, err.msg);
     tb_suite_note(su, "The reference could not be computed: %s", err.msg);
     tb_suite_end(su, &err);
@@ -234,41 +297,40 @@ static int run_scene(const tb_suite_opts *o, const char *scene) {
     tb_sim_def sd = plan.def;
     sd.nodes = plan.res[ri];
     tb_fid_mesh fm;
-    if (tb_fid_mesh_make(&ref, &sd, &fm, &err)) {
-      fprintf(stderr, "pareto: %s: %s\n", scene, err.msg);
-      failed = 1;
-      break;
-    }
+    int have_mesh = 0; /* made for the first case of this resolution that runs here */
     for (int v = 0; v < NVARIANTS && !failed; v++) {
       if (variants[v].level > level) continue;
       tb_progress("pareto", done++, total);
-      tb_settings md;
-      if (variant_def(&variants[v], &md, &err) ||
-          tb_fid_masses(&plan, &fm.mesh, variants[v].model, &md, &err)) {
-        fprintf(stderr, "pareto: %s\n", err.msg);
-        failed = 1;
-        break;
-      }
-      /* blown up at the scene's dt: rerun with 4, 16, then 64 substeps */
-      for (int sub = 1; sub <= 64; sub *= 4) {
-        tb_fid_opts so = fo;
-        so.substeps = sub;
-        tb_fid_result fr;
-        if (tb_fid_run(&ref, &fm, variants[v].model, &md, &sd, &so, &fr, &err)) {
+      char key[220];
+      snprintf(key, sizeof key, "res:%d/%s/%s", plan.res[ri], variants[v].model,
+               variants[v].params);
+      tb_case c;
+      int mode = tb_suite_case(su, key, 0, &c);
+      if (mode == TB_CASE_RUN) {
+        if (!have_mesh && tb_fid_mesh_make(&ref, &sd, &fm, &err)) {
+          fprintf(stderr, "pareto: %s: %s\n", scene, err.msg);
+          failed = 1;
+          break;
+        }
+        have_mesh = 1;
+        if (run_variant(&ref, &fm, &plan, &sd, &fo, &variants[v], &c, &err)) {
           fprintf(stderr, "pareto: %s: %s\n", variants[v].model, err.msg);
           failed = 1;
           break;
         }
+        tb_suite_case_done(su, &c);
+      }
+      /* the case's points: (substeps, nodes, then the result's numbers) each, and its state */
+      for (int q = 0; q < (int)c.v[0] && q < c.nt && !failed; q++) {
         tb_point *p = add_point(&r);
-        if (!p) {
+        if (!p)
           failed = 1;
-          break;
-        }
-        fill_point(p, &variants[v], plan.res[ri], fm.mesh.nv, plan.def.dt, sub, &fr);
-        if (fr.stable) break;
+        else
+          case_point(p, &variants[v], plan.res[ri], plan.def.dt, c.v + 1 + POINT_VALUES * q,
+                     c.t[q]);
       }
     }
-    tb_fid_mesh_free(&fm);
+    if (have_mesh) tb_fid_mesh_free(&fm);
   }
   tb_progress("pareto", total, total);
   char *on = calloc((size_t)(r.n > 0 ? r.n : 1), 1), *valid = calloc((size_t)(r.n + 1), 1);

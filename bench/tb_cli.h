@@ -5,6 +5,8 @@
 
 #include <stdint.h>
 
+#include "tb_error.h"
+
 typedef struct tb_command {
   const char *name;
   const char *summary;
@@ -51,7 +53,37 @@ typedef struct tb_suite_entry {
   const char *figure; /* `tissuebench figure NAME` (NULL: none) */
   const char *summary;
   int (*run)(const tb_suite_opts *opts);
+  /* 1: the suite's work is cases (tb_suite_case): with --shard every shard
+   * runs its share of them; 0: the whole suite runs on one shard */
+  int cases;
 } tb_suite_entry;
+
+struct tb_report;
+/* The suites, in the order they run (bench/cmd_reproduce.c). */
+const tb_suite_entry *tb_suites(int *n);
+/* Is name in the comma-separated list? */
+int tb_suite_listed(const char *list, const char *name);
+/* Places the suites in REPORT.md in the documents' order, status[s] for
+ * suite s (TB_REPORT_*), and writes it (tb_report_end). */
+int tb_reproduce_report(struct tb_report *r, const int *status);
+
+/* ---- sweeps across machines (bench/cmd_merge.c) ----
+ * `reproduce --shard k/N` writes <results>/shard.ini: the run's options and
+ * commit, and each suite's status; `merge` checks that N such folders fit
+ * together and makes one results folder of them. */
+#define TB_SHARD_SUITES 64
+enum { TB_SHARD_NOT_RUN = 0, TB_SHARD_DONE, TB_SHARD_FAILED, TB_SHARD_ELSEWHERE };
+typedef struct tb_shard_info {
+  int k, n, full;
+  double scale;
+  uint64_t seed;
+  char commit[48];
+  char only[512], model[64], scene[256]; /* "" when not given */
+  int status[TB_SHARD_SUITES];           /* per suite of tb_suites(), TB_SHARD_* */
+} tb_shard_info;
+int tb_shard_info_write(const char *dir, const tb_shard_info *s, tb_error *err);
+int tb_shard_info_read(const char *dir, tb_shard_info *s, tb_error *err);
+int tb_cmd_merge(int argc, char **argv);
 
 int tb_suite_meshes(const tb_suite_opts *opts);
 int tb_suite_correctness(const tb_suite_opts *opts);

@@ -363,7 +363,7 @@ void tb_suite_table(tb_suite *s, tb_table *t) {
 }
 
 void tb_suite_figure(tb_suite *s, const char *file, const char *fmt, ...) {
-  if (!s) return;
+  if (!s || tb_results_partial(s)) return;
   if (!file || !*file || file[0] == '/' || strstr(file, "..")) {
     tb_results_fail(s, "a figure needs a file name inside the suite folder, without \"..\"");
     return;
@@ -391,7 +391,7 @@ void tb_suite_figure(tb_suite *s, const char *file, const char *fmt, ...) {
 }
 
 void tb_suite_caption(tb_suite *s, const char *name, const char *fmt, ...) {
-  if (!s) return;
+  if (!s || tb_results_partial(s)) return;
   tb_results_item *it = NULL;
   for (int i = s->nitems - 1; i >= 0 && !it && name && fmt; i--)
     if ((s->items[i].kind == TB_ITEM_CHART || s->items[i].kind == TB_ITEM_FIGURE) &&
@@ -567,6 +567,7 @@ static void suite_free(tb_suite *s) {
   }
   free(s->items);
   free(s->benches);
+  free(s->cases);
   free(s->dir);
   free(s->name);
   free(s->title);
@@ -575,6 +576,12 @@ static void suite_free(tb_suite *s) {
 
 int tb_suite_end(tb_suite *s, tb_error *err) {
   if (!s) return tb_error_set(err, "tb_suite_end", 0, "no suite (tb_suite_begin failed?)");
+  if (tb_results_partial(s)) { /* a shard's share of the cases: only their outcomes */
+    int rc = tb_results_shard_write(s, err);
+    if (!rc && s->err[0]) rc = tb_error_set(err, s->dir, 0, "%s", s->err);
+    suite_free(s);
+    return rc;
+  }
   add_timings(s);
   int rc = tb_results_write_files(s, err);
   if (!rc && s->err[0]) rc = tb_error_set(err, s->dir, 0, "%s", s->err);

@@ -44,6 +44,7 @@ int tb_suite_write_data(tb_suite *s, const char *csv_name, const char *header, c
   if (!s || !safe_name(csv_name))
     return tb_error_set(err, csv_name ? csv_name : "(null)", 0,
                         "a data file needs a suite and a relative name without \"..\"");
+  if (tb_results_partial(s)) return 0; /* a shard: the merge writes it */
   char *path = tb_results_join(s->dir, csv_name);
   if (!path) return tb_error_set(err, csv_name, 0, "out of memory");
   FILE *f = open_out(path, err);
@@ -127,6 +128,7 @@ int tb_suite_chart_vars(tb_suite *s, const char *script, const char *datafile, c
       !safe_name(outbase))
     return tb_error_set(err, script ? script : "(null)", 0,
                         "a chart needs a suite, a script in tools/ and relative file names");
+  if (tb_results_partial(s)) return 0;
   char spath[1024], data[1024], base[1024], png[1100], svg[1100];
   snprintf(spath, sizeof spath, "%s/tools/%s", TB_SOURCE_ROOT, script);
   snprintf(data, sizeof data, "%s/%s", s->dir, datafile);

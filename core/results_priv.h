@@ -46,6 +46,13 @@ typedef struct tb_results_bench {
   double *counters;
 } tb_results_bench;
 
+/* A case that ran here (core/results_shard.c). */
+typedef struct tb_results_case {
+  char key[TB_CASE_KEY];
+  int every, done;
+  tb_case c;
+} tb_results_case;
+
 struct tb_suite {
   char *dir, *name, *title;
   char exe[512];
@@ -55,6 +62,11 @@ struct tb_suite {
   tb_results_bench *benches;
   int nbenches, cap_benches;
   char err[400]; /* the first misuse, reported by tb_suite_end */
+  /* cases (shard mode: only they are written) */
+  tb_results_case *cases;
+  int ncases, cap_cases;
+  int used_cases;         /* asked for a case in shard mode: the tables are partial */
+  const char *case_open; /* the key of the case running, NULL when none */
 };
 
 /* core/results.c */
@@ -78,6 +90,11 @@ void tb_results_md_context(FILE *f, const tb_context *c);
  * at `level` ("##" for 2), links prefixed with `prefix` (the suite folder
  * seen from where f lives, "" for table.md), charts shown as <outbase>.<ext>. */
 void tb_results_md_body(FILE *f, const tb_suite *s, const char *prefix, int level, const char *ext);
+
+/* core/results_shard.c: writes <dir>/cases.ini (shard mode). */
+int tb_results_shard_write(tb_suite *s, tb_error *err);
+/* 1 when s is a sharded suite's partial run: no tables, charts or files. */
+static inline int tb_results_partial(const tb_suite *s) { return tb_shard_active() && s->used_cases; }
 
 /* core/results_report.c: hands a finished suite to the open report, if
  * any, when its folder lies inside the report's. */

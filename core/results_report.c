@@ -78,6 +78,9 @@ static const char *inside(const tb_report *r, const char *dir) {
   return *dir ? dir : NULL;
 }
 
+static void add_section(tb_report *r, const char *folder, const char *title, char *body);
+static void write_section(const char *dir, const char *title, const char *body, tb_report *r);
+
 void tb_results_report_add(const tb_suite *s) {
   tb_report *r = open_report;
   const char *rel = r ? inside(r, s->dir) : NULL;
@@ -86,11 +89,7 @@ void tb_results_report_add(const tb_suite *s) {
   char *body = NULL;
   size_t len = 0;
   FILE *f = prefix ? open_memstream(&body, &len) : NULL;
-  report_section *ss =
-      f ? tb_results_grow(r->sections, &r->cap_sections, r->nsections + 1, sizeof *ss) : NULL;
-  if (ss) r->sections = ss;
-  if (!ss) {
-    if (f) fclose(f);
+  if (!f) {
     free(body);
     free(prefix);
     r->oom = 1;
@@ -105,13 +104,60 @@ void tb_results_report_add(const tb_suite *s) {
     r->oom = 1;
     return;
   }
-  report_section sec = {tb_results_dup(rel), tb_results_dup(s->title), body, 0};
-  if (!sec.folder || !sec.title) {
+  if (tb_shard_active()) write_section(s->dir, s->title, body, r);
+  add_section(r, rel, s->title, body);
+}
+
+/* Takes body; r->oom on failure. */
+static void add_section(tb_report *r, const char *folder, const char *title, char *body) {
+  report_section *ss = tb_results_grow(r->sections, &r->cap_sections, r->nsections + 1, sizeof *ss);
+  if (ss) r->sections = ss;
+  report_section sec = {tb_results_dup(folder), tb_results_dup(title), body, 0};
+  if (!ss || !sec.folder || !sec.title) {
     free(sec.folder), free(sec.title), free(sec.body);
     r->oom = 1;
     return;
   }
   r->sections[r->nsections++] = sec;
+}
+
+/* A shard's whole suite: its report body in <dir>/report-section.md (the
+ * title, then the body), which `merge` places in the merged report. */
+static void write_section(const char *dir, const char *title, const char *body, tb_report *r) {
+  char *path = tb_results_join(dir, TB_REPORT_SECTION);
+  FILE *f = path ? fopen(path, "w") : NULL;
+  int bad = !f;
+  if (f) {
+    fprintf(f, "%s\n%s", title, body);
+    bad = ferror(f) | (fclose(f) != 0);
+  }
+  if (bad) r->oom = 1;
+  free(path);
+}
+
+int tb_report_section_file(tb_report *r, const char *path, const char *folder, tb_error *err) {
+  if (!r) return tb_error_set(err, path, 0, "no report");
+  FILE *f = fopen(path, "r");
+  if (!f) return tb_error_set(err, path, 0, "cannot open: %s", strerror(errno));
+  char *text = NULL;
+  size_t len = 0;
+  FILE *m = open_memstream(&text, &len);
+  char buf[4096];
+  size_t n;
+  while (m && (n = fread(buf, 1, sizeof buf, f)) > 0) fwrite(buf, 1, n, m);
+  int bad = ferror(f) || !m;
+  fclose(f);
+  if (m && fclose(m)) bad = 1;
+  char *nl = text ? strchr(text, '\n') : NULL;
+  if (bad || !nl) {
+    free(text);
+    return tb_error_set(err, path, 0, bad ? "cannot read" : "no title line");
+  }
+  *nl = 0;
+  char *body = tb_results_dup(nl + 1);
+  add_section(r, folder, text, body ? body : tb_results_dup(""));
+  free(text);
+  return r->oom ? tb_error_set(err, path, 0, "out of memory") : 0;
 }
 
 static void add_slot(tb_report *r, int chapter, const char *text, const char *extra, int status) {

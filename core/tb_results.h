@@ -141,6 +141,44 @@ void tb_suite_caption(tb_suite *s, const char *name, const char *fmt, ...)
  * misuse recorded during the run (the files are still written). */
 int tb_suite_end(tb_suite *s, tb_error *err);
 
+/* ---- a sweep split over machines: cases (core/results_shard.c) ----
+ * A suite whose work is a list of independent cases (one model run, one map
+ * cell) asks for each by a key unique in its folder (at most TB_CASE_KEY/3
+ * characters) and keeps the case's outcome in a tb_case: the numbers and
+ * short texts its tables, charts and notes are made from. Then
+ * `reproduce --shard k/N` runs every N-th case of the run, and `merge` makes
+ * the suite's results from the shards' outcomes with the suite's own code.
+ * tb_suite_case returns:
+ *   TB_CASE_RUN    run the case: fill c, then tb_suite_case_done(s, c);
+ *   TB_CASE_KNOWN  c holds the outcome a shard saved (merge);
+ *   TB_CASE_SKIP   another shard runs it (or a misuse, reported by
+ *                  tb_suite_end): c is empty, leave the case out.
+ * every = 1: a case every shard needs (a reference the others compare
+ * with) runs on every shard. In a shard, the suite's tables, charts and
+ * data files are dropped: tb_suite_end writes only <dir>/cases.ini. */
+#define TB_CASE_VALUES 64
+#define TB_CASE_TEXTS 8
+#define TB_CASE_TEXT 200
+#define TB_CASE_KEY 240
+enum { TB_CASE_RUN = 0, TB_CASE_KNOWN = 1, TB_CASE_SKIP = 2 };
+typedef struct tb_case {
+  int nv, nt;
+  double v[TB_CASE_VALUES];
+  char t[TB_CASE_TEXTS][TB_CASE_TEXT];
+} tb_case;
+int tb_suite_case(tb_suite *s, const char *key, int every, tb_case *c);
+void tb_suite_case_done(tb_suite *s, const tb_case *c);
+
+/* The process's mode (`reproduce` and `merge` set it): shard k of n, the
+ * suites writing under root; replay (merge) with the outcomes that
+ * tb_shard_load reads from a shard's <root>/<folder>/cases.ini; reset:
+ * every case runs. */
+int tb_shard_set(int k, int n, const char *root, tb_error *err);
+int tb_shard_replay(const char *root, tb_error *err);
+int tb_shard_load(const char *path, const char *folder, int shard, tb_error *err);
+void tb_shard_reset(void);
+int tb_shard_active(void); /* 1 in shard mode */
+
 /* ---- the run's report: <dir>/REPORT.md ----
  * One document for a whole `reproduce`: the run's context once at the top,
  * then every suite's notes, tables, charts and figures (with captions) in
@@ -160,6 +198,11 @@ enum { TB_REPORT_DONE = 0, TB_REPORT_FAILED = 1, TB_REPORT_NOT_RUN = 2 };
 /* The suite whose folder is <dir>/<folder> (or under it, e.g. pareto/liver)
  * goes here, captioned with summary. */
 void tb_report_suite(tb_report *r, const char *folder, const char *summary, int status);
+/* A suite's body that a shard wrote (`reproduce --shard`: a whole suite
+ * in <its folder>/report-section.md, TB_REPORT_SECTION), placed as the
+ * suite folder `folder` (relative to the report's). */
+#define TB_REPORT_SECTION "report-section.md"
+int tb_report_section_file(tb_report *r, const char *path, const char *folder, tb_error *err);
 /* Writes <dir>/REPORT.md, closes and frees r (also on error). */
 int tb_report_end(tb_report *r, tb_error *err);
 

@@ -3,7 +3,7 @@
 # root, otherwise prints the one command to run and fails.
 packages="meson ninja-build pkg-config gcc g++ libsuitesparse-dev libopenblas-dev libfcl-dev
 libccd-dev libbullet-dev libcgal-dev libgmp-dev tetgen libtet1.5-dev gnuplot-nox libexpat1-dev
-libinih-dev libosmesa6-dev libgl-dev libpng-dev"
+libinih-dev libosmesa6-dev libgl-dev libpng-dev parallel"
 
 missing=""
 for p in $packages; do
