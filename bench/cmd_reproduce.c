@@ -49,7 +49,7 @@ static const tb_suite_entry suites[] = {
     {"pbd-stiffness", NULL, "pbd-stiffness",
      "PBD and XPBD: the beam's static sag under gravity over the material's, against "
      "iterations and dt",
-     tb_suite_pbd_stiffness, 0},
+     tb_suite_pbd_stiffness, 1},
     {"pbd", "pbd", NULL,
      "2022 patent tables 1-2: pbd-stvk solve time per step and element on 596-12829-tet livers "
      "dropped on a ground, 1 vs all threads (bit-identical?), Bullet btSoftBody beside it",

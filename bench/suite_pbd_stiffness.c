@@ -243,20 +243,41 @@ static void num_or_dash(tb_table *t, double v, const char *fmt) {
     tb_table_cell(t, "-");
 }
 
-/* One run into *out, its data.json entry; -1 on a setup error. */
+/* One run into *out, its data.json entry; -1 on a setup error. A run is a
+ * case of `reproduce --shard` (its outcome: the result's numbers and state;
+ * a run another shard makes is left NaN here). */
 static int measure(tb_suite *su, const tb_sag_def *base, const tb_mesh *mesh, const char *model,
                    double dt, int it, double k, double ref, row *out, tb_error *err) {
   tb_sag_def d = *base;
   d.model = model, d.dt = dt, d.iterations = it;
   d.k = strcmp(model, "pbd-stvk") ? NAN : k;
   out->model = model, out->dt = dt, out->it = it, out->k = d.k, out->b = d.rayleigh;
-  if (tb_sag_run(&d, mesh, &out->r, err)) return -1;
   char bname[128], tail[40] = "";
   if (d.rayleigh > 0) snprintf(tail, sizeof tail, "/rayleigh_stiffness:%g", d.rayleigh);
   if (isnan(d.k))
     snprintf(bname, sizeof bname, "%s/dt:%g/iterations:%d%s", model, dt, it, tail);
   else
     snprintf(bname, sizeof bname, "%s/dt:%g/iterations:%d/k:%g%s", model, dt, it, d.k, tail);
+  tb_case c;
+  tb_sag_result *r = &out->r;
+  int mode = tb_suite_case(su, bname, 0, &c);
+  if (mode == TB_CASE_SKIP) {
+    memset(r, 0, sizeof *r);
+    r->sag = r->spread = r->settle_time = r->ms_step = NAN;
+    return 0;
+  }
+  if (mode == TB_CASE_RUN) {
+    if (tb_sag_run(&d, mesh, r, err)) return -1;
+    double v[] = {r->stable, r->settled, r->sag, r->spread, r->settle_time, r->steps, r->ms_step};
+    memcpy(c.v, v, sizeof v);
+    c.nv = 7, c.nt = 1;
+    snprintf(c.t[0], sizeof c.t[0], "%s", r->state);
+    tb_suite_case_done(su, &c);
+  } else {
+    r->stable = (int)c.v[0], r->settled = (int)c.v[1], r->sag = c.v[2], r->spread = c.v[3];
+    r->settle_time = c.v[4], r->steps = (long)c.v[5], r->ms_step = c.v[6];
+    snprintf(r->state, sizeof r->state, "%.191s", c.t[0]);
+  }
   tb_suite_bench(su, bname, &out->r.ms_step, NULL, 1, "ms");
   tb_suite_counter(su, bname, "tip_sag", out->r.sag);
   tb_suite_counter(su, bname, "sag_ratio", out->r.sag / ref);
@@ -298,6 +319,22 @@ static tb_table *rows_table(const char *name, const char *title, const row *rows
   return t;
 }
 
+/* The T4 and T10 static sags: a case every shard runs (each compares with them). */
+static int references(tb_suite *su, const tb_sag_def *base, double *ref, double *ref10,
+                      tb_error *err) {
+  tb_case c;
+  int mode = tb_suite_case(su, "reference", 1, &c);
+  if (mode == TB_CASE_RUN) {
+    c.v[0] = tb_sag_reference(base, 0, err);
+    c.v[1] = isfinite(c.v[0]) ? tb_sag_reference(base, 1, err) : NAN;
+    c.nv = 2;
+    tb_suite_case_done(su, &c);
+  }
+  *ref = c.v[0], *ref10 = c.v[1];
+  if (mode == TB_CASE_SKIP) tb_error_set(err, "pbd-stiffness", 0, "no reference case");
+  return isfinite(*ref) && isfinite(*ref10) ? 0 : -1;
+}
+
 int tb_suite_pbd_stiffness(const tb_suite_opts *o) {
   char dir[900];
   tb_error err;
@@ -327,9 +364,7 @@ int tb_suite_pbd_stiffness(const tb_suite_opts *o) {
   double ref = NAN, ref10 = NAN;
   tb_progress("pbd-stiffness", done++, total);
   if (!rows) tb_error_set(&err, "pbd-stiffness", 0, "out of memory");
-  if (!rows || tb_sim_mesh("beam", &sd, &mesh, &err) ||
-      !isfinite(ref = tb_sag_reference(&base, 0, &err)) ||
-      !isfinite(ref10 = tb_sag_reference(&base, 1, &err))) {
+  if (!rows || tb_sim_mesh("beam", &sd, &mesh, &err) || references(su, &base, &ref, &ref10, &err)) {
     fprintf(stderr, "pbd-stiffness: %s\n", err.msg);
     failed = 1;
   }

@@ -13,10 +13,11 @@
  * A case every shard needs (a reference solution the others compare with)
  * runs on every shard; its first shard's outcome is kept.
  *
- * cases.ini is INI (read with inih): a [case KEY] section per case with
- * v0, v1, ... = %a (hexadecimal, so every bit reads back), t0, t1, ... =
- * text, and every = 1 for a case every shard runs. Keys and texts are
- * percent-encoded where INI would read a character otherwise. */
+ * cases.ini is INI (read with inih): a [case] section per case: key = KEY
+ * first (inih cuts long section names, so the key is a value), v0, v1, ...
+ * = %a (hexadecimal, so every bit reads back), t0, t1, ... = text, and
+ * every = 1 for a case every shard runs. Keys and texts are percent-encoded
+ * where INI would read a character otherwise. */
 #include <errno.h>
 #include <ini.h>
 #include <stdio.h>
@@ -201,7 +202,7 @@ int tb_results_shard_write(tb_suite *s, tb_error *err) {
       continue;
     }
     encode(sv->key, buf, sizeof buf);
-    fprintf(f, "\n[case %s]\n", buf);
+    fprintf(f, "\n[case]\nkey = %s\n", buf);
     if (sv->every) fprintf(f, "every = 1\n");
     for (int q = 0; q < sv->c.nv; q++) fprintf(f, "v%d = %a\n", q, sv->c.v[q]);
     for (int q = 0; q < sv->c.nt; q++) {
@@ -224,8 +225,7 @@ int tb_results_shard_write(tb_suite *s, tb_error *err) {
 typedef struct loader {
   const char *path, *folder;
   int shard, failed, line;
-  int cur;                       /* the book entry of the [case] being read */
-  char section[TB_CASE_KEY + 8]; /* its section name */
+  int cur; /* the book entry of the case being read, -1 before the first */
   FILE *f;
   tb_error *err;
 } loader;
@@ -269,16 +269,19 @@ static int handler(void *user, const char *section, const char *name, const char
   loader *L = user;
   int line = L->line;
   if (L->failed) return 0;
-  char key[TB_CASE_KEY];
-  if (strncmp(section, "case ", 5) || decode(section + 5, key, sizeof key) || !key[0])
-    return fail_at(L, line, "section [%s]: expected [case KEY]", section);
-  if (strcmp(section, L->section)) { /* a new [case] */
-    snprintf(L->section, sizeof L->section, "%s", section);
+  if (strcmp(section, "case")) return fail_at(L, line, "section [%s]: expected [case]", section);
+  if (!strcmp(name, "key")) { /* a case begins */
+    char key[TB_CASE_KEY];
+    if (decode(value, key, sizeof key) || !key[0])
+      return fail_at(L, line, "'%s': not a case's key", value);
     book_entry *e = book_add(L, key, line);
     if (!e) return 0;
     L->cur = (int)(e - g.book);
+    return 1;
   }
+  if (L->cur < 0) return fail_at(L, line, "'%s' before the case's key", name);
   book_entry *e = &g.book[L->cur];
+  const char *key = e->key;
   if (e->shard != L->shard) { /* a second shard's copy of a case */
     if (!e->every) return fail_at(L, line, "case \"%s\" ran on two shards", key);
     return 1; /* every shard ran it: the first shard's is kept */
@@ -312,7 +315,7 @@ int tb_shard_load(const char *path, const char *folder, int shard, tb_error *err
   if (g.mode != MODE_REPLAY) return tb_error_set(err, path, 0, "not replaying shards");
   FILE *f = fopen(path, "r");
   if (!f) return tb_error_set(err, path, 0, "cannot open: %s", strerror(errno));
-  loader L = {path, folder, shard, 0, 0, -1, "", f, err};
+  loader L = {path, folder, shard, 0, 0, -1, f, err};
   ini_allow_multiline = 0;
   ini_stop_on_first_error = 1;
   ini_use_stack = 0;
@@ -325,5 +328,3 @@ int tb_shard_load(const char *path, const char *folder, int shard, tb_error *err
   if (rc < 0) return tb_error_set(err, path, 0, "cannot read");
   return 0;
 }
-
-int tb_shard_cases(void) { return g.nbook; }

@@ -64,7 +64,7 @@ static int exists(const char *dir, const char *name) {
 
 static void merge_equals_unsharded(void) {
   const char *tmp = tb_test_tmpdir(), *root = tb_test_source_root();
-  const char *args = "--only pareto,figure-3.10 --scene beam --scale 0.1";
+  const char *args = "--only pareto,pbd-stiffness,figure-3.10 --scene beam --scale 0.1";
   char cmd[4096], out[8192];
   snprintf(cmd, sizeof cmd, "reproduce %s --results '%s/u' 2>&1", args, tmp);
   TB_CHECK_MSG(tb_test_cli_run(cmd) == 0, "%s", tb_test_out);
@@ -77,14 +77,14 @@ static void merge_equals_unsharded(void) {
            root, tmp, TB_BUILD_ROOT, args, tmp);
   int rc = tb_test_run(cmd, out, sizeof out);
   TB_CHECK_MSG(rc == 0, "%s", out);
-  char u[1024], m[1024], s[1024];
-  snprintf(u, sizeof u, "%s/u/pareto/beam", tmp);
+  char m[1024], s[1024];
   snprintf(m, sizeof m, "%s/m/pareto/beam", tmp);
-  const char *csv[] = {"table-points.csv", "points.csv"};
-  for (int i = 0; i < 2; i++) {
+  const char *csv[] = {"pareto/beam/table-points.csv", "pareto/beam/points.csv",
+                       "pbd-stiffness/table-sag.csv"};
+  for (int i = 0; i < 3; i++) {
     char a[1100], b[1100];
-    snprintf(a, sizeof a, "%s/%s", u, csv[i]);
-    snprintf(b, sizeof b, "%s/%s", m, csv[i]);
+    snprintf(a, sizeof a, "%s/u/%s", tmp, csv[i]);
+    snprintf(b, sizeof b, "%s/m/%s", tmp, csv[i]);
     same_but_timing(a, b);
   }
   TB_CHECK(exists(m, "pareto.svg") && exists(m, "data.json") && exists(m, "table.md"));
@@ -94,16 +94,18 @@ static void merge_equals_unsharded(void) {
     snprintf(s, sizeof s, "%s/shards/%d/pareto/beam", tmp, k);
     cases += exists(s, "cases.ini");
     TB_CHECK(!exists(s, "table.md"));
+    snprintf(s, sizeof s, "%s/shards/%d/pbd-stiffness", tmp, k);
+    cases += exists(s, "cases.ini");
     snprintf(s, sizeof s, "%s/shards/%d", tmp, k);
     whole += exists(s, "figure-3.10/table.md");
   }
-  TB_CHECK(cases == 3 && whole == 1);
+  TB_CHECK(cases == 6 && whole == 1);
   snprintf(s, sizeof s, "%s/m", tmp);
   TB_CHECK(exists(s, "figure-3.10/table.md") && !exists(s, "figure-3.10/" TB_REPORT_SECTION));
   snprintf(s, sizeof s, "%s/m/REPORT.md", tmp);
   char *rep = tb_test_slurp(s);
   TB_CHECK(rep && strstr(rep, "### pareto/beam") && strstr(rep, "### figure-3.10") &&
-           !strstr(rep, "Failed"));
+           strstr(rep, "### pbd-stiffness") && !strstr(rep, "Failed"));
   free(rep);
 }
 
@@ -166,7 +168,8 @@ static void cases_round_trip(void) {
   snprintf(dir, sizeof dir, "%s/suite/part", root);
   const double v[] = {-0.0, NAN, -INFINITY, 5e-324, 0.1, 1.0 / 3, -1e308};
   const char *text = "a; b # c [d] = e %41 \"f\" 'g'\nh\\i";
-  const char *key = "res:3/msm/ks=180 kd=5; x#y";
+  const char *key =
+      "res:3/msm/ks=180 kd=5; x#y/a key longer than inih's 50-character section names";
   tb_error err = {{0}};
   TB_CHECK(tb_shard_set(1, 1, root, &err) == 0);
   tb_suite *su = tb_suite_begin(dir, "part", "round trip", 1, &err);
@@ -192,12 +195,15 @@ static void cases_round_trip(void) {
   TB_CHECK(tb_suite_case(su, "no such case", 0, &r) == TB_CASE_SKIP);
   TB_CHECK(tb_suite_end(su, &err) != 0 && strstr(err.msg, "is in no shard's cases.ini"));
   /* bad files: FILE:LINE */
-  const char *badfile[][2] = {{"[case a]\nv0 = 1\nv0x = 2\n", ":3: 'v0x': no such field"},
-                              {"[case a]\nv1 = 1.5q\n", ":2: '1.5q': not a number"},
-                              {"[nocase]\nv0 = 1\n", ":2: section [nocase]"},
-                              {"[case b%4]\nv0 = 1\n", ":2: section"},
-                              {"[case c]\nt0 = 100%zz\n", ":2: '100%zz': a bad"}};
-  for (int i = 0; i < 5; i++) {
+  const char *badfile[][2] = {
+      {"[case]\nkey = a\nv0 = 1\nv0x = 2\n", ":4: 'v0x': no such field"},
+      {"[case]\nkey = a\nv1 = 1.5q\n", ":3: '1.5q': not a number"},
+      {"[nocase]\nkey = a\n", ":2: section [nocase]"},
+      {"[case]\nkey = b%4\nv0 = 1\n", ":2: 'b%4': not a case's key"},
+      {"[case]\nkey = c\nt0 = 100%zz\n", ":3: '100%zz': a bad"},
+      {"[case]\nv0 = 1\n", ":2: 'v0' before the case's key"},
+      {"[case]\nkey = d\nv0 = 1\n[case]\nkey = d\n", ":5: case \"d\" given twice"}};
+  for (int i = 0; i < 7; i++) {
     char name[64];
     snprintf(name, sizeof name, "bad%d.ini", i);
     const char *p = tb_test_file(name, badfile[i][0], -1);
@@ -206,10 +212,10 @@ static void cases_round_trip(void) {
                  badfile[i][0], err.msg);
   }
   /* one case from two shards: only a case every shard runs may be */
-  const char *p = tb_test_file("dup.ini", "[case a]\nv0 = 1\n", -1);
+  const char *p = tb_test_file("dup.ini", "[case]\nkey = a\nv0 = 1\n", -1);
   TB_CHECK(tb_shard_load(p, "dup", 2, &err) == 0);
   TB_CHECK(tb_shard_load(p, "dup", 3, &err) != 0 && strstr(err.msg, "ran on two shards"));
-  p = tb_test_file("every.ini", "[case r]\nevery = 1\nv0 = 1\n", -1);
+  p = tb_test_file("every.ini", "[case]\nkey = r\nevery = 1\nv0 = 1\n", -1);
   TB_CHECK(tb_shard_load(p, "dup", 2, &err) == 0 && tb_shard_load(p, "dup", 3, &err) == 0);
   tb_shard_reset();
 }
