@@ -19,6 +19,8 @@ typedef struct tb_stab_model {
   int integer;     /* the key is a whole number (iterations): the axis is rounded */
   const char *tag; /* the map's file names, map_<tag>; NULL: the model's name. A model with
                       two maps (two keys) has one entry each; part 2 runs it once. */
+  const char *kvs; /* further settings of the map ("force=linear"), or NULL */
+  int peer;        /* 1: a Bullet peer (issue 15): a smaller grid in quick mode, not in part 2 */
 } tb_stab_model;
 extern const tb_stab_model tb_stab_models[];
 extern const int tb_stab_nmodels;

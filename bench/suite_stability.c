@@ -46,22 +46,34 @@
 
 /* ---- the models and their stiffness axes ---- */
 const tb_stab_model tb_stab_models[] = {
-    {"msm", "ks", "spring stiffness ks (N/m)", 10, 1e6, 1, 180, 0, NULL},
-    {"fem", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000, 0, NULL},
-    {"fem-corot", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000, 0, NULL},
-    {"sm", "alpha", "shape-matching stiffness alpha (dimensionless)", 0.05, 1, 0, 0, 0, NULL},
+    {"msm", "ks", "spring stiffness ks (N/m)", 10, 1e6, 1, 180, 0, NULL, NULL, 0},
+    {"fem", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000, 0, NULL, NULL, 0},
+    {"fem-corot", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000, 0, NULL, NULL, 0},
+    {"sm", "alpha", "shape-matching stiffness alpha (dimensionless)", 0.05, 1, 0, 0, 0, NULL, NULL,
+     0},
     /* PBD's stiffness is k, the iterations and dt (E does not enter): two maps */
-    {"pbd-stvk", "k", "PBD stiffness k (dimensionless)", 0.05, 1, 0, 0, 0, NULL},
+    {"pbd-stvk", "k", "PBD stiffness k (dimensionless)", 0.05, 1, 0, 0, 0, NULL, NULL, 0},
     {"pbd-stvk", "iterations", "Gauss-Seidel iterations per step", 1, 100, 1, 0, 1,
-     "pbd-stvk-iterations"},
+     "pbd-stvk-iterations", NULL, 0},
     /* XPBD's E is the material's (the fem maps' axis); its iterations are the solver's */
-    {"xpbd-stvk", "iterations", "Gauss-Seidel iterations per step", 1, 100, 1, 0, 1, NULL},
+    {"xpbd-stvk", "iterations", "Gauss-Seidel iterations per step", 1, 100, 1, 0, 1, NULL, NULL, 0},
+    /* Bullet 3.24's peers (issue 15): bullet-fem's three forces over E, as fem; btSoftBody
+     * over its link stiffness kLST, load fixed as pbd-stvk's */
+    {"bullet-fem", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000, 0, "bullet-fem-neohookean",
+     "force=neohookean", 1},
+    {"bullet-fem", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000, 0, "bullet-fem-linear",
+     "force=linear", 1},
+    {"bullet-fem", "E", "Young modulus E (Pa)", 10, 1e6, 1, 3000, 0, "bullet-fem-corotated",
+     "force=corotated", 1},
+    {"bullet-softbody", "stiffness", "link stiffness kLST (dimensionless)", 0.05, 1, 0, 0, 0, NULL,
+     NULL, 1},
 };
 const int tb_stab_nmodels = (int)(sizeof tb_stab_models / sizeof tb_stab_models[0]);
 
 const char *tb_stab_tag(const tb_stab_model *m) { return m->tag ? m->tag : m->name; }
 
 int tb_stab_deform_runs(const tb_stab_model *m, const char *only) {
+  if (m->peer) return 0; /* the Bullet peers: maps only */
   for (const tb_stab_model *e = tb_stab_models; e < m; e++)
     if (!strcmp(e->name, m->name)) return 0; /* an earlier map of the same model */
   return !only || !strcmp(only, m->name);
@@ -142,6 +154,7 @@ static tb_settings model_def(const tb_stab_model *mm, double stiffness, tb_error
   tb_settings_init(&md);
   *bad = tb_settings_setd(&md, "node_mass", NODE_MASS, err) ||
          tb_settings_setd(&md, mm->key, stiffness, err) ||
+         (mm->kvs && tb_settings_set(&md, mm->kvs, err)) ||
          tb_model_check_settings(mm->name, &md, err);
   return md;
 }
@@ -214,6 +227,13 @@ done:
 
 /* ---- part 1: the maps ---- */
 
+/* The map's model with its further settings: "bullet-fem (force=linear)". */
+static const char *who(const tb_stab_model *mm, char *buf, size_t cap) {
+  snprintf(buf, cap, "%s%s%s%s", mm->name, mm->kvs ? " (" : "", mm->kvs ? mm->kvs : "",
+           mm->kvs ? ")" : "");
+  return buf;
+}
+
 typedef struct grid {
   int ndt, nk, nmesh;
   double dt[16], k[16];
@@ -235,6 +255,17 @@ static grid make_grid(const tb_suite_opts *o) {
     g.ndt = 6, g.nk = 6, g.nmesh = 1, g.cells[0] = 10, g.duration = 0.5, g.bisect = 6;
   }
   for (int i = 0; i < g.ndt; i++) g.dt[i] = dlo * pow(DT_HI / dlo, (double)i / (g.ndt - 1));
+  return g;
+}
+
+/* The Bullet peers' grid: --full's as every map's; quick mode 3 dt (1e-3,
+ * 1e-2, 0.1) x 3 stiffnesses over 0.1 s (at least MIN_STEPS steps), as
+ * Bullet's step costs 10-100 times ours (a few seconds per map). */
+static grid peer_grid(const tb_suite_opts *o) {
+  grid g = make_grid(o);
+  if (o->full || o->scale < 1) return g;
+  g.ndt = 3, g.nk = 3, g.duration = 0.1;
+  for (int i = 0; i < g.ndt; i++) g.dt[i] = 1e-3 * pow(10, i);
   return g;
 }
 
@@ -376,12 +407,12 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
     snprintf(heads[j], sizeof heads[j], "dt %.3g s", g->dt[j]);
     cols[j + 1] = heads[j];
   }
-  char name[48], title[200];
+  char name[48], title[320], wb[96];
   snprintf(name, sizeof name, "map_%s_n%d", tb_stab_tag(mm), cells);
   snprintf(title, sizeof title,
            "%s over %s, beam with %d cells along x (%d nodes): stable or unstable (reason, time) "
            "over %g s or %d steps",
-           mm->name, mm->key, cells, mesh->nv, g->duration, MIN_STEPS);
+           who(mm, wb, sizeof wb), mm->key, cells, mesh->nv, g->duration, MIN_STEPS);
   tb_table *t = tb_table_new(name, title, g->ndt + 1, cols);
   int rc = 0;
   for (int r = 0; r < g->nk && !rc; r++) {
@@ -395,8 +426,8 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
       }
       counts[c->code]++;
       char bname[128]; /* counters: stable 1/0, the detector's code, when it tripped */
-      snprintf(bname, sizeof bname, "map/%s/cells:%d/%s:%.6g/dt:%.6g", mm->name, cells, mm->key,
-               g->k[r], g->dt[j]);
+      snprintf(bname, sizeof bname, "map/%s/cells:%d/%s:%.6g/dt:%.6g",
+               mm->kvs ? tb_stab_tag(mm) : mm->name, cells, mm->key, g->k[r], g->dt[j]);
       tb_suite_counter(su, bname, "stable", c->code == ST_STABLE);
       tb_suite_counter(su, bname, "status_code", c->code);
       if (c->code != ST_STABLE) tb_suite_counter(su, bname, "unstable_at_s", c->t);
@@ -420,13 +451,16 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
 }
 
 static int maps_part(tb_suite *su, const tb_suite_opts *o, const char *only, tb_error *err) {
-  grid g = make_grid(o);
+  grid g0 = make_grid(o), gp = peer_grid(o);
   long done = 0, total = 0; /* the maps run, one item a mesh */
-  for (int m = 0; m < NMAPS; m++) total += !only || !strcmp(only, maps[m].name) ? g.nmesh : 0;
+  for (int m = 0; m < NMAPS; m++)
+    total += !only || !strcmp(only, maps[m].name) ? (maps[m].peer ? gp : g0).nmesh : 0;
   for (int m = 0; m < NMAPS; m++) {
     const tb_stab_model *mm = &maps[m];
     if (only && strcmp(only, mm->name)) continue;
+    grid g = mm->peer ? gp : g0;
     tb_stab_text csv = {0}, bcsv = {0};
+    char wb[96];
     int counts[ST_COUNT] = {0}, rc = 0;
     uint64_t t0 = tb_time_ns();
     for (int q = 0; q < g.nmesh && !rc; q++) {
@@ -451,9 +485,9 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const char *only, tb_
                   "%s over %s: %d cells stable, %d NaN or inf, %d energy growth, %d inverted "
                   "elements, %d velocity beyond bound, %d failed steps (%.1f s of wall time for "
                   "the map%s).",
-                  mm->name, mm->key, counts[ST_STABLE], counts[ST_NAN], counts[ST_ENERGY],
-                  counts[ST_INVERTED], counts[ST_VELOCITY], counts[ST_FAILED], secs,
-                  mm == &maps[0] ? " and its bisections" : "");
+                  who(mm, wb, sizeof wb), mm->key, counts[ST_STABLE], counts[ST_NAN],
+                  counts[ST_ENERGY], counts[ST_INVERTED], counts[ST_VELOCITY], counts[ST_FAILED],
+                  secs, mm == &maps[0] ? " and its bisections" : "");
     char csvname[48];
     snprintf(csvname, sizeof csvname, "map_%s.csv", tb_stab_tag(mm));
     rc = tb_suite_write_data(su, csvname, "dt,stiffness,status,cells,t,reason", csv.s, err);
@@ -475,15 +509,15 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const char *only, tb_
       snprintf(vars, sizeof vars,
                "title='%s, %s x dt: stability over %g s (at least %d steps), beam with %d cells "
                "along x'; ylabel='%s'; logy=%d; cells=%d; psize=%g; bound=%d; mass=%g%s%s%s",
-               mm->name, mm->key, g.duration, MIN_STEPS, g.cells[q], mm->label, mm->logy,
-               g.cells[q], g.ndt > 8 ? 1.8 : 3.0, mm == &maps[0], NODE_MASS,
+               who(mm, wb, sizeof wb), mm->key, g.duration, MIN_STEPS, g.cells[q], mm->label,
+               mm->logy, g.cells[q], g.ndt > 8 ? 1.8 : 3.0, mm == &maps[0], NODE_MASS,
                bfile[0] ? "; boundfile='" : "", bfile, bfile[0] ? "'" : "");
       rc = tb_suite_chart_vars(su, "chart_map.gp", csvname, base, vars, err);
       if (!rc)
         tb_suite_caption(su, base,
                          "%s on a beam with %d cells along x: stable or why not (NaN, energy "
                          "growth, inversion, velocity) over time step and %s%s",
-                         mm->name, g.cells[q], mm->label,
+                         who(mm, wb, sizeof wb), g.cells[q], mm->label,
                          mm == &maps[0] ? "; the line: the bisected largest stable time step" : "");
     }
     if (rc) return -1;
@@ -537,6 +571,17 @@ int tb_suite_stability(const tb_suite_opts *o) {
       "or `unstable (reason, t at which it was detected)`; map_<model>.csv (and "
       "map_pbd-stvk-iterations.csv) has the detector's full words.",
       g.duration, MIN_STEPS, g.nk, g.ndt, g.dt[0], g.dt[g.ndt - 1]);
+  grid gp = peer_grid(o);
+  tb_suite_note(
+      s,
+      "Bullet 3.24's peers (issue 15): bullet-fem with each of Bullet's forces (neohookean, "
+      "linear, corotated) over E as fem (the same scaled load, stiffness damping 0.02), and "
+      "bullet-softbody over its link stiffness kLST (load 0.075, 5 position iterations), on "
+      "a %d x %d grid (dt %.3g..%.3g s, %g s or %d steps per cell), with the same unit node "
+      "masses and detector; not in part 2. Bullet's corotated force has no force differential, "
+      "so its implicit step is explicit in the elasticity: expect it unstable wherever dt is "
+      "beyond the explicit limit of the stiffest tets (shown as the detector reports it).",
+      gp.nk, gp.ndt, gp.dt[0], gp.dt[gp.ndt - 1], gp.duration, MIN_STEPS);
   int deform = 0, vvs = !only || !strcmp(only, TB_STAB_VVS);
   for (int m = 0; m < NMAPS; m++) deform |= tb_stab_deform_runs(&maps[m], only);
   int failed = maps_part(s, o, only, &err) || (deform && tb_stab_deform(s, o, only, &err)) ||

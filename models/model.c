@@ -11,11 +11,14 @@
 #include "tb_model.h"
 
 extern const tb_model_class tb_model_msm, tb_model_fem, tb_model_fem_corot, tb_model_sm,
-    tb_model_pbd_stvk, tb_model_xpbd_stvk, tb_model_msm_vvs, tb_model_metaball;
+    tb_model_pbd_stvk, tb_model_xpbd_stvk, tb_model_msm_vvs, tb_model_metaball, tb_model_bullet_fem,
+    tb_model_bullet_softbody;
 
-const tb_model_class *const tb_model_classes[] = {
-    &tb_model_msm,      &tb_model_fem,       &tb_model_fem_corot, &tb_model_sm,
-    &tb_model_pbd_stvk, &tb_model_xpbd_stvk, &tb_model_msm_vvs,   &tb_model_metaball};
+const tb_model_class *const tb_model_classes[] = {&tb_model_msm,        &tb_model_fem,
+                                                  &tb_model_fem_corot,  &tb_model_sm,
+                                                  &tb_model_pbd_stvk,   &tb_model_xpbd_stvk,
+                                                  &tb_model_msm_vvs,    &tb_model_metaball,
+                                                  &tb_model_bullet_fem, &tb_model_bullet_softbody};
 const int tb_model_count = (int)(sizeof tb_model_classes / sizeof tb_model_classes[0]);
 
 const tb_model_class *tb_model_find(const char *name) {

@@ -32,6 +32,19 @@
 // moves it the hardness's share of the way to the margin each iteration,
 // with friction kDF x 1).
 //
+// Models (tb_softbody_step_nodes, for models/bullet_softbody.c): node
+// masses may be given instead of the density's; gravity is set in the
+// world and its world info each step; external node forces go through
+// btSoftBody::addForce (m_f, applied in predictMotion, none on zero-mass
+// nodes); a prescribed node gets setMass(i, 0) (Bullet's fixed node: no
+// gravity, force or link correction moves it; setMass also marks the
+// links' constants for an update) and the velocity (fixed_x - x) / dt
+// before the step, which predictMotion integrates, and after the step
+// exactly fixed_x and that velocity; leaving the set gives its mass back.
+// Bullet hands the soft-body solver dt as a float
+// (btSoftRigidDynamicsWorld::predictUnconstraintMotion: float(timeStep)),
+// so positions follow dt rounded to float.
+//
 // Threads: Bullet's default soft-body solver (btDefaultSoftBodySolver) runs
 // on the calling thread.
 
@@ -64,6 +77,9 @@ struct tb_softbody {
   btRigidBody *ground = nullptr;
   btSoftBody *body = nullptr;
   double total_mass = 0;
+  std::vector<double> mass;          // the node masses given at create
+  std::vector<unsigned char> fixed;  // prescribed in the last tb_softbody_step_nodes
+  std::vector<btVector3> vfix;       // a prescribed node's velocity in this step
 
   tb_softbody() : dispatcher(&config), world(&dispatcher, &broadphase, &solver, &config, nullptr) {}
   ~tb_softbody() {
@@ -88,6 +104,7 @@ extern "C" tb_softbody_def tb_softbody_default_def(void) {
   d.gravity = tb_v3(0, 0, 0);
   d.has_ground = 0;
   d.ground_p = tb_v3(0, 0, 0), d.ground_n = tb_v3(0, 0, 1);
+  d.mass = nullptr;
   return d;
 }
 
@@ -125,6 +142,8 @@ extern "C" tb_softbody *tb_softbody_create(const tb_mesh *mesh, const tb_softbod
       }
       for (int k = 0; k < 4; k++) mass[(size_t)e[k]] += 0.25 * def->density * v;
     }
+    if (def->mass)
+      for (int i = 0; i < mesh->nv; i++) mass[(size_t)i] = def->mass[i];
     for (int i = 0; i < mesh->nv; i++) {
       if (!(mass[(size_t)i] > 0)) {
         tb_error_set(err, "mesh", 0, "node %d is in no tet (no mass)", i);
@@ -135,6 +154,9 @@ extern "C" tb_softbody *tb_softbody_create(const tb_mesh *mesh, const tb_softbod
     int ne = tb_mesh_edges(mesh, &edges);
     if (ne < 0) throw std::bad_alloc();
     b = new tb_softbody();
+    b->mass.assign(mass.begin(), mass.end());
+    b->fixed.assign((size_t)mesh->nv, 0);
+    b->vfix.assign((size_t)mesh->nv, btVector3(0, 0, 0));
     btSoftBodyWorldInfo &wi = b->world.getWorldInfo();
     wi.m_gravity = bt(def->gravity);
     wi.m_sparsesdf.Initialize();
@@ -182,6 +204,64 @@ extern "C" int tb_softbody_step(tb_softbody *b, double dt, tb_error *err) {
   b->world.stepSimulation(dt, 0);
   b->world.getWorldInfo().m_sparsesdf.GarbageCollect();
   return 0;
+}
+
+extern "C" int tb_softbody_step_nodes(tb_softbody *b, double dt, tb_vec3 g, const tb_vec3 *force,
+                                      int nfixed, const int *fixed, const tb_vec3 *fixed_x,
+                                      tb_error *err) {
+  btSoftBody *sb = b->body;
+  const int nv = sb->m_nodes.size();
+  if (!(dt > 0) || !std::isfinite(dt))
+    return tb_error_set(err, "btSoftBody", 0, "dt must be > 0 (got %g)", dt);
+  if (nfixed < 0 || (nfixed > 0 && (!fixed || !fixed_x)))
+    return tb_error_set(err, "btSoftBody", 0, "bad prescribed set (nfixed %d)", nfixed);
+  for (int p = 0; p < nfixed; p++)
+    if (fixed[p] < 0 || fixed[p] >= nv || (p > 0 && fixed[p] <= fixed[p - 1]))
+      return tb_error_set(err, "btSoftBody", 0,
+                          "prescribed nodes must be strictly ascending in [0, %d): entry %d is %d",
+                          nv, p, fixed[p]);
+  btSoftBodyWorldInfo &wi = b->world.getWorldInfo();
+  wi.m_gravity = bt(g);
+  b->world.setGravity(bt(g));
+  // setMass marks the links' constants for an update (m_bUpdateRtCst)
+  for (int i = 0, p = 0; i < nv; i++) {
+    const bool now = p < nfixed && fixed[p] == i;
+    if (now) {
+      if (!b->fixed[(size_t)i]) sb->setMass(i, 0);
+      sb->m_nodes[i].m_v = b->vfix[(size_t)i] = (bt(fixed_x[p]) - sb->m_nodes[i].m_x) / dt;
+      p++;
+    } else if (b->fixed[(size_t)i]) {
+      sb->setMass(i, b->mass[(size_t)i]);
+    }
+  }
+  if (force)
+    for (int i = 0; i < nv; i++) sb->addForce(bt(force[i]), i);  // m_f, ignored at zero mass
+  b->world.stepSimulation(dt, 0);
+  wi.m_sparsesdf.GarbageCollect();
+  for (int i = 0, p = 0; i < nv; i++) {
+    const bool now = p < nfixed && fixed[p] == i;
+    b->fixed[(size_t)i] = now;
+    if (now) {
+      sb->m_nodes[i].m_v = b->vfix[(size_t)i];
+      sb->m_nodes[i].m_x = bt(fixed_x[p]);
+      p++;
+    }
+  }
+  return 0;
+}
+
+extern "C" void tb_softbody_velocities(const tb_softbody *b, tb_vec3 *v) {
+  const btSoftBody::tNodeArray &n = b->body->m_nodes;
+  for (int i = 0; i < n.size(); i++) v[i] = tb_v3(n[i].m_v.x(), n[i].m_v.y(), n[i].m_v.z());
+}
+
+extern "C" void tb_softbody_correct(tb_softbody *b, int n, const int *ids, const tb_vec3 *x,
+                                    const tb_vec3 *v) {
+  btSoftBody::tNodeArray &nodes = b->body->m_nodes;
+  for (int k = 0; k < n; k++) {
+    if (x) nodes[ids[k]].m_x = bt(x[k]);
+    if (v) nodes[ids[k]].m_v = bt(v[k]);
+  }
 }
 
 extern "C" void tb_softbody_positions(const tb_softbody *b, tb_vec3 *x) {

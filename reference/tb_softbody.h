@@ -24,6 +24,7 @@ typedef struct tb_softbody_def {
   tb_vec3 gravity;  /* acceleration */
   int has_ground;   /* 1: a static ground through ground_p with normal ground_n */
   tb_vec3 ground_p, ground_n;
+  const double *mass; /* nv node masses (> 0) instead of the density's, or NULL */
 } tb_softbody_def;
 
 /* Bullet's defaults for the rest: stiffness 1, 1 iteration, friction 0.2,
@@ -36,6 +37,18 @@ typedef struct tb_softbody tb_softbody;
 tb_softbody *tb_softbody_create(const tb_mesh *mesh, const tb_softbody_def *def, tb_error *err);
 /* One world step of dt (stepSimulation(dt, 0): exactly one step of dt). */
 int tb_softbody_step(tb_softbody *b, double dt, tb_error *err);
+/* One step of dt as tb_softbody_step, with gravity g (world and body),
+ * external node forces force (nv, or NULL: btSoftBody::addForce) and
+ * prescribed nodes fixed[0 .. nfixed) (ascending) ending the step at
+ * fixed_x with velocity (fixed_x - x) / dt: zero mass (Bullet's fixed
+ * nodes) while prescribed, that velocity before the step, the position set
+ * after it. */
+int tb_softbody_step_nodes(tb_softbody *b, double dt, tb_vec3 g, const tb_vec3 *force, int nfixed,
+                           const int *fixed, const tb_vec3 *fixed_x, tb_error *err);
+/* The nodes' velocities now (nv entries). */
+void tb_softbody_velocities(const tb_softbody *b, tb_vec3 *v);
+/* Overwrites positions and/or velocities (either may be NULL) of ids[0 .. n). */
+void tb_softbody_correct(tb_softbody *b, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v);
 /* The nodes' positions now, in the mesh's node order (nv entries). */
 void tb_softbody_positions(const tb_softbody *b, tb_vec3 *x);
 int tb_softbody_nodes(const tb_softbody *b);

@@ -187,6 +187,7 @@ static const struct {
     {"vvs_refine", tb_tests_vvs_refine},
     {"metaball", tb_tests_metaball},
     {"softbody", tb_tests_softbody},
+    {"bullet_models", tb_tests_bullet_models},
     {"butterfly", tb_tests_butterfly},
     {"sph", tb_tests_sph},
     {"meshless", tb_tests_meshless},

@@ -94,6 +94,7 @@ extern const tb_test_case tb_tests_vvs_refine[];
 extern const tb_test_case tb_tests_metaball[];
 extern const tb_test_case tb_tests_metaball_cut[];
 extern const tb_test_case tb_tests_softbody[];
+extern const tb_test_case tb_tests_bullet_models[];
 extern const tb_test_case tb_tests_butterfly[];
 extern const tb_test_case tb_tests_sph[];
 extern const tb_test_case tb_tests_meshless[];

@@ -1,0 +1,135 @@
+/* bullet-softbody: Bullet's classic soft body (btSoftBody 3.24, double
+ * precision) as a peer deformation model, through reference/tb_softbody.h:
+ * one node per mesh node, one link (Bullet's distance constraint with
+ * linear stiffness kLST, solved by its position solver, piterations
+ * iterations a step) per tet edge; see reference/ref_softbody.cpp.
+ *
+ * Settings: stiffness is the links' kLST in (0, 1] and iterations the
+ * position iterations: Bullet's links have no modulus, so E and nu are in
+ * the table (as every model's) but not read. Node masses density * (volume
+ * of the node's tets) / 4, or node_mass; damping is Bullet's kDP (a share
+ * of the velocity removed per step). Gravity as Bullet's world gravity,
+ * external node forces through btSoftBody::addForce, prescribed nodes as
+ * Bullet's zero-mass nodes moved to their positions within the step.
+ *
+ * Ground: left to the scene (own_ground 0): Bullet meets the ground only
+ * through a rigid convex body (ref_softbody.cpp's static box), built at
+ * creation, before a scene's ground is known. Energy: NAN (Bullet's links
+ * have no energy). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_model.h"
+#include "tb_softbody.h"
+
+typedef struct bsb_settings {
+  double density, node_mass, E, nu, stiffness, damping;
+  int iterations;
+} bsb_settings;
+
+typedef struct bsb {
+  tb_softbody *b;
+  int nv;
+  double *mass;
+  tb_vec3 *x, *v; /* copies of Bullet's node state, for the C side */
+} bsb;
+
+static void destroy(void *self) {
+  bsb *s = self;
+  if (!s) return;
+  if (s->b) tb_softbody_destroy(s->b);
+  free(s->mass), free(s->x), free(s->v);
+  free(s);
+}
+
+static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
+  const bsb_settings *def = settings;
+  if (tb_check_tets(mesh, err)) return NULL;
+  if (mesh->ntet < 1) {
+    tb_error_set(err, "bullet-softbody", 0, "needs a tet mesh (the mesh has no tets)");
+    return NULL;
+  }
+  bsb *s = calloc(1, sizeof *s);
+  if (!s) {
+    tb_error_set(err, "bullet-softbody", 0, "out of memory");
+    return NULL;
+  }
+  size_t nv = (size_t)mesh->nv;
+  s->nv = mesh->nv;
+  s->mass = malloc(sizeof(double) * nv);
+  s->x = malloc(sizeof(tb_vec3) * nv);
+  s->v = calloc(nv, sizeof(tb_vec3));
+  if (!s->mass || !s->x || !s->v) {
+    tb_error_set(err, "bullet-softbody", 0, "out of memory");
+    goto fail;
+  }
+  if (tb_lumped_masses(mesh, def->density, def->node_mass, s->mass, err)) goto fail;
+  tb_softbody_def d = tb_softbody_default_def();
+  d.density = def->density > 0 ? def->density : 1; /* masses given below */
+  d.mass = s->mass;
+  d.stiffness = def->stiffness;
+  d.iterations = def->iterations;
+  d.damping = def->damping;
+  s->b = tb_softbody_create(mesh, &d, err);
+  if (!s->b) goto fail;
+  tb_softbody_positions(s->b, s->x);
+  return s;
+fail:
+  destroy(s);
+  return NULL;
+}
+
+static int step(void *self, const tb_step *in, tb_error *err) {
+  bsb *s = self;
+  int rc = tb_softbody_step_nodes(s->b, in->dt, in->gravity, in->force, in->nfixed, in->fixed,
+                                  in->fixed_x, err);
+  tb_softbody_positions(s->b, s->x);
+  tb_softbody_velocities(s->b, s->v);
+  return rc;
+}
+
+static const tb_vec3 *positions(const void *self) { return ((const bsb *)self)->x; }
+static const tb_vec3 *velocities(const void *self) { return ((const bsb *)self)->v; }
+static const double *masses(const void *self) { return ((const bsb *)self)->mass; }
+static double energy(const void *self) {
+  (void)self;
+  return NAN;
+}
+
+static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
+  bsb *s = self;
+  tb_softbody_correct(s->b, n, ids, x, v);
+  for (int k = 0; k < n; k++) {
+    if (x) s->x[ids[k]] = x[k];
+    if (v) s->v[ids[k]] = v[k];
+  }
+}
+
+#define S bsb_settings
+static const tb_setting settings[] = {
+    TB_SETTINGS_MASS(S, 0.0),
+    TB_SETTING_YOUNG(S, "not read: Bullet's links have no modulus (stiffness sets them)"),
+    TB_SETTING_R(S, nu, 0.3, -1.0, 0.5, TB_OPEN_LO | TB_OPEN_HI, "not read (as E)"),
+    TB_SETTING_R(S, stiffness, 1.0, 0.0, 1.0, TB_OPEN_LO,
+                 "the links' linear stiffness, Bullet's Material::m_kLST"),
+    TB_SETTING_I(S, iterations, 5, 1, 1000, "position solver iterations, Bullet's piterations"),
+    TB_SETTING_R(S, damping, 0.0, 0.0, 1.0, 0, "Bullet's velocity damping kDP"),
+};
+#undef S
+
+const tb_model_class tb_model_bullet_softbody = {
+    .name = "bullet-softbody",
+    .summary = "Bullet 3.24's classic btSoftBody: a link per tet edge, its position solver",
+    .settings = settings,
+    .nsettings = (int)(sizeof settings / sizeof settings[0]),
+    .settings_size = sizeof(bsb_settings),
+    .create = create,
+    .step = step,
+    .positions = positions,
+    .velocities = velocities,
+    .energy = energy,
+    .destroy = destroy,
+    .masses = masses,
+    .correct = correct,
+};
