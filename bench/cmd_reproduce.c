@@ -45,7 +45,7 @@ static const tb_suite_entry suites[] = {
      tb_suite_pareto, 1},
     {"stability", NULL, "stability",
      "stable/unstable over dt x stiffness per model (--model); large-deformation tests",
-     tb_suite_stability, 0},
+     tb_suite_stability, 1},
     {"pbd-stiffness", NULL, "pbd-stiffness",
      "PBD and XPBD: the beam's static sag under gravity over the material's, against "
      "iterations and dt",

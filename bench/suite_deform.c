@@ -4,7 +4,7 @@
  * inverted tets and the residual displacement after recovery. Inversion
  * checking is off here (inverted tets are counted, not a stop); NaN/inf,
  * velocity and energy growth still stop a run, printed as
- * `unstable (reason)`. */
+ * `unstable (reason)`. Each model x test run is a case (`reproduce --shard`). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -61,6 +61,34 @@ static int deform_run(const char *model, const char *scene, const tb_sim_def *sd
   r->c.t = s.t;
   r->end = tb_sim_measure(&s);
   tb_sim_destroy(&s);
+  return 0;
+}
+
+/* deform_run as a case of `reproduce --shard`: its outcome is what the
+ * table and the summary read (a run another shard makes stays out). */
+static int deform_case(tb_suite *su, const char *model, const char *scene, const tb_sim_def *sd,
+                       deform_result *r, tb_error *err) {
+  char key[96];
+  snprintf(key, sizeof key, "deform/%s/%s", model, scene);
+  tb_case c;
+  int mode = tb_suite_case(su, key, 0, &c);
+  memset(r, 0, sizeof *r);
+  if (mode == TB_CASE_SKIP) return 0;
+  if (mode == TB_CASE_RUN) {
+    if (deform_run(model, scene, sd, r, err)) return -1;
+    double v[] = {r->c.code,       r->c.t,          r->peak.inverted, r->peak.volume_change,
+                  r->end.inverted, r->end.max_disp, r->before};
+    memcpy(c.v, v, sizeof v);
+    c.nv = (int)(sizeof v / sizeof v[0]), c.nt = 1;
+    snprintf(c.t[0], sizeof c.t[0], "%s", r->c.reason);
+    tb_suite_case_done(su, &c);
+    return 0;
+  }
+  r->run = 1;
+  r->c.code = (int)c.v[0], r->c.t = c.v[1], r->peak.inverted = (int)c.v[2];
+  r->peak.volume_change = c.v[3], r->end.inverted = (int)c.v[4], r->end.max_disp = c.v[5];
+  r->before = c.v[6];
+  snprintf(r->c.reason, sizeof r->c.reason, "%.199s", c.t[0]);
   return 0;
 }
 
@@ -127,7 +155,7 @@ int tb_stab_deform(tb_suite *su, const tb_suite_opts *o, const char *only, tb_er
     if (!tb_stab_deform_runs(&maps[m], only)) continue;
     for (int k = 0; k < NTESTS; k++) {
       tb_progress("stability deformations", done++, total);
-      if (deform_run(maps[m].name, tests[k].scene, &sd, &res[m][k], err)) return -1;
+      if (deform_case(su, maps[m].name, tests[k].scene, &sd, &res[m][k], err)) return -1;
     }
   }
   tb_progress("stability deformations", total, total);

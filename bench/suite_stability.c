@@ -278,12 +278,54 @@ static void stiffness_axis(const grid *g, const tb_stab_model *mm, double *k) {
   }
 }
 
-/* The msm table: per ks, the largest stable dt (bisected between the grid's
- * last stable and first unstable dt) beside 2 sqrt(m / k) and the mesh's
- * linearised bounds. */
-static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cells,
-                      const tb_stab_cell *map, uint64_t seed, tb_stab_text *csv, tb_error *err) {
+/* msm's bounds for row r of its map: the largest stable dt bisected between
+ * the grid's last stable and first unstable dt (b[0], b[1]: lo, hi after
+ * the halvings; 0 when none on the grid), 2 sqrt(m / k) (b[2]) and the
+ * mesh's linearised bounds without and with kd (b[3], b[4]). */
+#define MSM_BOUNDS 5
+static int msm_row_bounds(const grid *g, const tb_mesh *mesh, int cells, int r,
+                          const tb_stab_cell *row, const int *edges, int ne, uint64_t seed,
+                          double *b, tb_error *err) {
   const tb_stab_model *mm = &maps[0];
+  double k = g->k[r];
+  int last = -1;
+  while (last + 1 < g->ndt && row[last + 1].code == ST_STABLE) last++;
+  double lo = last >= 0 ? g->dt[last] : 0, hi = last + 1 < g->ndt ? g->dt[last + 1] : 0;
+  for (int it = 0; lo > 0 && hi > 0 && it < g->bisect; it++) {
+    double mid = sqrt(lo * hi);
+    tb_stab_cell c;
+    if (map_cell(mesh, mm, cells, mid, k, g->duration, &c, err)) return -1;
+    if (c.code == ST_STABLE)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  /* the mesh's linearised bounds (a sim only for its masses and anchors) */
+  int bad;
+  tb_settings md = model_def(mm, k, err, &bad);
+  tb_sim_def sd;
+  tb_sim_def_init(&sd);
+  sd.nodes = cells, sd.seed = 1;
+  tb_sim s;
+  if (bad || tb_sim_create(&s, "beam", &sd, "msm", &md, mesh, err)) return -1;
+  double kd = 0;
+  tb_model_setting("msm", &md, "kd", &kd);
+  double lk = k * tb_stab_largest_eigen(&s, edges, ne, 1, seed),
+         lc = kd * tb_stab_largest_eigen(&s, edges, ne, 0, seed);
+  double mmin = s.mass[0];
+  for (int i = 1; i < s.mesh.nv; i++) mmin = fmin(mmin, s.mass[i]);
+  tb_sim_destroy(&s);
+  double hk = 2 / sqrt(lk);
+  b[0] = lo, b[1] = hi, b[2] = 2 * sqrt(mmin / k), b[3] = hk;
+  b[4] = lc > 0 ? (-lc + sqrt(lc * lc + 4 * lk)) / lk : hk;
+  return 0;
+}
+
+/* The msm table: per ks, the largest stable dt (bisected) beside 2 sqrt(m / k)
+ * and the mesh's linearised bounds (bounds: MSM_BOUNDS per row; a row
+ * another shard ran has NaN there). */
+static void msm_bounds(tb_suite *su, const grid *g, int cells, const tb_stab_cell *map,
+                       const double *bounds, tb_stab_text *csv) {
   static const char *cols[] = {"ks",
                                "largest stable dt (grid)",
                                "first unstable dt (grid)",
@@ -299,45 +341,12 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
   char name[32];
   snprintf(name, sizeof name, "msm_bound_n%d", cells);
   tb_table *t = tb_table_new(name, title, 8, cols);
-  int *edges = NULL, ne = tb_mesh_edges(mesh, &edges), rc = 0;
-  if (ne < 0) return tb_error_set(err, "stability", 0, "out of memory");
-  for (int r = 0; r < g->nk && !rc; r++) {
+  for (int r = 0; r < g->nk; r++) {
     double k = g->k[r];
+    const double *b = bounds + MSM_BOUNDS * r;
     int last = -1;
     while (last + 1 < g->ndt && map[r * g->ndt + last + 1].code == ST_STABLE) last++;
-    double lo = last >= 0 ? g->dt[last] : 0, hi = last + 1 < g->ndt ? g->dt[last + 1] : 0;
-    for (int it = 0; lo > 0 && hi > 0 && it < g->bisect; it++) {
-      double mid = sqrt(lo * hi);
-      tb_stab_cell c;
-      if (map_cell(mesh, mm, cells, mid, k, g->duration, &c, err)) {
-        rc = -1;
-        break;
-      }
-      if (c.code == ST_STABLE)
-        lo = mid;
-      else
-        hi = mid;
-    }
-    /* the mesh's linearised bounds (a sim only for its masses and anchors) */
-    int bad;
-    tb_settings md = model_def(mm, k, err, &bad);
-    tb_sim_def sd;
-    tb_sim_def_init(&sd);
-    sd.nodes = cells, sd.seed = 1;
-    tb_sim s;
-    if (rc || bad || tb_sim_create(&s, "beam", &sd, "msm", &md, mesh, err)) {
-      rc = -1;
-      break;
-    }
-    double kd = 0;
-    tb_model_setting("msm", &md, "kd", &kd);
-    double lk = k * tb_stab_largest_eigen(&s, edges, ne, 1, seed),
-           lc = kd * tb_stab_largest_eigen(&s, edges, ne, 0, seed);
-    double mmin = s.mass[0];
-    for (int i = 1; i < s.mesh.nv; i++) mmin = fmin(mmin, s.mass[i]);
-    tb_sim_destroy(&s);
-    double single = 2 * sqrt(mmin / k), hk = 2 / sqrt(lk);
-    double hkc = lc > 0 ? (-lc + sqrt(lc * lc + 4 * lk)) / lk : hk;
+    double lo = b[0], hi = b[1], single = b[2], hk = b[3], hkc = b[4];
     tb_table_row(t);
     tb_table_cell(t, "%.3g", k);
     if (last >= 0)
@@ -370,7 +379,6 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
     tb_suite_counter(su, bname, "linearised_dt", hk);
     tb_suite_counter(su, bname, "linearised_kd_dt", hkc);
   }
-  free(edges);
   tb_suite_table(su, t);
   double kd_default = 0;
   tb_model_setting("msm", NULL, "kd", &kd_default);
@@ -386,10 +394,45 @@ static int msm_bounds(tb_suite *su, const grid *g, const tb_mesh *mesh, int cell
                 "detector as the cells) should lie between the with-kd estimate (a lower bound: "
                 "the worst K and C modes taken together) and the kd = 0 one.",
                 NODE_MASS, kd_default, g->bisect);
-  return rc;
 }
 
-/* The map of one model on one mesh: a table, CSV rows into csv, the chart. */
+/* Row r of a map (one stiffness, every dt) as a case of `reproduce --shard`:
+ * its cells into row[0 .. ndt) and, for msm (b not NULL), its bounds into
+ * b. 1: the row is known here; 0: another shard runs it; -1: a setup error. */
+static int map_row(tb_suite *su, const grid *g, const tb_stab_model *mm, const tb_mesh *mesh,
+                   int cells, int r, const int *edges, int ne, uint64_t seed, tb_stab_cell *row,
+                   double *b, tb_error *err) {
+  char key[160];
+  snprintf(key, sizeof key, "map/%s/cells:%d/%s:%.6g", tb_stab_tag(mm), cells, mm->key, g->k[r]);
+  tb_case c;
+  int mode = tb_suite_case(su, key, 0, &c), nb = b ? MSM_BOUNDS : 0;
+  if (mode == TB_CASE_SKIP) return 0;
+  if (mode == TB_CASE_RUN) {
+    for (int j = 0; j < g->ndt; j++)
+      if (map_cell(mesh, mm, cells, g->dt[j], g->k[r], g->duration, &row[j], err)) return -1;
+    if (b && msm_row_bounds(g, mesh, cells, r, row, edges, ne, seed, b, err)) return -1;
+    for (int j = 0; j < g->ndt; j++) {
+      c.v[2 * j] = row[j].code, c.v[2 * j + 1] = row[j].t;
+      snprintf(c.t[j], sizeof c.t[j], "%s", row[j].reason);
+    }
+    for (int q = 0; q < nb; q++) c.v[2 * g->ndt + q] = b[q];
+    c.nv = 2 * g->ndt + nb, c.nt = g->ndt;
+    tb_suite_case_done(su, &c);
+    return 1;
+  }
+  if (c.nv != 2 * g->ndt + nb || c.nt > g->ndt)
+    return tb_error_set(err, "stability", 0, "case %s: %d numbers, not %d", key, c.nv,
+                        2 * g->ndt + nb);
+  for (int j = 0; j < g->ndt; j++) {
+    row[j].code = (int)c.v[2 * j], row[j].t = c.v[2 * j + 1];
+    snprintf(row[j].reason, sizeof row[j].reason, "%.199s", c.t[j]);
+  }
+  for (int q = 0; q < nb; q++) b[q] = c.v[2 * g->ndt + q];
+  return 1;
+}
+
+/* The map of one model on one mesh: a table, CSV rows into csv, the chart;
+ * each row a case (map_row). */
 static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_model *mm,
                    const tb_mesh *mesh, int cells, tb_stab_text *csv, tb_stab_text *bcsv,
                    int *counts, tb_error *err) {
@@ -414,16 +457,19 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
            "over %g s or %d steps",
            who(mm, wb, sizeof wb), mm->key, cells, mesh->nv, g->duration, MIN_STEPS);
   tb_table *t = tb_table_new(name, title, g->ndt + 1, cols);
-  int rc = 0;
+  int rc = 0, msm = mm == &maps[0], *edges = NULL, ne = 0;
+  double *bounds = msm ? malloc(sizeof(double) * MSM_BOUNDS * (size_t)g->nk) : NULL;
+  if (msm && (!bounds || (ne = tb_mesh_edges(mesh, &edges)) < 0))
+    rc = tb_error_set(err, "stability", 0, "out of memory");
+  for (int q = 0; bounds && q < MSM_BOUNDS * g->nk; q++) bounds[q] = NAN;
   for (int r = 0; r < g->nk && !rc; r++) {
     tb_table_row(t);
     tb_table_cell(t, "%.3g", g->k[r]);
-    for (int j = 0; j < g->ndt && !rc; j++) {
+    int known = map_row(su, g, mm, mesh, cells, r, edges, ne, o->seed, map + r * g->ndt,
+                        msm ? bounds + MSM_BOUNDS * r : NULL, err);
+    if (known < 0) rc = -1;
+    for (int j = 0; j < g->ndt && known > 0; j++) {
       tb_stab_cell *c = &map[r * g->ndt + j];
-      if (map_cell(mesh, mm, cells, g->dt[j], g->k[r], g->duration, c, err)) {
-        rc = -1;
-        break;
-      }
       counts[c->code]++;
       char bname[128]; /* counters: stable 1/0, the detector's code, when it tripped */
       snprintf(bname, sizeof bname, "map/%s/cells:%d/%s:%.6g/dt:%.6g",
@@ -443,10 +489,10 @@ static int map_one(tb_suite *su, const tb_suite_opts *o, grid *g, const tb_stab_
                        detail);
     }
   }
-  free(cols), free(heads);
+  free(cols), free(heads), free(edges);
   tb_suite_table(su, t);
-  if (!rc && mm == &maps[0]) rc = msm_bounds(su, g, mesh, cells, map, o->seed, bcsv, err);
-  free(map);
+  if (!rc && msm) msm_bounds(su, g, cells, map, bounds, bcsv);
+  free(map), free(bounds);
   return rc;
 }
 

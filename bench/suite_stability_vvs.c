@@ -168,6 +168,41 @@ static vgrid make_grid(const tb_suite_opts *o) {
   return g;
 }
 
+/* Row r (one ks, every kd) of integrator integ's map as a case of
+ * `reproduce --shard` into row[0 .. nkd): 1 known here, 0 another shard
+ * runs it, -1 a setup error. */
+static int map_row(tb_suite *su, const vgrid *g, int integ, int r, const tb_mesh *mesh,
+                   tb_vvs_cell *row, long *done, long total, tb_error *err) {
+  char key[96];
+  snprintf(key, sizeof key, "map/msm-vvs/%s/ks:%.6g", integ_key[integ], g->ks[r]);
+  tb_case c;
+  int mode = tb_suite_case(su, key, 0, &c);
+  *done += g->nkd;
+  if (mode == TB_CASE_SKIP) return 0;
+  if (mode == TB_CASE_RUN) {
+    for (int j = 0; j < g->nkd; j++) {
+      tb_progress("stability map msm-vvs", *done - g->nkd + j, total);
+      tb_vvs_run q;
+      tb_vvs_run_init(&q);
+      q.integrator = integ, q.ks = g->ks[r], q.kd = g->kd[j];
+      q.duration = g->duration, q.release = g->release;
+      if (tb_vvs_run_cell(&q, mesh, &row[j], err)) return -1;
+      c.v[2 * j] = row[j].code, c.v[2 * j + 1] = row[j].t;
+      snprintf(c.t[j], sizeof c.t[j], "%s", row[j].reason);
+    }
+    c.nv = 2 * g->nkd, c.nt = g->nkd;
+    tb_suite_case_done(su, &c);
+    return 1;
+  }
+  if (c.nv != 2 * g->nkd)
+    return tb_error_set(err, "stability", 0, "case %s: %d numbers", key, c.nv);
+  for (int j = 0; j < g->nkd; j++) {
+    row[j].code = (int)c.v[2 * j], row[j].t = c.v[2 * j + 1];
+    snprintf(row[j].reason, sizeof row[j].reason, "%.199s", c.t[j]);
+  }
+  return 1;
+}
+
 /* One integrator's map: table, counters, CSV rows; counts[0] stable cells,
  * counts[1] cells of the paper's region, counts[2] stable ones among them. */
 static int map_integ(tb_suite *su, const vgrid *g, int integ, const tb_mesh *mesh,
@@ -189,17 +224,17 @@ static int map_integ(tb_suite *su, const vgrid *g, int integ, const tb_mesh *mes
   for (int r = 0; r < g->nks; r++) {
     tb_table_row(t);
     tb_table_cell(t, "%.3g", g->ks[r]);
-    for (int j = 0; j < g->nkd; j++) {
-      tb_progress("stability map msm-vvs", (*done)++, total);
+    tb_vvs_cell row[MAXN];
+    int known = map_row(su, g, integ, r, mesh, row, done, total, err);
+    if (known < 0) {
+      tb_suite_table(su, t);
+      return -1;
+    }
+    for (int j = 0; j < g->nkd && known; j++) {
       tb_vvs_run q;
       tb_vvs_run_init(&q);
       q.integrator = integ, q.ks = g->ks[r], q.kd = g->kd[j];
-      q.duration = g->duration, q.release = g->release;
-      tb_vvs_cell c;
-      if (tb_vvs_run_cell(&q, mesh, &c, err)) {
-        tb_suite_table(su, t);
-        return -1;
-      }
+      tb_vvs_cell c = row[j];
       int inside = q.ks < PAPER_KS && q.kd < PAPER_KD;
       counts[0] += c.code == 0, counts[1] += inside, counts[2] += inside && c.code == 0;
       char bname[128]; /* counters: stable 1/0, the detector's code, when it tripped */
@@ -242,13 +277,22 @@ static int edges_table(tb_suite *su, const vgrid *g, const tb_mesh *mesh, const 
       tb_vvs_run q;
       tb_vvs_run_init(&q);
       q.integrator = integ, q.duration = g->duration, q.release = g->release;
-      double lo, hi;
-      int runs;
-      if (tb_vvs_edge(&q, mesh, along_kd, along_kd ? KD_CAP : KS_CAP, g->bisect, &lo, &hi, &runs,
-                      err)) {
-        tb_suite_table(su, t);
-        return -1;
-      }
+      double lo = NAN, hi = NAN;
+      int runs = 0;
+      char key[64]; /* a case of `reproduce --shard` */
+      snprintf(key, sizeof key, "edge/msm-vvs/%s/%s", integ_key[integ], along_kd ? "kd" : "ks");
+      tb_case c;
+      int mode = tb_suite_case(su, key, 0, &c);
+      if (mode == TB_CASE_RUN) {
+        if (tb_vvs_edge(&q, mesh, along_kd, along_kd ? KD_CAP : KS_CAP, g->bisect, &lo, &hi, &runs,
+                        err)) {
+          tb_suite_table(su, t);
+          return -1;
+        }
+        c.v[0] = lo, c.v[1] = hi, c.v[2] = runs, c.nv = 3;
+        tb_suite_case_done(su, &c);
+      } else if (mode == TB_CASE_KNOWN && c.nv == 3)
+        lo = c.v[0], hi = c.v[1], runs = (int)c.v[2];
       tb_vvs_linear p0 = *p; /* the high end: k'_d across the mode */
       p0.kd_v = 0;
       double pred = along_kd ? tb_vvs_kd_limit(p, integ, q.dt, q.ks)

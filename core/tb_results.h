@@ -157,7 +157,7 @@ int tb_suite_end(tb_suite *s, tb_error *err);
  * with) runs on every shard. In a shard, the suite's tables, charts and
  * data files are dropped: tb_suite_end writes only <dir>/cases.ini. */
 #define TB_CASE_VALUES 64
-#define TB_CASE_TEXTS 8
+#define TB_CASE_TEXTS 24
 #define TB_CASE_TEXT 200
 #define TB_CASE_KEY 240
 enum { TB_CASE_RUN = 0, TB_CASE_KNOWN = 1, TB_CASE_SKIP = 2 };

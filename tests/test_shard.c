@@ -64,7 +64,7 @@ static int exists(const char *dir, const char *name) {
 
 static void merge_equals_unsharded(void) {
   const char *tmp = tb_test_tmpdir(), *root = tb_test_source_root();
-  const char *args = "--only pareto,pbd-stiffness,figure-3.10 --scene beam --scale 0.1";
+  const char *args = "--only pareto,stability,pbd-stiffness,figure-3.10 --scene beam --scale 0.1";
   char cmd[4096], out[8192];
   snprintf(cmd, sizeof cmd, "reproduce %s --results '%s/u' 2>&1", args, tmp);
   TB_CHECK_MSG(tb_test_cli_run(cmd) == 0, "%s", tb_test_out);
@@ -87,6 +87,18 @@ static void merge_equals_unsharded(void) {
     snprintf(b, sizeof b, "%s/m/%s", tmp, csv[i]);
     same_but_timing(a, b);
   }
+  /* the stability maps, their bounds and the large deformations have no timing column */
+  const char *whole_csv[] = {
+      "map_msm.csv",      "table-map_fem-corot_n10.csv", "table-msm_bound_n10.csv",
+      "table-deform.csv", "msm-vvs_edges.csv",           "table-map_msm-vvs-euler.csv"};
+  for (int i = 0; i < 6; i++) {
+    char a[1100], b[1100];
+    snprintf(a, sizeof a, "%s/u/stability/%s", tmp, whole_csv[i]);
+    snprintf(b, sizeof b, "%s/m/stability/%s", tmp, whole_csv[i]);
+    char *ta = tb_test_slurp(a), *tb = tb_test_slurp(b);
+    TB_CHECK_MSG(ta && tb && !strcmp(ta, tb), "%s differs from the unsharded run's", b);
+    free(ta), free(tb);
+  }
   TB_CHECK(exists(m, "pareto.svg") && exists(m, "data.json") && exists(m, "table.md"));
   /* a shard holds only its cases; the whole suite sits on one shard */
   int cases = 0, whole = 0;
@@ -96,16 +108,19 @@ static void merge_equals_unsharded(void) {
     TB_CHECK(!exists(s, "table.md"));
     snprintf(s, sizeof s, "%s/shards/%d/pbd-stiffness", tmp, k);
     cases += exists(s, "cases.ini");
+    snprintf(s, sizeof s, "%s/shards/%d/stability", tmp, k);
+    cases += exists(s, "cases.ini");
     snprintf(s, sizeof s, "%s/shards/%d", tmp, k);
     whole += exists(s, "figure-3.10/table.md");
   }
-  TB_CHECK(cases == 6 && whole == 1);
+  TB_CHECK(cases == 9 && whole == 1);
   snprintf(s, sizeof s, "%s/m", tmp);
   TB_CHECK(exists(s, "figure-3.10/table.md") && !exists(s, "figure-3.10/" TB_REPORT_SECTION));
   snprintf(s, sizeof s, "%s/m/REPORT.md", tmp);
   char *rep = tb_test_slurp(s);
   TB_CHECK(rep && strstr(rep, "### pareto/beam") && strstr(rep, "### figure-3.10") &&
-           strstr(rep, "### pbd-stiffness") && !strstr(rep, "Failed"));
+           strstr(rep, "### pbd-stiffness") && strstr(rep, "### stability") &&
+           !strstr(rep, "Failed"));
   free(rep);
 }
 
