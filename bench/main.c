@@ -28,10 +28,9 @@ static const tb_command commands[] = {
      "  --only    run only the named suites (see --list)\n"
      "  --list    list the suites\n"
      "  --scale F multiply every suite's pair and test counts by F (smoke tests)\n"
-     "  --shard k/N  this machine's share (k of N) of the run, for `merge`: every N-th case of\n"
-     "            the suites made of cases (pareto, stability, pbd-stiffness), every N-th of the "
-     "other suites "
-     "whole",
+     "  --shard k/N  this machine's share (k of N) of the run, for `merge`: every N-th case\n"
+     "            of the suites made of cases (pareto, stability, pbd-stiffness), every N-th\n"
+     "            of the other suites whole",
      tb_cmd_reproduce},
     {"merge", "combine the folders of `reproduce --shard k/N` (k = 1..N) into one results folder",
      "tissuebench merge SHARD_DIR... [--out DIR]\n"
