@@ -279,7 +279,13 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
   f->b0 = calloc(3 * nv, sizeof(double));
   f->cg_p = calloc(3 * nv, sizeof(double));
   f->cg_q = calloc(3 * nv, sizeof(double));
-  if (!f->rot || !f->vol || !f->b0 || !f->cg_p || !f->cg_q) {
+  f->yprev = calloc(3 * nv, sizeof(double));
+  f->cg_r = calloc(3 * nv, sizeof(double));
+  f->nrot = calloc(nv, sizeof(tb_mat3));
+  f->nq = calloc(nv, sizeof(tb_mat3));
+  f->ntr = calloc(nv, sizeof(tb_mat3));
+  if (!f->rot || !f->vol || !f->b0 || !f->cg_p || !f->cg_q || !f->yprev || !f->cg_r || !f->nrot ||
+      !f->nq || !f->ntr) {
     tb_error_set(err, name, 0, "out of memory");
     goto fail;
   }
@@ -355,7 +361,8 @@ void tb_fem_destroy(tb_fem *f) {
   cholmod_free_dense(&f->Z, &f->cc);
   cholmod_finish(&f->cc);
   free(f->col_order), free(f->col_start), free(f->rot), free(f->vol), free(f->lb);
-  free(f->b0), free(f->cg_p), free(f->cg_q);
+  free(f->b0), free(f->cg_p), free(f->cg_q), free(f->yprev), free(f->cg_r);
+  free(f->nrot), free(f->nq), free(f->ntr);
   free(f->x), free(f->v), free(f->X), free(f->fel), free(f->yc), free(f->fixed);
   free(f->fixed_list), free(f->tet), free(f->dm_inv), free(f->ke), free(f->tet_blk);
   free(f->row), free(f->col), free(f->diag), free(f->kb), free(f->mb);

@@ -28,7 +28,7 @@ typedef struct corot_settings {
   tb_fem_settings fem; /* first: TB_FEM_SETTINGS's offsets hold */
   int solver;
   double cg_tol;
-  int cg_max, lag, refine, pd_iters;
+  int cg_max, cg_rotate, lag, refine, pd_iters;
 } corot_settings;
 
 static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
@@ -36,7 +36,8 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   tb_fem *f = tb_fem_create(mesh, &def->fem, 1, "fem-corot", err);
   if (!f) return NULL;
   f->solver = def->solver, f->cg_tol = def->cg_tol, f->cg_max = def->cg_max;
-  f->lag = def->lag, f->refine = def->refine, f->pd_iters = def->pd_iters;
+  f->cg_rotate = def->cg_rotate, f->lag = def->lag, f->refine = def->refine,
+  f->pd_iters = def->pd_iters;
   return f;
 }
 
@@ -96,6 +97,10 @@ static void element(tb_fem *f, int t, int kb) {
   }
   tb_mat3 F = tb_m3_mul(ds, *di);
   tb_mat3 r = f->rot[t] = tb_m3_polar_newton(F);
+  if (f->cg_rotate && f->solver == TB_FEM_PCG) /* node rotations (fem_solve.c) */
+    for (int a = 0; a < 4; a++)
+      for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) f->nrot[e[a]].m[i][j] += vol * r.m[i][j];
   double S[3][3], sig[3][3], P[3][3];
   for (int i = 0; i < 3; i++) /* S = R^T F */
     for (int j = 0; j < 3; j++)
@@ -146,7 +151,7 @@ static void assemble(tb_fem *f, int kb) {
       for (int p = 0; p < 9 * f->nblk; p++) f->kb[p] = 0;
     }
 #pragma omp for schedule(static)
-    for (int i = 0; i < f->nv; i++) f->fel[i] = tb_v3(0, 0, 0);
+    for (int i = 0; i < f->nv; i++) f->fel[i] = tb_v3(0, 0, 0), f->nrot[i] = (tb_mat3){{{0}}};
     for (int c = 0; c < f->ncolours; c++) {
 #pragma omp for schedule(static)
       for (int q = f->col_start[c]; q < f->col_start[c + 1]; q++) element(f, f->col_order[q], kb);
@@ -184,10 +189,12 @@ static const tb_setting settings[] = {
     TB_SETTING_C(corot_settings, solver, TB_FEM_EXACT, 3, "exact|pcg|lagged|pd",
                  "linear solve per step: exact refactor, CG with a stale factor, lagged factor, "
                  "projective-dynamics iterations"),
-    TB_SETTING_R(corot_settings, cg_tol, 1e-10, 0.0, 1.0, TB_OPEN_LO | TB_OPEN_HI,
+    TB_SETTING_R(corot_settings, cg_tol, 1e-8, 0.0, 1.0, TB_OPEN_LO | TB_OPEN_HI,
                  "pcg: relative residual ||b - A y|| / ||b|| to stop at"),
     TB_SETTING_I(corot_settings, cg_max, 8, 1, 1000,
                  "pcg: CG iterations after which the preconditioner is refactored"),
+    TB_SETTING_I(corot_settings, cg_rotate, 1, 0, 1,
+                 "pcg: 1 rotates the preconditioner per node (R_n Q_n^T A_k^-1 Q_n R_n^T)"),
     TB_SETTING_I(corot_settings, lag, 10, 1, 1000000, "lagged: refactor every lag steps"),
     TB_SETTING_I(corot_settings, refine, 2, 0, 1000,
                  "lagged: iterative refinements with the stale factor"),

@@ -87,6 +87,11 @@ typedef struct tb_fem {
   int lag, refine, pd_iters; /* lagged: refactor every lag steps, refinements; pd iterations */
   double *lb;                /* per block: the Laplacian sum V g_a.g_b (pd's constant matrix) */
   double *b0, *cg_p, *cg_q;  /* n3 each */
+  double *yprev;             /* n3: pcg's solution before last (warm start) */
+  double *cg_r;              /* n3: pcg's residual */
+  int cg_rotate;             /* pcg: preconditioner rotated per node */
+  tb_mat3 *nrot, *nq, *ntr;  /* nv each: node rotations now, at the factor, T = R Q^T */
+  long nsteps;               /* steps through tb_fem_iterate */
   cholmod_dense *R, *Z;      /* preconditioner solve: residual in, correction out */
   int since_factor;          /* steps since the preconditioner was factored */
   long iters;                /* CG iterations, refinements or pd iterations so far */

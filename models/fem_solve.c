@@ -133,10 +133,60 @@ static void prescribe(tb_fem *f, double *y, const double *b) {
   }
 }
 
+/* Node rotations R_n: the polar rotation of the volume-weighted sum of its
+ * tets' rotations (accumulated in f->nrot by the element loop); then
+ * T_n = R_n Q_n^T, Q_n the node rotations when the preconditioner's factor
+ * was made. For a rigid rotation R of the whole body A = R A_k R^T, so the
+ * preconditioner T A_k^-1 T^T is exact; T is orthogonal per node, so it
+ * stays symmetric positive definite. */
+static void node_rotations(tb_fem *f) {
+#pragma omp parallel for schedule(static)
+  for (int n = 0; n < f->nv; n++) {
+    f->nrot[n] = tb_m3_polar_newton(f->nrot[n]);
+    f->ntr[n] = tb_m3_mul(f->nrot[n], tb_m3_transpose(f->nq[n]));
+  }
+}
+
+/* The factor is of the current A: Q = R, T = I. */
+static void rotations_factored(tb_fem *f) {
+  memcpy(f->nq, f->nrot, sizeof(tb_mat3) * (size_t)f->nv);
+  for (int n = 0; n < f->nv; n++) f->ntr[n] = tb_m3_identity();
+}
+
+/* z = T A_k^-1 T^T r (Z->x), or A_k^-1 r without rotations. */
+static int precondition(tb_fem *f, const double *r, tb_error *err) {
+  double *u = f->R->x;
+  if (!f->cg_rotate) {
+    memcpy(u, r, sizeof(double) * 3 * (size_t)f->nv);
+    return tb_fem_solve(f, f->R, &f->Z, err);
+  }
+#pragma omp parallel for schedule(static)
+  for (int n = 0; n < f->nv; n++) {
+    tb_vec3 w = tb_m3_mulv(tb_m3_transpose(f->ntr[n]), tb_v3(r[3 * n], r[3 * n + 1], r[3 * n + 2]));
+    u[3 * n] = w.x, u[3 * n + 1] = w.y, u[3 * n + 2] = w.z;
+  }
+  if (tb_fem_solve(f, f->R, &f->Z, err)) return -1;
+  double *z = f->Z->x;
+#pragma omp parallel for schedule(static)
+  for (int n = 0; n < f->nv; n++) {
+    tb_vec3 w = tb_m3_mulv(f->ntr[n], tb_v3(z[3 * n], z[3 * n + 1], z[3 * n + 2]));
+    z[3 * n] = w.x, z[3 * n + 1] = w.y, z[3 * n + 2] = w.z;
+  }
+  return 0;
+}
+
 static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
   int n3 = 3 * f->nv, it = 0, fresh = 1, refactored = 0;
-  double *b = f->B->x, *y = f->Xs->x, *r = f->R->x, *p = f->cg_p, *q = f->cg_q;
-  prescribe(f, y, b); /* warm start: the last solution elsewhere */
+  double *b = f->B->x, *y = f->Xs->x, *r = f->cg_r, *p = f->cg_p, *q = f->cg_q;
+  /* warm start: y_n-1 + (y_n-1 - y_n-2) from the last two solutions */
+  double w = f->nsteps >= 2 ? 1.0 : 0.0;
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n3; i++) {
+    double last = y[i];
+    y[i] += w * (last - f->yprev[i]);
+    f->yprev[i] = last;
+  }
+  prescribe(f, y, b);
   amul(f, alpha, beta, y, q);
 #pragma omp parallel for schedule(static)
   for (int i = 0; i < n3; i++) r[i] = b[i] - q[i];
@@ -144,13 +194,14 @@ static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
   while (rr > f->cg_tol * nb) {
     if (it >= f->cg_max && !refactored) { /* stale preconditioner: factor this A */
       if (tb_fem_refactor(f, alpha, beta, 0, err)) return -1;
+      rotations_factored(f);
       refactored = fresh = 1;
     } else if (it >= 2 * f->cg_max + 20 || !isfinite(rr)) {
       return tb_error_set(err, f->name, 0,
                           "pcg: relative residual %.3g after %d iterations (cg_tol %g)", rr / nb,
                           it, f->cg_tol);
     }
-    if (tb_fem_solve(f, f->R, &f->Z, err)) return -1;
+    if (precondition(f, r, err)) return -1;
     const double *z = f->Z->x;
     double rz = dot(r, z, n3), beta_cg = fresh ? 0.0 : rz / rz_old;
 #pragma omp parallel for schedule(static)
@@ -172,19 +223,31 @@ static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
 
 static int lagged(tb_fem *f, double alpha, double beta, tb_error *err) {
   int n3 = 3 * f->nv;
+  f->last_iters = 0;
   if (f->since_factor >= f->lag && tb_fem_refactor(f, alpha, beta, 0, err)) return -1;
   if (tb_fem_solve(f, f->B, &f->Xs, err)) return -1;
   double *b = f->B->x, *y = f->Xs->x, *r = f->R->x, *q = f->cg_q;
+  double prev = sqrt(dot(b, b, n3));
   for (int k = 0; k < f->refine; k++) {
     amul(f, alpha, beta, y, q);
 #pragma omp parallel for schedule(static)
     for (int i = 0; i < n3; i++) r[i] = b[i] - q[i];
+    double rn = sqrt(dot(r, r, n3));
+    if (!(rn <= 0.5 * prev) && f->since_factor > 0) {
+      /* the stale factor no longer contracts (refinement could diverge):
+       * factor this A and solve directly */
+      if (tb_fem_refactor(f, alpha, beta, 0, err) || tb_fem_solve(f, f->B, &f->Xs, err)) return -1;
+      break;
+    }
+    prev = rn;
     if (tb_fem_solve(f, f->R, &f->Z, err)) return -1;
+    y = f->Xs->x;
     const double *z = f->Z->x;
 #pragma omp parallel for schedule(static)
     for (int i = 0; i < n3; i++) y[i] += z[i];
+    f->last_iters = k + 1;
   }
-  f->last_iters = f->refine, f->iters += f->refine;
+  f->iters += f->last_iters;
   f->last_res = NAN; /* measured on demand (tb_fem_residual) */
   return 0;
 }
@@ -209,13 +272,16 @@ int tb_fem_iterate(tb_fem *f, const tb_step *in, tb_error *err) {
   double alpha, beta;
   int need = tb_fem_begin(f, in, &alpha, &beta, err), s = f->solver;
   if (need < 0) return -1;
+  if (s == TB_FEM_PCG && f->cg_rotate) node_rotations(f);
   if (need && tb_fem_refactor(f, alpha, beta, s == TB_FEM_PD, err)) return -1;
+  if (need && s == TB_FEM_PCG && f->cg_rotate) rotations_factored(f);
   tb_fem_rhs(f, in, 0, alpha, beta, s == TB_FEM_PD);
   int rc = s == TB_FEM_PCG      ? pcg(f, alpha, beta, err)
            : s == TB_FEM_LAGGED ? lagged(f, alpha, beta, err)
                                 : pd(f, beta, err);
   if (rc) return -1;
   f->since_factor++;
+  f->nsteps++;
   tb_fem_finish(f, in, in->dt);
   return 0;
 }
