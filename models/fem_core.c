@@ -486,7 +486,6 @@ void tb_fem_rhs(tb_fem *f, const tb_step *in, int lin, double alpha, double beta
   /* right-hand side: M p - K q + s h, prescribed columns moved over */
   tb_vec3 g = in->gravity, gdt = tb_scale(g, dt);
   double *b = f->B->x, cpd = 2 * f->mu + 3 * f->lambda;
-#pragma omp parallel for schedule(static)
   for (int i = 0; i < f->nv; i++) {
     tb_vec3 acc;
     if (f->fixed[i]) {
@@ -534,7 +533,6 @@ int tb_fem_solve(tb_fem *f, cholmod_dense *B, cholmod_dense **X, tb_error *err) 
 void tb_fem_finish(tb_fem *f, const tb_step *in, double dt) {
   int qs = f->quasistatic;
   const double *y = f->Xs->x;
-#pragma omp parallel for schedule(static)
   for (int i = 0; i < f->nv; i++) {
     tb_vec3 yi = tb_v3(y[3 * i], y[3 * i + 1], y[3 * i + 2]);
     if (qs)

@@ -189,7 +189,7 @@ static const tb_setting settings[] = {
     TB_SETTING_C(corot_settings, solver, TB_FEM_EXACT, 3, "exact|pcg|lagged|pd",
                  "linear solve per step: exact refactor, CG with a stale factor, lagged factor, "
                  "projective-dynamics iterations"),
-    TB_SETTING_R(corot_settings, cg_tol, 1e-8, 0.0, 1.0, TB_OPEN_LO | TB_OPEN_HI,
+    TB_SETTING_R(corot_settings, cg_tol, 1e-7, 0.0, 1.0, TB_OPEN_LO | TB_OPEN_HI,
                  "pcg: relative residual ||b - A y|| / ||b|| to stop at"),
     TB_SETTING_I(corot_settings, cg_max, 8, 1, 1000,
                  "pcg: CG iterations after which the preconditioner is refactored"),

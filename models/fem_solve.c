@@ -24,10 +24,11 @@
  *    once) converges monotonically to the exact step's solution;
  *    pd_iters iterations per step, warm-started. Approximate: its error
  *    falls with more iterations.
- * Every loop over nodes or dofs is split into fixed static ranges and the
- * per-tet loop runs colour by colour (tets of one colour share no node);
- * dot products are summed in one fixed order: bit-identical results for any
- * thread count. No allocation in a step (cholmod_solve2 reuses R, Z, Y, E). */
+ * Threads (OpenMP) run pd's per-tet loop colour by colour (tets of one
+ * colour share no node) and the node rotations; the vector loops over the
+ * 3 nv dofs are too short to pay for a fork and stay serial, dot products
+ * summed in one order: bit-identical results for any thread count. No allocation in a step
+ * (cholmod_solve2 reuses R, Z, Y, E). */
 #include <math.h>
 #include <string.h>
 
@@ -36,7 +37,6 @@
 /* out = A y: alpha M + beta K_R over the node blocks, identity on the
  * prescribed dofs and no coupling to them (A's elimination). */
 static void amul(const tb_fem *f, double alpha, double beta, const double *y, double *out) {
-#pragma omp parallel for schedule(static)
   for (int i = 0; i < f->nv; i++) {
     if (f->fixed[i]) {
       out[3 * i] = y[3 * i], out[3 * i + 1] = y[3 * i + 1], out[3 * i + 2] = y[3 * i + 2];
@@ -59,7 +59,6 @@ static void amul(const tb_fem *f, double alpha, double beta, const double *y, do
 /* out = A_pd y: alpha M + beta (2 mu + 3 lambda) L, eliminated the same way. */
 static void pdmul(const tb_fem *f, double alpha, double beta, const double *y, double *out) {
   double c = beta * (2 * f->mu + 3 * f->lambda);
-#pragma omp parallel for schedule(static)
   for (int i = 0; i < f->nv; i++) {
     if (f->fixed[i]) {
       out[3 * i] = y[3 * i], out[3 * i + 1] = y[3 * i + 1], out[3 * i + 2] = y[3 * i + 2];
@@ -160,14 +159,12 @@ static int precondition(tb_fem *f, const double *r, tb_error *err) {
     memcpy(u, r, sizeof(double) * 3 * (size_t)f->nv);
     return tb_fem_solve(f, f->R, &f->Z, err);
   }
-#pragma omp parallel for schedule(static)
   for (int n = 0; n < f->nv; n++) {
     tb_vec3 w = tb_m3_mulv(tb_m3_transpose(f->ntr[n]), tb_v3(r[3 * n], r[3 * n + 1], r[3 * n + 2]));
     u[3 * n] = w.x, u[3 * n + 1] = w.y, u[3 * n + 2] = w.z;
   }
   if (tb_fem_solve(f, f->R, &f->Z, err)) return -1;
   double *z = f->Z->x;
-#pragma omp parallel for schedule(static)
   for (int n = 0; n < f->nv; n++) {
     tb_vec3 w = tb_m3_mulv(f->ntr[n], tb_v3(z[3 * n], z[3 * n + 1], z[3 * n + 2]));
     z[3 * n] = w.x, z[3 * n + 1] = w.y, z[3 * n + 2] = w.z;
@@ -180,7 +177,6 @@ static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
   double *b = f->B->x, *y = f->Xs->x, *r = f->cg_r, *p = f->cg_p, *q = f->cg_q;
   /* warm start: y_n-1 + (y_n-1 - y_n-2) from the last two solutions */
   double w = f->nsteps >= 2 ? 1.0 : 0.0;
-#pragma omp parallel for schedule(static)
   for (int i = 0; i < n3; i++) {
     double last = y[i];
     y[i] += w * (last - f->yprev[i]);
@@ -188,7 +184,6 @@ static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
   }
   prescribe(f, y, b);
   amul(f, alpha, beta, y, q);
-#pragma omp parallel for schedule(static)
   for (int i = 0; i < n3; i++) r[i] = b[i] - q[i];
   double nb = sqrt(dot(b, b, n3)), rr = sqrt(dot(r, r, n3)), rz_old = 1;
   while (rr > f->cg_tol * nb) {
@@ -204,14 +199,12 @@ static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
     if (precondition(f, r, err)) return -1;
     const double *z = f->Z->x;
     double rz = dot(r, z, n3), beta_cg = fresh ? 0.0 : rz / rz_old;
-#pragma omp parallel for schedule(static)
     for (int i = 0; i < n3; i++) p[i] = z[i] + beta_cg * p[i];
     amul(f, alpha, beta, p, q);
     double pq = dot(p, q, n3);
     if (!(pq > 0))
       return tb_error_set(err, f->name, 0, "pcg: matrix not positive definite (p.Ap %.3g)", pq);
     double a = rz / pq;
-#pragma omp parallel for schedule(static)
     for (int i = 0; i < n3; i++) y[i] += a * p[i], r[i] -= a * q[i];
     rr = sqrt(dot(r, r, n3)), rz_old = rz, fresh = 0;
     it++;
@@ -230,7 +223,6 @@ static int lagged(tb_fem *f, double alpha, double beta, tb_error *err) {
   double prev = sqrt(dot(b, b, n3));
   for (int k = 0; k < f->refine; k++) {
     amul(f, alpha, beta, y, q);
-#pragma omp parallel for schedule(static)
     for (int i = 0; i < n3; i++) r[i] = b[i] - q[i];
     double rn = sqrt(dot(r, r, n3));
     if (!(rn <= 0.5 * prev) && f->since_factor > 0) {
@@ -243,7 +235,6 @@ static int lagged(tb_fem *f, double alpha, double beta, tb_error *err) {
     if (tb_fem_solve(f, f->R, &f->Z, err)) return -1;
     y = f->Xs->x;
     const double *z = f->Z->x;
-#pragma omp parallel for schedule(static)
     for (int i = 0; i < n3; i++) y[i] += z[i];
     f->last_iters = k + 1;
   }
