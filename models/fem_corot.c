@@ -1,9 +1,10 @@
 /* Corotational (warped-stiffness) linear FEM, Müller & Gross 2004
  * "Interactive virtual materials": per tet the rotation R of the polar
- * decomposition of F = D_s D_m^-1 (tb_m3_polar), the force
+ * decomposition of F = D_s D_m^-1 (tb_m3_polar_newton), the force
  * f_e = -R K_e (R^T x_e - X_e) and the stiffness R K_e R^T, with K_e the
  * linear element of thesis §3.3.2. The assembled matrix changes every step:
- * CHOLMOD refactors it numerically each step on the pattern analysed once.
+ * the exact solver has CHOLMOD refactor it numerically each step on the
+ * pattern analysed once.
  * Same implicit Euler, Rayleigh damping (C = a M + b K_R) and Dirichlet
  * elimination as fem (fem_core.c). quasistatic=1 does one warped-stiffness
  * iteration of the static equilibrium per step (rotations from the current
@@ -11,7 +12,8 @@
  *
  * solver= chooses how each step's linear system is solved (fem_solve.c):
  * exact (refactor every step, the reference), pcg (CG preconditioned by a
- * stale factor, refactored when CG needs more than cg_max iterations),
+ * stale factor rotated per node, refactored when CG needs more than cg_max
+ * iterations, exact to cg_tol),
  * lagged (refactor every lag steps, direct solve + refine refinements), pd
  * (projective-dynamics-style local/global iterations with one constant
  * factor; approximate). The per-element loop (rotations, forces,

@@ -6,14 +6,19 @@
  * every step; these reuse a factor:
  *  - pcg: conjugate gradients (Hestenes & Stiefel 1952; Saad, "Iterative
  *    methods for sparse linear systems", alg. 9.1) on A, warm-started from
- *    the last step's solution, preconditioned by the CHOLMOD factor of an
- *    earlier A ("lagged" preconditioner). When CG needs more than cg_max
- *    iterations the current A is factored and CG restarts from where it is
- *    (it then converges in one or two iterations). Stops at
- *    ||b - A y|| <= cg_tol ||b||: exact to the tolerance.
+ *    the last two steps' solutions (linear extrapolation), preconditioned
+ *    by the CHOLMOD factor of an earlier A_k ("lagged" preconditioner),
+ *    rotated per node (cg_rotate): T A_k^-1 T^T with T_n = R_n Q_n^T, R_n
+ *    the node's rotation now, Q_n at the factor (exact for a rigid rotation
+ *    of the body). When CG needs more than cg_max iterations the current A
+ *    is factored and CG restarts from where it is (it then converges in one
+ *    or two iterations). Stops at ||b - A y|| <= cg_tol ||b||: exact to
+ *    the tolerance.
  *  - lagged: the factor of A is redone every lag steps; the step is a direct
  *    solve with the stale factor plus `refine` iterative refinements
- *    y += P^-1 (b - A y). Approximate (its error is measured).
+ *    y += P^-1 (b - A y); when a refinement does not halve the residual
+ *    (it could diverge) A is factored at once and solved directly.
+ *    Approximate (its error is measured).
  *  - pd: projective dynamics (Bouaziz et al. 2014, Liu et al. 2013) with a
  *    constant matrix. Per tet, with H = R^T G(y) the rotated gradient of y,
  *      y^T K_e,R y = V (2 mu |sym H|^2 + lambda tr(H)^2)
@@ -27,8 +32,9 @@
  * Threads (OpenMP) run pd's per-tet loop colour by colour (tets of one
  * colour share no node) and the node rotations; the vector loops over the
  * 3 nv dofs are too short to pay for a fork and stay serial, dot products
- * summed in one order: bit-identical results for any thread count. No allocation in a step
- * (cholmod_solve2 reuses R, Z, Y, E). */
+ * summed in one order: bit-identical results for any thread count. No
+ * allocation in a step that does not refactor (cholmod_solve2 reuses R, Z,
+ * Y, E). */
 #include <math.h>
 #include <string.h>
 
