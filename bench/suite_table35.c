@@ -5,12 +5,15 @@
  * per second (median over repetitions of the median step), the thesis's FPS
  * beside ours. Part 2: the recovery experiment (thesis figs. 3.14, 3.15):
  * stretch far, let go, the displacement left after a fixed time, as a table
- * and a chart. A run that blows up is printed as `unstable (reason)`. */
+ * and a chart. Part 3 (suite_corot.c): fem-corot's solvers against the
+ * exact one and linear fem. A run that blows up is printed as
+ * `unstable (reason)`. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "suite_table35.h"
 #include "tb_cli.h"
 #include "tb_results.h"
 #include "tb_sim.h"
@@ -487,6 +490,7 @@ int tb_suite_table35(const tb_suite_opts *o) {
                 "simulation steps only, so the ratio is a ratio of machines and programs.",
                 liver.nv, liver.ntet, DT);
   int failed = speed(s, o, &liver);
+  failed |= tb_table35_corot(s, o, &liver);
   failed |= recovery(s, o, &liver, hi.x - lo.x);
   failed |= press(s, o);
   tb_mesh_free(&liver);

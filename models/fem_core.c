@@ -80,6 +80,15 @@ void tb_fem_element_k(tb_mat3 dm_inv, double vol, double lambda, double mu, doub
     }
 }
 
+/* V g_a . g_b, g the shape-function gradients (rows of dm_inv, g_0 = -sum). */
+static double laplacian_entry(tb_mat3 dm_inv, double vol, int a, int b) {
+  tb_vec3 g[4];
+  for (int c = 1; c < 4; c++)
+    g[c] = tb_v3(dm_inv.m[c - 1][0], dm_inv.m[c - 1][1], dm_inv.m[c - 1][2]);
+  g[0] = tb_scale(tb_add(tb_add(g[1], g[2]), g[3]), -1.0);
+  return vol * tb_dot(g[a], g[b]);
+}
+
 void tb_fem_add_element(tb_fem *f, int t, const double *k) {
   const int *blk = f->tet_blk + 16 * t;
   for (int ab = 0; ab < 16; ab++) {
@@ -264,6 +273,24 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
     }
   double lambda, mu;
   tb_lame(def->E, def->nu, &lambda, &mu);
+  f->lambda = lambda, f->mu = mu;
+  f->rot = malloc(sizeof(tb_mat3) * nt);
+  f->vol = malloc(sizeof(double) * nt);
+  f->b0 = calloc(3 * nv, sizeof(double));
+  f->cg_p = calloc(3 * nv, sizeof(double));
+  f->cg_q = calloc(3 * nv, sizeof(double));
+  f->yprev = calloc(3 * nv, sizeof(double));
+  f->cg_r = calloc(3 * nv, sizeof(double));
+  f->nrot = calloc(nv, sizeof(tb_mat3));
+  f->nq = calloc(nv, sizeof(tb_mat3));
+  f->ntr = calloc(nv, sizeof(tb_mat3));
+  if (!f->rot || !f->vol || !f->b0 || !f->cg_p || !f->cg_q || !f->yprev || !f->cg_r || !f->nrot ||
+      !f->nq || !f->ntr) {
+    tb_error_set(err, name, 0, "out of memory");
+    goto fail;
+  }
+  for (size_t t = 0; t < nt; t++) f->rot[t] = tb_m3_identity();
+  if (tb_tet_colours(mesh, &f->ncolours, &f->col_order, &f->col_start, err)) goto fail;
   for (int t = 0; t < f->ntet; t++) {
     const int *e = f->tet + 4 * t;
     tb_vec3 d1 = tb_sub(f->X[e[1]], f->X[e[0]]), d2 = tb_sub(f->X[e[2]], f->X[e[0]]),
@@ -271,7 +298,7 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
     tb_mat3 dm;
     for (int r = 0; r < 3; r++)
       dm.m[r][0] = tb_comp(d1, r), dm.m[r][1] = tb_comp(d2, r), dm.m[r][2] = tb_comp(d3, r);
-    double vol = tb_m3_det(dm) / 6.0;
+    double vol = f->vol[t] = tb_m3_det(dm) / 6.0;
     if (!(vol > 0) || !tb_m3_inverse(dm, &f->dm_inv[t])) {
       tb_error_set(
           err, name, 0,
@@ -298,11 +325,21 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
   } else {
     for (int n = 0; n < f->nv; n++) f->mb[f->diag[n]] = mass[n];
   }
+  f->lb = calloc((size_t)f->nblk, sizeof(double));
+  if (!f->lb) {
+    tb_error_set(err, name, 0, "out of memory");
+    goto fail;
+  }
+  for (int t = 0; t < f->ntet; t++) /* pd's Laplacian: V g_a . g_b per node pair */
+    for (int ab = 0; ab < 16; ab++)
+      f->lb[f->tet_blk[16 * t + ab]] += laplacian_entry(f->dm_inv[t], f->vol[t], ab / 4, ab % 4);
   if (build_matrix(f, err)) goto fail;
   f->L = cholmod_analyze(f->A, &f->cc);
   f->B = cholmod_zeros((size_t)f->A->nrow, 1, CHOLMOD_REAL, &f->cc);
   f->Xs = cholmod_zeros((size_t)f->A->nrow, 1, CHOLMOD_REAL, &f->cc);
-  if (!f->L || !f->B || !f->Xs || f->cc.status < CHOLMOD_OK) {
+  f->R = cholmod_zeros((size_t)f->A->nrow, 1, CHOLMOD_REAL, &f->cc);
+  f->Z = cholmod_zeros((size_t)f->A->nrow, 1, CHOLMOD_REAL, &f->cc);
+  if (!f->L || !f->B || !f->Xs || !f->R || !f->Z || f->cc.status < CHOLMOD_OK) {
     tb_error_set(err, name, 0, "CHOLMOD analysis failed (status %d)", f->cc.status);
     goto fail;
   }
@@ -320,7 +357,12 @@ void tb_fem_destroy(tb_fem *f) {
   cholmod_free_dense(&f->Xs, &f->cc);
   cholmod_free_dense(&f->Y, &f->cc);
   cholmod_free_dense(&f->E, &f->cc);
+  cholmod_free_dense(&f->R, &f->cc);
+  cholmod_free_dense(&f->Z, &f->cc);
   cholmod_finish(&f->cc);
+  free(f->col_order), free(f->col_start), free(f->rot), free(f->vol), free(f->lb);
+  free(f->b0), free(f->cg_p), free(f->cg_q), free(f->yprev), free(f->cg_r);
+  free(f->nrot), free(f->nq), free(f->ntr);
   free(f->x), free(f->v), free(f->X), free(f->fel), free(f->yc), free(f->fixed);
   free(f->fixed_list), free(f->tet), free(f->dm_inv), free(f->ke), free(f->tet_blk);
   free(f->row), free(f->col), free(f->diag), free(f->kb), free(f->mb);
@@ -330,17 +372,21 @@ void tb_fem_destroy(tb_fem *f) {
 
 /* ---- factorisation ---- */
 
-static void fill_matrix(tb_fem *f, double alpha, double beta) {
+static void fill_matrix(tb_fem *f, double alpha, double beta, int pd) {
   const int *Ap = f->A->p, *Ai = f->A->i;
   double *Ax = f->A->x;
+  double c = 2 * f->mu + 3 * f->lambda; /* pd: (2 mu + 3 lambda) L */
+#pragma omp parallel for schedule(static)
   for (int j = 0; j < 3 * f->nv; j++) {
     int fj = f->fixed[j / 3];
     for (int p = Ap[j]; p < Ap[j + 1]; p++) {
-      int i = Ai[p];
+      int i = Ai[p], q = f->a_mass[p];
       if (fj || f->fixed[i / 3])
         Ax[p] = i == j ? 1.0 : 0.0;
+      else if (pd)
+        Ax[p] = q >= 0 ? beta * c * f->lb[q] + alpha * f->mb[q] : 0.0;
       else
-        Ax[p] = beta * f->kb[f->a_blk[p]] + (f->a_mass[p] >= 0 ? alpha * f->mb[f->a_mass[p]] : 0.0);
+        Ax[p] = beta * f->kb[f->a_blk[p]] + (q >= 0 ? alpha * f->mb[q] : 0.0);
     }
   }
 }
@@ -404,7 +450,7 @@ static int check_step(const tb_fem *f, const tb_step *in, tb_error *err) {
   return 0;
 }
 
-int tb_fem_advance(tb_fem *f, const tb_step *in, int lin, int refactor, tb_error *err) {
+int tb_fem_begin(tb_fem *f, const tb_step *in, double *alpha, double *beta, tb_error *err) {
   if (check_step(f, in, err)) return -1;
   double dt = in->dt;
   int qs = f->quasistatic;
@@ -417,12 +463,20 @@ int tb_fem_advance(tb_fem *f, const tb_step *in, int lin, int refactor, tb_error
     if (in->nfixed > 0) memcpy(f->fixed_list, in->fixed, sizeof(int) * (size_t)in->nfixed);
     f->nfixed = in->nfixed;
   }
-  double alpha = qs ? 0.0 : 1.0 + dt * f->a, beta = qs ? 1.0 : dt * f->b + dt * dt;
-  if (changed || refactor || !f->factored || alpha != f->f_alpha || beta != f->f_beta) {
-    fill_matrix(f, alpha, beta);
-    f->f_alpha = alpha, f->f_beta = beta;
-    if (factor(f, err)) return -1;
-  }
+  *alpha = qs ? 0.0 : 1.0 + dt * f->a, *beta = qs ? 1.0 : dt * f->b + dt * dt;
+  return changed || !f->factored || *alpha != f->f_alpha || *beta != f->f_beta;
+}
+
+int tb_fem_refactor(tb_fem *f, double alpha, double beta, int pd, tb_error *err) {
+  fill_matrix(f, alpha, beta, pd);
+  f->f_alpha = alpha, f->f_beta = beta;
+  f->since_factor = 0;
+  return factor(f, err);
+}
+
+void tb_fem_rhs(tb_fem *f, const tb_step *in, int lin, double alpha, double beta, int pd) {
+  double dt = in->dt;
+  int qs = f->quasistatic;
   /* prescribed unknowns: velocity (dynamic) or increment (quasi-static) */
   double inv = qs ? 1.0 : 1.0 / dt, s = qs ? 1.0 : dt;
   for (int k = 0; k < in->nfixed; k++) {
@@ -431,7 +485,7 @@ int tb_fem_advance(tb_fem *f, const tb_step *in, int lin, int refactor, tb_error
   }
   /* right-hand side: M p - K q + s h, prescribed columns moved over */
   tb_vec3 g = in->gravity, gdt = tb_scale(g, dt);
-  double *b = f->B->x;
+  double *b = f->B->x, cpd = 2 * f->mu + 3 * f->lambda;
   for (int i = 0; i < f->nv; i++) {
     tb_vec3 acc;
     if (f->fixed[i]) {
@@ -448,6 +502,10 @@ int tb_fem_advance(tb_fem *f, const tb_step *in, int lin, int refactor, tb_error
           if (f->fixed[j]) pm = tb_madd(pm, -alpha, f->yc[j]);
           acc = tb_madd(acc, f->mb[p], pm);
         }
+        if (pd) {
+          if (f->fixed[j]) acc = tb_madd(acc, -beta * cpd * f->lb[p], f->yc[j]);
+          continue;
+        }
         if (f->fixed[j]) q = tb_madd(q, beta, f->yc[j]);
         const double *k = f->kb + 9 * p;
         acc.x -= k[0] * q.x + k[1] * q.y + k[2] * q.z;
@@ -457,15 +515,23 @@ int tb_fem_advance(tb_fem *f, const tb_step *in, int lin, int refactor, tb_error
     }
     b[3 * i] = acc.x, b[3 * i + 1] = acc.y, b[3 * i + 2] = acc.z;
   }
+}
+
+int tb_fem_solve(tb_fem *f, cholmod_dense *B, cholmod_dense **X, tb_error *err) {
   /* CHOLMOD 3.0.14's simplicial solve2 asks for a 4 x n Y but hands it back
    * shaped 1 x n, so the next call would reallocate it: restore the shape
    * (the storage is the same) to keep the re-solve free of allocations. */
   size_t n3 = f->A->nrow;
   if (f->Y && !f->L->is_super && f->Y->nzmax >= 4 * n3)
     f->Y->nrow = 4, f->Y->ncol = n3, f->Y->d = 4;
-  if (!cholmod_solve2(CHOLMOD_A, f->L, f->B, NULL, &f->Xs, NULL, &f->Y, &f->E, &f->cc))
+  if (!cholmod_solve2(CHOLMOD_A, f->L, B, NULL, X, NULL, &f->Y, &f->E, &f->cc))
     return tb_error_set(err, f->name, 0, "CHOLMOD solve failed (status %d)", f->cc.status);
   f->nsolve++;
+  return 0;
+}
+
+void tb_fem_finish(tb_fem *f, const tb_step *in, double dt) {
+  int qs = f->quasistatic;
   const double *y = f->Xs->x;
   for (int i = 0; i < f->nv; i++) {
     tb_vec3 yi = tb_v3(y[3 * i], y[3 * i + 1], y[3 * i + 2]);
@@ -479,6 +545,16 @@ int tb_fem_advance(tb_fem *f, const tb_step *in, int lin, int refactor, tb_error
     f->x[n] = in->fixed_x[k];
     f->v[n] = qs ? tb_v3(0, 0, 0) : f->yc[n];
   }
+}
+
+int tb_fem_advance(tb_fem *f, const tb_step *in, int lin, int refactor, tb_error *err) {
+  double alpha, beta;
+  int need = tb_fem_begin(f, in, &alpha, &beta, err);
+  if (need < 0) return -1;
+  if ((need || refactor) && tb_fem_refactor(f, alpha, beta, 0, err)) return -1;
+  tb_fem_rhs(f, in, lin, alpha, beta, 0);
+  if (tb_fem_solve(f, f->B, &f->Xs, err)) return -1;
+  tb_fem_finish(f, in, in->dt);
   return 0;
 }
 
@@ -502,7 +578,10 @@ int tb_fem_get_stats(tb_model *m, tb_fem_stats *s, tb_error *err) {
   s->nnz_factor = f->cc.lnz;
   s->dofs = 3 * f->nv;
   s->residual = NAN;
-  if (f->nsolve > 0) {
+  s->iterations = f->iters, s->last_iterations = f->last_iters;
+  if (f->solver != TB_FEM_EXACT) {
+    s->residual = tb_fem_residual(f); /* A holds the preconditioner's matrix, not this step's */
+  } else if (f->nsolve > 0) {
     cholmod_dense *r = cholmod_copy_dense(f->B, &f->cc);
     if (!r) return tb_error_set(err, f->name, 0, "out of memory");
     double one[2] = {1, 0}, minus[2] = {-1, 0};

@@ -71,7 +71,35 @@ typedef struct tb_fem {
   double f_alpha, f_beta;        /* the coefficients A was built with */
   int nfactor;                   /* numeric factorisations done */
   long nsolve;
+
+  /* tet colouring (tet_colour.c): tets of one colour share no node, so the
+   * per-element loops add into nodes and blocks in parallel, in an order
+   * fixed by the colouring (bit-identical for any thread count) */
+  int ncolours, *col_order, *col_start;
+  tb_mat3 *rot; /* per tet: the rotation of the current step (fem-corot) */
+  double *vol;  /* per tet: rest volume */
+  double lambda, mu;
+
+  /* fem-corot's solvers (fem_solve.c); solver TB_FEM_EXACT for fem */
+  int solver;
+  double cg_tol;             /* pcg: relative residual */
+  int cg_max;                /* pcg: iterations before the preconditioner is refactored */
+  int lag, refine, pd_iters; /* lagged: refactor every lag steps, refinements; pd iterations */
+  double *lb;                /* per block: the Laplacian sum V g_a.g_b (pd's constant matrix) */
+  double *b0, *cg_p, *cg_q;  /* n3 each */
+  double *yprev;             /* n3: pcg's solution before last (warm start) */
+  double *cg_r;              /* n3: pcg's residual */
+  int cg_rotate;             /* pcg: preconditioner rotated per node */
+  tb_mat3 *nrot, *nq, *ntr;  /* nv each: node rotations now, at the factor, T = R Q^T */
+  long nsteps;               /* steps through tb_fem_iterate */
+  cholmod_dense *R, *Z;      /* preconditioner solve: residual in, correction out */
+  int since_factor;          /* steps since the preconditioner was factored */
+  long iters;                /* CG iterations, refinements or pd iterations so far */
+  int last_iters;
+  double last_res; /* ||b - A y|| / ||b|| of the last iterative solve */
 } tb_fem;
+
+enum { TB_FEM_EXACT, TB_FEM_PCG, TB_FEM_LAGGED, TB_FEM_PD };
 
 /* Builds everything but the rotations: masses (lumped, or consistent when
  * def->consistent_mass and no node_mass), K_e, the patterns, the symbolic
@@ -95,6 +123,28 @@ void tb_fem_kmul(const tb_fem *f, const tb_vec3 *u, tb_vec3 *y);
  * fem-corot passes lin = 0 with f->fel filled and kb rotated, and
  * refactor = 1. */
 int tb_fem_advance(tb_fem *f, const tb_step *in, int lin, int refactor, tb_error *err);
+
+/* The pieces of tb_fem_advance the iterative solvers (fem_solve.c) share.
+ * begin: checks the step, updates the prescribed set and the coefficients
+ * (alpha M + beta K); returns 1 when the factor must be redone (set or
+ * coefficients changed, or none yet), 0 if not, -1 on error. */
+int tb_fem_begin(tb_fem *f, const tb_step *in, double *alpha, double *beta, tb_error *err);
+/* A <- alpha M + beta K (pd: beta (2 mu + 3 lambda) L) with identity rows
+ * and columns for the prescribed dofs, then the numeric factorisation. */
+int tb_fem_refactor(tb_fem *f, double alpha, double beta, int pd, tb_error *err);
+/* B <- the right-hand side (f->yc set here); the prescribed columns moved
+ * over with K's blocks (kb), or pd's (2 mu + 3 lambda) lb I blocks. */
+void tb_fem_rhs(tb_fem *f, const tb_step *in, int lin, double alpha, double beta, int pd);
+/* X <- A^-1 B with the current factor, no allocation after the first call. */
+int tb_fem_solve(tb_fem *f, cholmod_dense *B, cholmod_dense **X, tb_error *err);
+/* x, v from the solution in f->Xs. */
+void tb_fem_finish(tb_fem *f, const tb_step *in, double dt);
+
+/* fem-corot's iterative step (pcg, lagged, pd) after its element loop. */
+int tb_fem_iterate(tb_fem *f, const tb_step *in, tb_error *err);
+/* ||b - A y|| / ||b|| of the last iterative step's system (A, b of that
+ * step, y its solution), NAN before any solve. */
+double tb_fem_residual(tb_fem *f);
 
 /* 1/2 v^T M v. */
 double tb_fem_kinetic(const tb_fem *f);

@@ -19,7 +19,7 @@
  *    eigenvalues below 1e-10 of the largest dropped (a pseudo-inverse): few
  *    or coplanar particles give a least-squares fit on the directions they
  *    span, never a NaN. Linear mode falls back to R when det A <= 0;
- *  - R comes from Higham's scaled Newton iteration (tb_m3_polar for inverted
+ *  - R comes from Higham's scaled Newton iteration (tb_m3_polar_newton; tb_m3_polar for inverted
  *    or singular A_pq): the same rotation, about 3x faster.
  * The step allocates nothing; the member loops read flat CSR arrays. */
 #include <math.h>
@@ -208,36 +208,6 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
 
 /* ---- the step ---- */
 
-/* Rotation of the polar decomposition A = R S by Higham's scaled Newton
- * iteration X <- (g X + X^-T / g) / 2, g = sqrt(|X^-1| / |X|) (Frobenius),
- * about 3x faster than tb_m3_polar's eigen-decomposition; it converges to
- * the orthogonal factor, which is the rotation when det A > 0. Inverted,
- * singular or non-finite A go to tb_m3_polar (det R = +1 always). */
-static tb_mat3 polar_rotation(tb_mat3 a) {
-  if (!(tb_m3_det(a) > 0)) return tb_m3_polar(a);
-  tb_mat3 x = a;
-  for (int it = 0; it < 40; it++) {
-    double(*m)[3] = x.m;
-    tb_mat3 c = tb_m3_cofactor(x); /* X^-T = c / det X */
-    double det = m[0][0] * c.m[0][0] + m[0][1] * c.m[0][1] + m[0][2] * c.m[0][2];
-    if (!(det > 0)) return tb_m3_polar(a);
-    double nx = 0, nc = 0;
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) nx += m[i][j] * m[i][j], nc += c.m[i][j] * c.m[i][j];
-    double g = sqrt(sqrt(nc) / (det * sqrt(nx))); /* sqrt(|X^-1| / |X|) */
-    if (!isfinite(g)) return tb_m3_polar(a);
-    double fx = 0.5 * g, fc = 0.5 / (g * det), delta = 0;
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) {
-        double y = fx * m[i][j] + fc * c.m[i][j], d = y - m[i][j];
-        delta += d * d;
-        x.m[i][j] = y;
-      }
-    if (delta < 1e-18) return x; /* converged quadratically: error ~ delta */
-  }
-  return tb_m3_polar(a);
-}
-
 /* Cluster goals, quadratic mode: A~_pq = sum w p q~^T, one pass per row (the
  * weighted sum of q~ is zero, so p may be taken from any reference point),
  * R from its linear block, T = beta A~_pq A~_qq^-1 + (1 - beta) [s R 0 0]. */
@@ -268,7 +238,7 @@ static void goals_quadratic(sm *s) {
     tb_mat3 lin;
     for (int i = 0; i < 3; i++)
       for (int j = 0; j < 3; j++) lin.m[i][j] = apq[i][j];
-    tb_mat3 r = polar_rotation(lin);
+    tb_mat3 r = tb_m3_polar_newton(lin);
     const double *inv = s->aqq_inv + (size_t)81 * c;
     double t[3][9];
     for (int i = 0; i < 3; i++) {
@@ -315,7 +285,7 @@ static void goals_linear(sm *s) {
     apq.m[2][0] = a20, apq.m[2][1] = a21, apq.m[2][2] = a22;
     double iw = s->inv_wsum[c];
     tb_vec3 cm = tb_v3(xr.x + sx * iw, xr.y + sy * iw, xr.z + sz * iw);
-    tb_mat3 t = polar_rotation(apq);
+    tb_mat3 t = tb_m3_polar_newton(apq);
     if (s->mode == TB_SM_LINEAR && beta > 0) {
       tb_mat3 inv;
       memcpy(inv.m, s->aqq_inv + (size_t)9 * c, sizeof inv.m);

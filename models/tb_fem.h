@@ -7,13 +7,16 @@
 #include "tb_model.h"
 
 typedef struct tb_fem_stats {
-  int factorizations; /* numeric factorisations so far */
-  long solves;        /* solves so far */
-  double residual;    /* ||A y - b|| / ||b|| of the last solve (cholmod_sdmult), NAN before any */
-  int supernodal;     /* 1: supernodal L L^T, 0: simplicial L D L^T */
-  int ordering;       /* CHOLMOD_AMD, CHOLMOD_METIS, ... (cholmod.h) */
-  double nnz_factor;  /* entries of L (CHOLMOD's lnz) */
-  int dofs;           /* 3 * nodes */
+  int factorizations;  /* numeric factorisations so far */
+  long solves;         /* solves with the factor so far (pcg: preconditioner applications) */
+  double residual;     /* ||A y - b|| / ||b|| of the last solve (cholmod_sdmult), NAN before any;
+                          fem-corot's iterative solvers: of the last step's system */
+  long iterations;     /* fem-corot pcg: CG iterations; lagged: refinements; pd: iterations */
+  int last_iterations; /* the same, of the last step */
+  int supernodal;      /* 1: supernodal L L^T, 0: simplicial L D L^T */
+  int ordering;        /* CHOLMOD_AMD, CHOLMOD_METIS, ... (cholmod.h) */
+  double nnz_factor;   /* entries of L (CHOLMOD's lnz) */
+  int dofs;            /* 3 * nodes */
 } tb_fem_stats;
 
 /* Fills *s for a fem or fem-corot model; anything else is an error. */

@@ -274,6 +274,9 @@ int tb_lumped_masses(const tb_mesh *mesh, double density, double node_mass, doub
 /* Rotation R closest to A (polar decomposition A = R S, det R = +1, also for
  * singular or inverted A: the smallest singular direction is flipped). */
 tb_mat3 tb_m3_polar(tb_mat3 a);
+/* The same rotation by Higham's scaled Newton iteration (about 3x faster);
+ * inverted, singular or non-finite A go to tb_m3_polar. */
+tb_mat3 tb_m3_polar_newton(tb_mat3 a);
 /* Eigen-decomposition of a symmetric matrix: a = V diag(w) V^T, w ascending,
  * V's columns the eigenvectors (Jacobi rotations). */
 void tb_m3_sym_eigen(tb_mat3 a, double w[3], tb_mat3 *v);

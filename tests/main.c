@@ -175,6 +175,7 @@ static const struct {
     {"msm", tb_tests_msm},
     {"msm_vvs", tb_tests_msm_vvs},
     {"fem", tb_tests_fem},
+    {"fem_corot", tb_tests_fem_corot},
     {"sm", tb_tests_sm},
     {"pbd", tb_tests_pbd},
     {"reference", tb_tests_reference},

@@ -81,6 +81,7 @@ extern const tb_test_case tb_tests_models[];
 extern const tb_test_case tb_tests_msm[];
 extern const tb_test_case tb_tests_msm_vvs[];
 extern const tb_test_case tb_tests_fem[];
+extern const tb_test_case tb_tests_fem_corot[];
 extern const tb_test_case tb_tests_sm[];
 extern const tb_test_case tb_tests_pbd[];
 extern const tb_test_case tb_tests_reference[];

@@ -172,6 +172,7 @@ static void *count_calloc(size_t n, size_t s) { return nalloc++, real_calloc(n, 
 static void *count_realloc(void *p, size_t n) { return nalloc++, real_realloc(p, n); }
 
 static void count_cholmod_allocations(void) {
+  if (SuiteSparse_config.malloc_func == count_malloc) return; /* already counting */
   real_malloc = SuiteSparse_config.malloc_func;
   real_calloc = SuiteSparse_config.calloc_func;
   real_realloc = SuiteSparse_config.realloc_func;
@@ -231,6 +232,38 @@ static void test_factor_once(void) {
     s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
     step(&mod, &s, 7);
     TB_CHECK(stats(&mod).factorizations == 7);
+    tb_model_destroy(&mod);
+  }
+  tb_mesh_free(&m);
+}
+
+/* fem-corot's pcg, lagged and pd: a step that does not refactor allocates
+ * nothing in CHOLMOD (cholmod_solve2 reuses its workspaces); without a
+ * reason to (cg_max not reached, lag not over, pd) none refactors. */
+static void test_corot_no_alloc(void) {
+  tb_mesh m = beam(4, 8, 2, 2);
+  int idx[64];
+  tb_vec3 pos[64];
+  int nf = clamp_left(&m, 0, idx, pos);
+  count_cholmod_allocations();
+  static const char *const kvs[] = {"solver=pcg cg_max=50", "solver=pd",
+                                    "solver=lagged lag=1000 refine=0", "solver=pcg"};
+  for (int k = 0; k < 4; k++) {
+    tb_settings d = tb_test_settings(kvs[k]);
+    tb_model mod;
+    if (create(&mod, "fem-corot", &m, &d)) continue;
+    tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
+    s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
+    step(&mod, &s, 2);
+    long before = nalloc;
+    int factors = stats(&mod).factorizations;
+    step(&mod, &s, 50);
+    if (stats(&mod).factorizations == factors)
+      TB_CHECK_MSG(nalloc == before, "%s: CHOLMOD allocated %ld times in 50 steps", kvs[k],
+                   nalloc - before);
+    else
+      TB_CHECK_MSG(k == 3, "%s: refactored (%d -> %d)", kvs[k], factors,
+                   stats(&mod).factorizations);
     tb_model_destroy(&mod);
   }
   tb_mesh_free(&m);
@@ -585,6 +618,7 @@ const tb_test_case tb_tests_fem[] = {
     {"patch_unstructured", test_patch_unstructured},
     {"residual", test_residual},
     {"factor_once", test_factor_once},
+    {"corot_no_alloc", test_corot_no_alloc},
     {"rigid_motion", test_rigid_motion},
     {"not_positive_definite", test_not_positive_definite},
     {"free_fall", test_free_fall},
