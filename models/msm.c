@@ -25,13 +25,26 @@
  * the same for every spring in both modes.
  *
  * Hot data are flat arrays: x, v, f, 1/m per node; (i, j), l0, k per spring.
- * A step allocates nothing. */
+ * A step allocates nothing.
+ *
+ * Threads (core/tb_threads.h): each spring's force is computed into a
+ * per-spring array (springs split into fixed parts), then each node sums
+ * the external force and its springs' forces in ascending spring order
+ * through a node -> spring list (CSR; a spring is +f for its first node, -f
+ * for its second) and integrates. That is the order one scatter loop over
+ * the springs adds them in, so every thread count gives the same bits as the
+ * serial scatter, which one thread still runs (it is the faster there). */
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "tb_model.h"
+#include "tb_threads.h"
+
+/* Springs below which the step stays on one thread (a parallel region
+ * costs more than it saves). */
+#define MSM_PARALLEL_MIN 4096
 
 /* msm's settings (its table is at the end of this file). */
 typedef struct msm_settings {
@@ -46,6 +59,11 @@ typedef struct msm {
   int *ij;        /* 2*ns node pairs, i < j */
   double *l0, *k; /* rest lengths, stiffnesses */
   double kd;
+  /* threads: per-spring forces, node -> spring CSR (spring index e for the
+   * first node, ~e for the second, ascending e), prescribed-node flags */
+  tb_vec3 *fs;
+  int *nstart, *nspring;
+  unsigned char *fixed;
 } msm;
 
 static double edge_len(tb_vec3 a, tb_vec3 b) {
@@ -58,6 +76,7 @@ static void destroy(void *self) {
   if (!s) return;
   free(s->x), free(s->v), free(s->f), free(s->mass), free(s->invm);
   free(s->ij), free(s->l0), free(s->k);
+  free(s->fs), free(s->nstart), free(s->nspring), free(s->fixed);
   free(s);
 }
 
@@ -93,6 +112,26 @@ static int calibrate(msm *s, const tb_mesh *mesh, double E, tb_error *err) {
     }
   }
   for (int e = 0; e < s->ns; e++) s->k[e] *= E / (s->l0[e] * s->l0[e]);
+  return 0;
+}
+
+/* The node -> spring CSR (each node's springs ascending, ~e where the node
+ * is the spring's second end), the per-spring forces, the fixed flags. */
+static int node_springs(msm *s) {
+  size_t ns = (size_t)s->ns, nv = (size_t)s->nv;
+  s->fs = malloc(sizeof(tb_vec3) * (ns ? ns : 1));
+  s->nstart = calloc(nv + 1, sizeof(int));
+  s->nspring = malloc(sizeof(int) * (ns ? 2 * ns : 1));
+  s->fixed = calloc(nv, 1);
+  if (!s->fs || !s->nstart || !s->nspring || !s->fixed) return -1;
+  for (int e = 0; e < s->ns; e++) s->nstart[s->ij[2 * e] + 1]++, s->nstart[s->ij[2 * e + 1] + 1]++;
+  for (int i = 0; i < s->nv; i++) s->nstart[i + 1] += s->nstart[i];
+  int *fill = malloc(sizeof(int) * (nv ? nv : 1));
+  if (!fill) return -1;
+  memcpy(fill, s->nstart, sizeof(int) * nv);
+  for (int e = 0; e < s->ns; e++) /* ascending e: each node's list is ascending */
+    s->nspring[fill[s->ij[2 * e]]++] = e, s->nspring[fill[s->ij[2 * e + 1]]++] = ~e;
+  free(fill);
   return 0;
 }
 
@@ -148,6 +187,10 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
     s->k[e] = def->ks;
   }
   if (def->calibrated && calibrate(s, mesh, def->E, err)) goto fail;
+  if (node_springs(s)) {
+    tb_error_set(err, "msm", 0, "out of memory");
+    goto fail;
+  }
   return s;
 fail:
   destroy(s);
@@ -173,6 +216,54 @@ static void spring_forces(int ns, const int *restrict ij, const double *restrict
   }
 }
 
+/* Kelvin spring e's force on its first node (eq. 3-2). */
+static inline tb_vec3 spring_force(const msm *s, int e, const tb_vec3 *restrict x,
+                                   const tb_vec3 *restrict v) {
+  const int i = s->ij[2 * e], j = s->ij[2 * e + 1];
+  const double dx = x[j].x - x[i].x, dy = x[j].y - x[i].y, dz = x[j].z - x[i].z;
+  const double len = sqrt(dx * dx + dy * dy + dz * dz);
+  const double c = len > 0 ? s->k[e] * (len - s->l0[e]) / len : 0.0;
+  return tb_v3(c * dx + s->kd * (v[j].x - v[i].x), c * dy + s->kd * (v[j].y - v[i].y),
+               c * dz + s->kd * (v[j].z - v[i].z));
+}
+
+/* Symplectic Euler for free node i with force fi (eqs 3-4..3-6). */
+static inline void integrate(tb_vec3 *restrict x, tb_vec3 *restrict v, int i, tb_vec3 fi,
+                             double invm, tb_vec3 g, double dt) {
+  v[i].x += dt * (g.x + fi.x * invm);
+  v[i].y += dt * (g.y + fi.y * invm);
+  v[i].z += dt * (g.z + fi.z * invm);
+  x[i].x += dt * v[i].x, x[i].y += dt * v[i].y, x[i].z += dt * v[i].z;
+}
+
+/* The threaded step's forces and integration (see the head): springs in
+ * fixed parts into fs, then per node the same sum in the same order as
+ * spring_forces, then the free nodes' integration. */
+static void step_threads(msm *s, const tb_step *in) {
+  const int nv = s->nv, ns = s->ns;
+  tb_vec3 *restrict x = s->x, *restrict v = s->v, *restrict fs = s->fs;
+  const double *invm = s->invm, dt = in->dt;
+  const tb_vec3 g = in->gravity;
+#pragma omp parallel
+  {
+#pragma omp for schedule(static)
+    for (int e = 0; e < ns; e++) fs[e] = spring_force(s, e, x, v);
+#pragma omp for schedule(static)
+    for (int i = 0; i < nv; i++) {
+      if (s->fixed[i]) continue;
+      tb_vec3 fi = in->force ? in->force[i] : tb_v3(0, 0, 0);
+      for (int k = s->nstart[i]; k < s->nstart[i + 1]; k++) {
+        const int e = s->nspring[k];
+        if (e >= 0)
+          fi.x += fs[e].x, fi.y += fs[e].y, fi.z += fs[e].z;
+        else
+          fi.x -= fs[~e].x, fi.y -= fs[~e].y, fi.z -= fs[~e].z;
+      }
+      integrate(x, v, i, fi, invm[i], g, dt);
+    }
+  }
+}
+
 static int step(void *self, const tb_step *in, tb_error *err) {
   msm *s = self;
   const int nv = s->nv, nfixed = in->nfixed;
@@ -185,6 +276,21 @@ static int step(void *self, const tb_step *in, tb_error *err) {
                           nv, p, in->fixed[p]);
   tb_vec3 *x = s->x, *v = s->v, *f = s->f;
   const double *invm = s->invm, dt = in->dt;
+  const tb_vec3 g = in->gravity;
+
+  if (tb_threads() > 1 && s->ns >= MSM_PARALLEL_MIN) {
+    /* prescribed nodes after the free ones: the springs read their old x, v */
+    for (int p = 0; p < nfixed; p++) s->fixed[in->fixed[p]] = 1;
+    step_threads(s, in);
+    for (int p = 0; p < nfixed; p++) {
+      const int i = in->fixed[p];
+      const tb_vec3 xe = in->fixed_x[p];
+      v[i].x = (xe.x - x[i].x) / dt, v[i].y = (xe.y - x[i].y) / dt, v[i].z = (xe.z - x[i].z) / dt;
+      x[i] = xe;
+      s->fixed[i] = 0;
+    }
+    return 0;
+  }
 
   /* external forces (eq. 3-1); gravity is added as an acceleration below */
   if (in->force)
@@ -195,7 +301,6 @@ static int step(void *self, const tb_step *in, tb_error *err) {
 
   /* symplectic Euler (eqs 3-4..3-6), prescribed nodes merged in (ascending);
    * fixed_x may alias the positions (holding nodes where they are) */
-  const tb_vec3 g = in->gravity;
   int p = 0, next = nfixed > 0 ? in->fixed[0] : nv;
   for (int i = 0; i < nv; i++) {
     if (i == next) {
@@ -206,10 +311,7 @@ static int step(void *self, const tb_step *in, tb_error *err) {
       next = p < nfixed ? in->fixed[p] : nv;
       continue;
     }
-    v[i].x += dt * (g.x + f[i].x * invm[i]);
-    v[i].y += dt * (g.y + f[i].y * invm[i]);
-    v[i].z += dt * (g.z + f[i].z * invm[i]);
-    x[i].x += dt * v[i].x, x[i].y += dt * v[i].y, x[i].z += dt * v[i].z;
+    integrate(x, v, i, f[i], invm[i], g, dt);
   }
   return 0;
 }
