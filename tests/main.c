@@ -198,6 +198,7 @@ static const struct {
     {"metaball_cut", tb_tests_metaball_cut},
     {"cut_surface", tb_tests_cut_surface},
     {"metaball_suite", tb_tests_metaball_suite},
+    {"scaling", tb_tests_scaling},
 };
 
 static int selected(const char *id, int argc, char **argv) {
