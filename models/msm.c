@@ -27,13 +27,19 @@
  * Hot data are flat arrays: x, v, f, 1/m per node; (i, j), l0, k per spring.
  * A step allocates nothing.
  *
- * Threads (core/tb_threads.h): each spring's force is computed into a
- * per-spring array (springs split into fixed parts), then each node sums
- * the external force and its springs' forces in ascending spring order
- * through a node -> spring list (CSR; a spring is +f for its first node, -f
- * for its second) and integrates. That is the order one scatter loop over
- * the springs adds them in, so every thread count gives the same bits as the
- * serial scatter, which one thread still runs (it is the faster there). */
+ * Threads (core/tb_threads.h). Springs are sorted by (i, j), i < j, so the
+ * serial scatter adds to node n, in ascending spring order, first its
+ * springs (i, n) by ascending i, then its springs (n, j) by ascending j. The
+ * nodes are split into nt contiguous parts [n0, n1) holding about ns / nt
+ * springs each (by their first node). A spring with i in a part and j
+ * beyond it ("crossing") is computed first into fs (all parts at once);
+ * after one barrier each part, alone: starts every node's force with the
+ * external force minus its crossing springs from earlier parts (i < n0:
+ * the first of its (i, n)), then runs the serial scatter over its own
+ * springs, taking a crossing spring's force from fs, then integrates its
+ * nodes. Every node thus sums its springs in ascending spring order for any
+ * part count: the same bits as the serial scatter, which one thread runs.
+ */
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -59,10 +65,12 @@ typedef struct msm {
   int *ij;        /* 2*ns node pairs, i < j */
   double *l0, *k; /* rest lengths, stiffnesses */
   double kd;
-  /* threads: per-spring forces, node -> spring CSR (spring index e for the
-   * first node, ~e for the second, ascending e), prescribed-node flags */
+  /* threads (see the head): crossing springs' forces; first[n]: the springs
+   * whose first node is below n; node n's springs (i, n) are
+   * in[in_start[n] .. in_start[n+1]), ascending, with their i in in_i;
+   * prescribed-node flags */
   tb_vec3 *fs;
-  int *nstart, *nspring;
+  int *first, *in_start, *in, *in_i;
   unsigned char *fixed;
 } msm;
 
@@ -76,7 +84,7 @@ static void destroy(void *self) {
   if (!s) return;
   free(s->x), free(s->v), free(s->f), free(s->mass), free(s->invm);
   free(s->ij), free(s->l0), free(s->k);
-  free(s->fs), free(s->nstart), free(s->nspring), free(s->fixed);
+  free(s->fs), free(s->first), free(s->in_start), free(s->in), free(s->in_i), free(s->fixed);
   free(s);
 }
 
@@ -115,22 +123,26 @@ static int calibrate(msm *s, const tb_mesh *mesh, double E, tb_error *err) {
   return 0;
 }
 
-/* The node -> spring CSR (each node's springs ascending, ~e where the node
- * is the spring's second end), the per-spring forces, the fixed flags. */
+/* The arrays of the threaded step (see the head and struct msm). */
 static int node_springs(msm *s) {
   size_t ns = (size_t)s->ns, nv = (size_t)s->nv;
   s->fs = malloc(sizeof(tb_vec3) * (ns ? ns : 1));
-  s->nstart = calloc(nv + 1, sizeof(int));
-  s->nspring = malloc(sizeof(int) * (ns ? 2 * ns : 1));
+  s->first = calloc(nv + 1, sizeof(int));
+  s->in_start = calloc(nv + 1, sizeof(int));
+  s->in = malloc(sizeof(int) * (ns ? ns : 1));
+  s->in_i = malloc(sizeof(int) * (ns ? ns : 1));
   s->fixed = calloc(nv, 1);
-  if (!s->fs || !s->nstart || !s->nspring || !s->fixed) return -1;
-  for (int e = 0; e < s->ns; e++) s->nstart[s->ij[2 * e] + 1]++, s->nstart[s->ij[2 * e + 1] + 1]++;
-  for (int i = 0; i < s->nv; i++) s->nstart[i + 1] += s->nstart[i];
+  if (!s->fs || !s->first || !s->in_start || !s->in || !s->in_i || !s->fixed) return -1;
+  for (int e = 0; e < s->ns; e++) s->first[s->ij[2 * e] + 1]++, s->in_start[s->ij[2 * e + 1] + 1]++;
+  for (int i = 0; i < s->nv; i++)
+    s->first[i + 1] += s->first[i], s->in_start[i + 1] += s->in_start[i];
   int *fill = malloc(sizeof(int) * (nv ? nv : 1));
   if (!fill) return -1;
-  memcpy(fill, s->nstart, sizeof(int) * nv);
-  for (int e = 0; e < s->ns; e++) /* ascending e: each node's list is ascending */
-    s->nspring[fill[s->ij[2 * e]]++] = e, s->nspring[fill[s->ij[2 * e + 1]]++] = ~e;
+  memcpy(fill, s->in_start, sizeof(int) * nv);
+  for (int e = 0; e < s->ns; e++) { /* ascending e */
+    int q = fill[s->ij[2 * e + 1]]++;
+    s->in[q] = e, s->in_i[q] = s->ij[2 * e];
+  }
   free(fill);
   return 0;
 }
@@ -236,30 +248,63 @@ static inline void integrate(tb_vec3 *restrict x, tb_vec3 *restrict v, int i, tb
   x[i].x += dt * v[i].x, x[i].y += dt * v[i].y, x[i].z += dt * v[i].z;
 }
 
-/* The threaded step's forces and integration (see the head): springs in
- * fixed parts into fs, then per node the same sum in the same order as
- * spring_forces, then the free nodes' integration. */
-static void step_threads(msm *s, const tb_step *in) {
-  const int nv = s->nv, ns = s->ns;
-  tb_vec3 *restrict x = s->x, *restrict v = s->v, *restrict fs = s->fs;
-  const double *invm = s->invm, dt = in->dt;
+/* The first node of part t of nt: the smallest n with first[n] >= t ns / nt. */
+static int part_start(const msm *s, int t, int nt) {
+  if (t >= nt) return s->nv;
+  long target = (long)s->ns * t / nt;
+  int lo = 0, hi = s->nv;
+  while (lo < hi) {
+    int mid = lo + (hi - lo) / 2;
+    if (s->first[mid] >= target)
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  return lo;
+}
+
+/* The threaded step's forces and integration in nt parts (see the head). */
+static void step_threads(msm *s, const tb_step *in, int nt) {
+  tb_vec3 *restrict x = s->x, *restrict v = s->v, *restrict f = s->f, *restrict fs = s->fs;
+  const int *restrict ij = s->ij;
+  const double *restrict l0 = s->l0, *restrict k = s->k, *invm = s->invm, kd = s->kd, dt = in->dt;
   const tb_vec3 g = in->gravity;
 #pragma omp parallel
   {
 #pragma omp for schedule(static)
-    for (int e = 0; e < ns; e++) fs[e] = spring_force(s, e, x, v);
+    for (int t = 0; t < nt; t++) { /* crossing springs */
+      const int n1 = part_start(s, t + 1, nt);
+      for (int e = s->first[part_start(s, t, nt)]; e < s->first[n1]; e++)
+        if (ij[2 * e + 1] >= n1) fs[e] = spring_force(s, e, x, v);
+    }
 #pragma omp for schedule(static)
-    for (int i = 0; i < nv; i++) {
-      if (s->fixed[i]) continue;
-      tb_vec3 fi = in->force ? in->force[i] : tb_v3(0, 0, 0);
-      for (int k = s->nstart[i]; k < s->nstart[i + 1]; k++) {
-        const int e = s->nspring[k];
-        if (e >= 0)
-          fi.x += fs[e].x, fi.y += fs[e].y, fi.z += fs[e].z;
-        else
-          fi.x -= fs[~e].x, fi.y -= fs[~e].y, fi.z -= fs[~e].z;
+    for (int t = 0; t < nt; t++) {
+      const int n0 = part_start(s, t, nt), n1 = part_start(s, t + 1, nt);
+      for (int n = n0; n < n1; n++) { /* external force, crossing springs from below */
+        tb_vec3 fn = in->force ? in->force[n] : tb_v3(0, 0, 0);
+        for (int q = s->in_start[n]; q < s->in_start[n + 1] && s->in_i[q] < n0; q++) {
+          const tb_vec3 c = fs[s->in[q]];
+          fn.x -= c.x, fn.y -= c.y, fn.z -= c.z;
+        }
+        f[n] = fn;
       }
-      integrate(x, v, i, fi, invm[i], g, dt);
+      for (int e = s->first[n0]; e < s->first[n1]; e++) { /* the serial scatter */
+        const int i = ij[2 * e], j = ij[2 * e + 1];
+        if (j >= n1) {
+          f[i].x += fs[e].x, f[i].y += fs[e].y, f[i].z += fs[e].z;
+          continue;
+        }
+        const double dx = x[j].x - x[i].x, dy = x[j].y - x[i].y, dz = x[j].z - x[i].z;
+        const double len = sqrt(dx * dx + dy * dy + dz * dz);
+        const double c = len > 0 ? k[e] * (len - l0[e]) / len : 0.0;
+        const double fx = c * dx + kd * (v[j].x - v[i].x);
+        const double fy = c * dy + kd * (v[j].y - v[i].y);
+        const double fz = c * dz + kd * (v[j].z - v[i].z);
+        f[i].x += fx, f[i].y += fy, f[i].z += fz;
+        f[j].x -= fx, f[j].y -= fy, f[j].z -= fz;
+      }
+      for (int n = n0; n < n1; n++)
+        if (!s->fixed[n]) integrate(x, v, n, f[n], invm[n], g, dt);
     }
   }
 }
@@ -278,10 +323,11 @@ static int step(void *self, const tb_step *in, tb_error *err) {
   const double *invm = s->invm, dt = in->dt;
   const tb_vec3 g = in->gravity;
 
-  if (tb_threads() > 1 && s->ns >= MSM_PARALLEL_MIN) {
+  const int nt = tb_threads();
+  if (nt > 1 && s->ns >= MSM_PARALLEL_MIN) {
     /* prescribed nodes after the free ones: the springs read their old x, v */
     for (int p = 0; p < nfixed; p++) s->fixed[in->fixed[p]] = 1;
-    step_threads(s, in);
+    step_threads(s, in, nt);
     for (int p = 0; p < nfixed; p++) {
       const int i = in->fixed[p];
       const tb_vec3 xe = in->fixed_x[p];
