@@ -70,8 +70,10 @@ static void limit_cell(tb_table *t, fit f, double ms) {
     tb_table_cell(t, "-");
     return;
   }
-  int out = x < f.xlo || x > f.xhi;
-  tb_table_numf(t, x, x >= 1e7 ? "%.2e%s" : "%.0f%s", x, out ? " (extrapolated)" : "");
+  if (x > 100 * f.xhi)
+    tb_table_numf(t, x, "> 100x the largest (extrapolated: %.2g)", x);
+  else
+    tb_table_numf(t, x, "%.0f%s", x, x < f.xlo || x > f.xhi ? " (extrapolated)" : "");
 }
 
 static void time_table(tb_suite *su, const scaling_run *sr) {

@@ -3,8 +3,10 @@
  * overlapping regions and per-node tet clusters) on a beam large enough
  * that both threads get work (the models stay on one thread below 4096
  * springs or cluster members); the `scaling` suite run tiny
- * (bench/suite_scaling.c, --scale 0.01) writes its tables with the columns
- * and finite fitted slopes. */
+ * (bench/suite_scaling.c, --scale 0.01: livers of 600, 1200 and 2500
+ * tets) writes its tables with their columns, a finite slope, a 30 Hz
+ * limit and a peak RSS per tet for every model of the table, finite
+ * collision slopes, bit-identical threads and its charts. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -86,7 +88,82 @@ static void sm_threads_identical(void) {
   for (int k = 0; k < 6; k++) identical("sm", kvs[k]);
 }
 
+/* The suite's CSV file into buf; 0 when read. */
+static int slurp(const char *file, char *buf, int cap) {
+  char cmd[700];
+  snprintf(cmd, sizeof cmd, "cat %s/rsc/scaling/%s", tb_test_tmpdir(), file);
+  return tb_test_run(cmd, buf, cap);
+}
+
+/* 1 when the CSV's header line holds every column of cols. */
+static int has_columns(const char *csv, const char *const *cols, int n) {
+  const char *nl = strchr(csv, '\n');
+  size_t len = nl ? (size_t)(nl - csv) : strlen(csv);
+  for (int k = 0; k < n; k++) {
+    const char *p = strstr(csv, cols[k]);
+    if (!p || (size_t)(p - csv) >= len) {
+      TB_CHECK_MSG(0, "no column '%s' in %.*s", cols[k], (int)len, csv);
+      return 0;
+    }
+  }
+  return 1;
+}
+
+/* `figure scaling --scale 0.01`: three small livers; every table's columns,
+ * a row per model of the table with a finite slope, the collision's
+ * slopes, bit-identical threads, the charts. */
+static void scaling_suite_smoke(void) {
+  static char csv[32768];
+  char args[600];
+  snprintf(args, sizeof args, "figure scaling --scale 0.01 --results %s/rsc", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  static const char *const time_cols[] = {"model",
+                                          "tets",
+                                          "nodes",
+                                          "ms/step",
+                                          "steps timed",
+                                          "peak RSS added (MiB)",
+                                          "RSS per tet (KiB)",
+                                          "status"};
+  TB_CHECK(slurp("table-time.csv", csv, sizeof csv) == 0 && has_columns(csv, time_cols, 8));
+  static const char *const fit_cols[] = {"series",
+                                         "x",
+                                         "sizes fitted",
+                                         "slope (log-log)",
+                                         "largest x at 33.3 ms (30 Hz)",
+                                         "largest x at 3.33 ms (300 Hz)",
+                                         "RSS per tet at the largest (KiB)"};
+  TB_CHECK(slurp("table-fit.csv", csv, sizeof csv) == 0 && has_columns(csv, fit_cols, 7));
+  for (int k = 0; k < tb_model_count; k++) {
+    const char *name = tb_model_classes[k]->name;
+    double slope = tb_test_csv_num(csv, name, 3), rss = tb_test_csv_num(csv, name, 7);
+    TB_CHECK_MSG(tb_test_csv_num(csv, name, 2) == 3 && isfinite(slope) && slope > 0 && slope < 3,
+                 "%s: %s", name, csv);
+    TB_CHECK_MSG(rss > 0 && rss < 1000, "%s: RSS per tet %g KiB", name, rss);
+    TB_CHECK_MSG(tb_test_csv_num(csv, name, 5) > 0, "%s: no 30 Hz limit: %s", name, csv);
+  }
+  static const char *const coll[] = {"collision: refit", "collision: query",
+                                     "collision: refit + query"};
+  for (int k = 0; k < 3; k++)
+    TB_CHECK_MSG(isfinite(tb_test_csv_num(csv, coll[k], 3)), "%s: %s", coll[k], csv);
+  static const char *const thr_cols[] = {"model", "ms/step, 1 thread", "ms/step, all threads",
+                                         "speed-up", "identical"};
+  TB_CHECK(slurp("table-threads.csv", csv, sizeof csv) == 0 && has_columns(csv, thr_cols, 5));
+  for (int k = 0; k < tb_model_count; k++)
+    TB_CHECK_MSG(!strcmp(tb_test_csv_cell(csv, tb_model_classes[k]->name, 6), "yes"), "%s: %s",
+                 tb_model_classes[k]->name, csv);
+  static const char *const col_cols[] = {"tets", "triangles (all tet faces)", "refit (ms)",
+                                         "query (ms)"};
+  TB_CHECK(slurp("table-collision.csv", csv, sizeof csv) == 0 && has_columns(csv, col_cols, 4));
+  snprintf(args, sizeof args,
+           "test -s %s/rsc/scaling/time.png && test -s %s/rsc/scaling/collision.png && test -s "
+           "%s/rsc/scaling/data.json",
+           tb_test_tmpdir(), tb_test_tmpdir(), tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_run(args, tb_test_out, sizeof tb_test_out) == 0, "%s", tb_test_out);
+}
+
 const tb_test_case tb_tests_scaling[] = {
+    {"scaling_suite_smoke", scaling_suite_smoke},
     {"msm_threads_identical", msm_threads_identical},
     {"sm_threads_identical", sm_threads_identical},
     {0, 0},
