@@ -247,6 +247,8 @@ int tb_suite_scaling(const tb_suite_opts *o) {
   }
   tb_progress("scaling", nsizes, nsizes);
   tb_threads_set(threads_before);
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024); /* glibc's default values back for the later suites */
+  mallopt(M_TRIM_THRESHOLD, 128 * 1024);
   tb_mesh_free(&inst);
   sr->seconds = (double)(tb_time_ns() - start) * 1e-9;
   failed |= tb_scaling_report(su, sr);
