@@ -51,6 +51,8 @@
 /* Springs below which the step stays on one thread (a parallel region
  * costs more than it saves). */
 #define MSM_PARALLEL_MIN 4096
+/* Parts of the threaded step at most (more threads share them). */
+#define MSM_MAX_PARTS 256
 
 /* msm's settings (its table is at the end of this file). */
 typedef struct msm_settings {
@@ -71,6 +73,10 @@ typedef struct msm {
    * prescribed-node flags */
   tb_vec3 *fs;
   int *first, *in_start, *in, *in_i;
+  /* for the split into split_nt parts: part t is nodes [part[t], part[t+1]);
+   * node n's springs first[n] .. cross[n] - 1 stay in its part, cross[n] ..
+   * first[n+1] - 1 cross beyond it */
+  int split_nt, part[MSM_MAX_PARTS + 1], *cross;
   unsigned char *fixed;
 } msm;
 
@@ -85,6 +91,7 @@ static void destroy(void *self) {
   free(s->x), free(s->v), free(s->f), free(s->mass), free(s->invm);
   free(s->ij), free(s->l0), free(s->k);
   free(s->fs), free(s->first), free(s->in_start), free(s->in), free(s->in_i), free(s->fixed);
+  free(s->cross);
   free(s);
 }
 
@@ -132,7 +139,9 @@ static int node_springs(msm *s) {
   s->in = malloc(sizeof(int) * (ns ? ns : 1));
   s->in_i = malloc(sizeof(int) * (ns ? ns : 1));
   s->fixed = calloc(nv, 1);
-  if (!s->fs || !s->first || !s->in_start || !s->in || !s->in_i || !s->fixed) return -1;
+  s->cross = malloc(sizeof(int) * (nv ? nv : 1));
+  if (!s->fs || !s->first || !s->in_start || !s->in || !s->in_i || !s->fixed || !s->cross)
+    return -1;
   for (int e = 0; e < s->ns; e++) s->first[s->ij[2 * e] + 1]++, s->in_start[s->ij[2 * e + 1] + 1]++;
   for (int i = 0; i < s->nv; i++)
     s->first[i + 1] += s->first[i], s->in_start[i + 1] += s->in_start[i];
@@ -263,49 +272,75 @@ static int part_start(const msm *s, int t, int nt) {
   return lo;
 }
 
+/* The split into nt parts (part, cross), kept until nt changes. */
+static void split(msm *s, int nt) {
+  if (s->split_nt == nt) return;
+  for (int t = 0; t <= nt; t++) s->part[t] = part_start(s, t, nt);
+  for (int t = 0; t < nt; t++)
+    for (int n = s->part[t]; n < s->part[t + 1]; n++) {
+      int e = s->first[n + 1];
+      while (e > s->first[n] && s->ij[2 * (e - 1) + 1] >= s->part[t + 1]) e--;
+      s->cross[n] = e;
+    }
+  s->split_nt = nt;
+}
+
+/* Part [n0, n1)'s springs that cross beyond n1, into fs. */
+static void part_crossing(msm *s, int n0, int n1) {
+  const tb_vec3 *restrict x = s->x, *restrict v = s->v;
+  tb_vec3 *restrict fs = s->fs;
+  for (int n = n0; n < n1; n++)
+    for (int e = s->cross[n]; e < s->first[n + 1]; e++) fs[e] = spring_force(s, e, x, v);
+}
+
+/* Part [n0, n1) after the crossing springs: its nodes' forces in ascending
+ * spring order (see the head), then their integration. */
+static void part_step(msm *s, const tb_step *in, int n0, int n1) {
+  tb_vec3 *restrict x = s->x, *restrict v = s->v, *restrict f = s->f;
+  const tb_vec3 *restrict fs = s->fs, *restrict ext = in->force;
+  const int *restrict ij = s->ij, *restrict in_start = s->in_start, *restrict in_e = s->in,
+                      *restrict in_i = s->in_i, *restrict first = s->first,
+                      *restrict cross = s->cross;
+  const double *restrict l0 = s->l0, *restrict k = s->k, *restrict invm = s->invm;
+  const unsigned char *restrict fixed = s->fixed;
+  const double kd = s->kd, dt = in->dt;
+  const tb_vec3 g = in->gravity;
+  for (int n = n0; n < n1; n++) { /* external force, crossing springs from below */
+    tb_vec3 fn = ext ? ext[n] : tb_v3(0, 0, 0);
+    for (int q = in_start[n]; q < in_start[n + 1] && in_i[q] < n0; q++) {
+      const tb_vec3 c = fs[in_e[q]];
+      fn.x -= c.x, fn.y -= c.y, fn.z -= c.z;
+    }
+    f[n] = fn;
+  }
+  for (int i = n0; i < n1; i++) { /* the serial scatter, node by node */
+    for (int e = first[i]; e < cross[i]; e++) {
+      const int j = ij[2 * e + 1];
+      const double dx = x[j].x - x[i].x, dy = x[j].y - x[i].y, dz = x[j].z - x[i].z;
+      const double len = sqrt(dx * dx + dy * dy + dz * dz);
+      const double c = len > 0 ? k[e] * (len - l0[e]) / len : 0.0;
+      const double fx = c * dx + kd * (v[j].x - v[i].x);
+      const double fy = c * dy + kd * (v[j].y - v[i].y);
+      const double fz = c * dz + kd * (v[j].z - v[i].z);
+      f[i].x += fx, f[i].y += fy, f[i].z += fz;
+      f[j].x -= fx, f[j].y -= fy, f[j].z -= fz;
+    }
+    for (int e = cross[i]; e < first[i + 1]; e++) /* its springs beyond the part: last */
+      f[i].x += fs[e].x, f[i].y += fs[e].y, f[i].z += fs[e].z;
+  }
+  for (int n = n0; n < n1; n++)
+    if (!fixed[n]) integrate(x, v, n, f[n], invm[n], g, dt);
+}
+
 /* The threaded step's forces and integration in nt parts (see the head). */
 static void step_threads(msm *s, const tb_step *in, int nt) {
-  tb_vec3 *restrict x = s->x, *restrict v = s->v, *restrict f = s->f, *restrict fs = s->fs;
-  const int *restrict ij = s->ij;
-  const double *restrict l0 = s->l0, *restrict k = s->k, *invm = s->invm, kd = s->kd, dt = in->dt;
-  const tb_vec3 g = in->gravity;
+  const int *part = s->part;
 #pragma omp parallel
   {
 #pragma omp for schedule(static)
-    for (int t = 0; t < nt; t++) { /* crossing springs */
-      const int n1 = part_start(s, t + 1, nt);
-      for (int e = s->first[part_start(s, t, nt)]; e < s->first[n1]; e++)
-        if (ij[2 * e + 1] >= n1) fs[e] = spring_force(s, e, x, v);
-    }
+    for (int t = 0; t < nt; t++) part_crossing(s, part[t], part[t + 1]);
 #pragma omp for schedule(static)
-    for (int t = 0; t < nt; t++) {
-      const int n0 = part_start(s, t, nt), n1 = part_start(s, t + 1, nt);
-      for (int n = n0; n < n1; n++) { /* external force, crossing springs from below */
-        tb_vec3 fn = in->force ? in->force[n] : tb_v3(0, 0, 0);
-        for (int q = s->in_start[n]; q < s->in_start[n + 1] && s->in_i[q] < n0; q++) {
-          const tb_vec3 c = fs[s->in[q]];
-          fn.x -= c.x, fn.y -= c.y, fn.z -= c.z;
-        }
-        f[n] = fn;
-      }
-      for (int e = s->first[n0]; e < s->first[n1]; e++) { /* the serial scatter */
-        const int i = ij[2 * e], j = ij[2 * e + 1];
-        if (j >= n1) {
-          f[i].x += fs[e].x, f[i].y += fs[e].y, f[i].z += fs[e].z;
-          continue;
-        }
-        const double dx = x[j].x - x[i].x, dy = x[j].y - x[i].y, dz = x[j].z - x[i].z;
-        const double len = sqrt(dx * dx + dy * dy + dz * dz);
-        const double c = len > 0 ? k[e] * (len - l0[e]) / len : 0.0;
-        const double fx = c * dx + kd * (v[j].x - v[i].x);
-        const double fy = c * dy + kd * (v[j].y - v[i].y);
-        const double fz = c * dz + kd * (v[j].z - v[i].z);
-        f[i].x += fx, f[i].y += fy, f[i].z += fz;
-        f[j].x -= fx, f[j].y -= fy, f[j].z -= fz;
-      }
-      for (int n = n0; n < n1; n++)
-        if (!s->fixed[n]) integrate(x, v, n, f[n], invm[n], g, dt);
-    }
+    for (int t = 0; t < nt; t++) part_step(s, in, part[t], part[t + 1]);
   }
 }
 
@@ -323,8 +358,9 @@ static int step(void *self, const tb_step *in, tb_error *err) {
   const double *invm = s->invm, dt = in->dt;
   const tb_vec3 g = in->gravity;
 
-  const int nt = tb_threads();
+  const int nt = tb_threads() < MSM_MAX_PARTS ? tb_threads() : MSM_MAX_PARTS;
   if (nt > 1 && s->ns >= MSM_PARALLEL_MIN) {
+    split(s, nt);
     /* prescribed nodes after the free ones: the springs read their old x, v */
     for (int p = 0; p < nfixed; p++) s->fixed[in->fixed[p]] = 1;
     step_threads(s, in, nt);
