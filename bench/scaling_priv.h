@@ -32,6 +32,7 @@ typedef struct size_row {
 
 typedef struct scaling_run {
   int nsizes, nm, cores, big, frames; /* big: the largest mesh made (-1: none) */
+  int threads_row;                    /* the size of the one against all threads table */
   double budget, seconds;
   size_row rows[SCALING_MAX_SIZES];
   cell cells[SCALING_MAX_MODELS][SCALING_MAX_SIZES]; /* [model of the table][size], 1 thread */

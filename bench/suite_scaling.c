@@ -15,7 +15,7 @@
  *     (the scene's copy of the mesh included), per tet. (A forked child
  *     cannot be used: CHOLMOD starts OpenMP threads, and libgomp hangs in a
  *     child of a process that has used them.)
- *  3. One thread against all cores on the largest mesh: ms per step,
+ *  3. One thread against all cores at 100 000 tets (tiny runs: the largest): ms per step,
  *     speed-up, and whether positions and velocities after the same steps
  *     are bit-identical (a hash of their bytes).
  *  4. Collision: the composite hierarchy (collision/tb_bvh.h) over all tet
@@ -42,6 +42,7 @@
 #include "tb_timer.h"
 
 #define MAX_STEPS 400
+#define THREADS_TETS 100000 /* one thread against all at this size */
 
 /* Tet counts: --full, the default (quick) and --scale < 1 (tests). */
 static const int ladder_full[] = {600, 1200, 2500, 5000, 10000, 20000, 50000, 100000, 200000};
@@ -190,7 +191,10 @@ int tb_suite_scaling(const tb_suite_opts *o) {
   sr->budget = o->full ? 1.0 : (o->scale < 1 ? 0.02 : 0.12); /* timed seconds per cell */
   sr->frames = o->full ? 20 : (o->scale < 1 ? 3 : 6);
   sr->nm = tb_model_count < SCALING_MAX_MODELS ? tb_model_count : SCALING_MAX_MODELS;
-  sr->cores = tb_threads_cores(), sr->big = -1;
+  sr->cores = tb_threads_cores(), sr->big = -1, sr->threads_row = nsizes - 1;
+  for (int r = 0; r < nsizes;
+       r++) /* threads: at 100 000 tets (the size), else the largest */
+    if (ladder[r] == THREADS_TETS) sr->threads_row = r;
   int threads_before = tb_threads(), failed = 0, nm = sr->nm, cores = sr->cores;
   double budget = sr->budget;
   int frames = sr->frames;
@@ -233,7 +237,7 @@ int tb_suite_scaling(const tb_suite_opts *o) {
       if (!cells[k][r].ok)
         fprintf(stderr, "scaling: %s on %d tets: %s\n", name, m.ntet, cells[k][r].why);
     }
-    if (r == nsizes - 1)
+    if (r == sr->threads_row)
       for (int k = 0; k < nm; k++) { /* all cores, the same steps as the one-thread run */
         const cell *one = &cells[k][r];
         if (!one->ok) continue;

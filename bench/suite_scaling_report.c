@@ -172,10 +172,10 @@ static int thread_table(tb_suite *su, const scaling_run *sr) {
   static const char *cols[] = {"model",   "tets",     "ms/step, 1 thread", "ms/step, all threads",
                                "threads", "speed-up", "identical"};
   char title[200];
-  int bad = 0, r = sr->big;
+  int r = sr->rows[sr->threads_row].ok ? sr->threads_row : -1, bad = 0;
   snprintf(title, sizeof title,
-           "One thread against all %d cores on the largest liver (%d tets): the same steps, "
-           "positions and velocities bit-identical?",
+           "One thread against all %d cores on the %d-tet liver: the same steps, positions and "
+           "velocities bit-identical?",
            sr->cores, r >= 0 ? sr->rows[r].ntet : 0);
   tb_table *t = tb_table_new("threads", title, 7, cols);
   for (int k = 0; k < sr->nm && r >= 0; k++) {
@@ -347,7 +347,7 @@ int tb_scaling_report(tb_suite *su, const scaling_run *sr) {
                 "cannot take a tet liver, or blew up on every size, is listed as skipped with "
                 "its reason.");
   failed |= thread_table(su, sr);
-  int r = sr->big;
+  int r = sr->rows[sr->threads_row].ok ? sr->threads_row : -1;
   for (int k = 0; k < sr->nm && r >= 0; k++) {
     const char *name = tb_model_classes[k]->name;
     if (strcmp(name, "msm") && strcmp(name, "sm")) continue;
