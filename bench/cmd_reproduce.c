@@ -62,6 +62,10 @@ static const tb_suite_entry suites[] = {
      "metaball patent tables 1-2 and figs 7-10: organs of spheres driven by PBD, deform and cut "
      "ms per frame, re-packing, convergence against the tet models, the speed goal",
      tb_suite_metaball, 0},
+    {"scaling", NULL, "scaling",
+     "ms per step against mesh size (600 to 100k+ tets) for every model of the table, fitted "
+     "exponents, 30/300 Hz limits, peak RSS per tet, 1 vs all threads, collision refit + query",
+     tb_suite_scaling, 0},
     {"figures", NULL, "pictures",
      "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures, 0},
 };
@@ -78,7 +82,8 @@ const tb_suite_entry *tb_suites(int *n) {
  * chapter 4 (collision: correctness first, then its tables, then the
  * deforming liver); then the 2022 patent's performance tables; then Bao
  * 2006's sphere (its table 1, figs 6-8); then the metaball patent's organs
- * (its tables 1-2, figs 7-10). A chapter
+ * (its tables 1-2, figs 7-10); then how every model and the collision
+ * hierarchy scale with the mesh. A chapter
  * is a heading then suite names; every suite above appears once
  * (tests/test_cli.c checks through --only). */
 static const char *const report_order[] = {
@@ -103,6 +108,8 @@ static const char *const report_order[] = {
     "bao",
     "#The metaball patent: organs of overlapping spheres, PBD, hybrid sphere - point set cutting",
     "metaball",
+    "#Scaling: every model and the collision hierarchy against mesh size",
+    "scaling",
     "#Pictures: the documents' figures, rendered",
     "figures",
 };

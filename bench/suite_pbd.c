@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "tb_cli.h"
+#include "tb_generators.h"
 #include "tb_meshgen.h"
 #include "tb_results.h"
 #include "tb_sim.h"
@@ -77,6 +78,16 @@ static void place(tb_mesh *m, tb_vec3 b) {
   for (int i = 0; i < m->nv; i++) m->x[i] = tb_add(m->x[i], d);
 }
 
+int tb_liver_of_tets(int tets, uint64_t seed, tb_mesh *out, tb_error *err) {
+  tb_liver_def d = tb_liver_default_def();
+  d.surface_verts = 0, d.tet_verts = 0, d.tets = tets, d.seed = seed;
+  tb_mesh surf;
+  if (tb_liver_surface(&d, &surf, err)) return -1;
+  int rc = tb_liver_tets(&d, &surf, out, err);
+  tb_mesh_free(&surf);
+  return rc ? -1 : 0;
+}
+
 /* The liver of row r placed where the scene puts its own: SOFA's for 596
  * tets when present, else a TetGen liver within 2% of the patent's count. */
 static int make_liver(int r, const tb_mesh *scene_mesh, int sofa, uint64_t seed, tb_mesh *out,
@@ -85,13 +96,7 @@ static int make_liver(int r, const tb_mesh *scene_mesh, int sofa, uint64_t seed,
     snprintf(source, cap, "SOFA liver.msh");
     return tb_mesh_copy(out, scene_mesh) ? tb_error_set(err, "pbd", 0, "out of memory") : 0;
   }
-  tb_liver_def d = tb_liver_default_def();
-  d.surface_verts = 0, d.tet_verts = 0, d.tets = patent[r].tets, d.seed = seed;
-  tb_mesh surf;
-  if (tb_liver_surface(&d, &surf, err)) return -1;
-  int rc = tb_liver_tets(&d, &surf, out, err);
-  tb_mesh_free(&surf);
-  if (rc) return -1;
+  if (tb_liver_of_tets(patent[r].tets, seed, out, err)) return -1;
   tb_vec3 lo, hi;
   tb_mesh_bbox(scene_mesh, &lo, &hi);
   place(out, tb_v3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z));

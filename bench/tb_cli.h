@@ -101,6 +101,7 @@ int tb_suite_pbd_stiffness(const tb_suite_opts *opts);
 int tb_suite_pbd(const tb_suite_opts *opts);
 int tb_suite_bao(const tb_suite_opts *opts);
 int tb_suite_metaball(const tb_suite_opts *opts);
+int tb_suite_scaling(const tb_suite_opts *opts);
 
 /* Helpers shared by the commands. */
 int tb_cli_has_help(int argc, char **argv);

@@ -3,6 +3,7 @@
 #ifndef TB_GENERATORS_H
 #define TB_GENERATORS_H
 
+#include <stdint.h>
 #include <stdio.h>
 
 #include "tb_error.h"
@@ -70,5 +71,11 @@ int tb_mesh_part_parse(const char *s, tb_mesh_part *part);
 
 /* mesh info's report (bench/cmd_mesh.c). */
 void tb_mesh_print_info(FILE *f, const char *name, const tb_mesh *m);
+
+/* A TetGen liver of `tets` tets within 2% (TB_LIVER_TET_TOL), seeded: the
+ * default liver's shape, a marching-cubes surface of
+ * tb_liver_surface_for(tets) vertices, TetGen's maximum tet volume
+ * searched (bench/suite_pbd.c; the pbd and scaling suites). */
+int tb_liver_of_tets(int tets, uint64_t seed, tb_mesh *out, tb_error *err);
 
 #endif

@@ -25,13 +25,34 @@
  * the same for every spring in both modes.
  *
  * Hot data are flat arrays: x, v, f, 1/m per node; (i, j), l0, k per spring.
- * A step allocates nothing. */
+ * A step allocates nothing.
+ *
+ * Threads (core/tb_threads.h). Springs are sorted by (i, j), i < j, so the
+ * serial scatter adds to node n, in ascending spring order, first its
+ * springs (i, n) by ascending i, then its springs (n, j) by ascending j. The
+ * nodes are split into nt contiguous parts [n0, n1) holding about ns / nt
+ * springs each (by their first node). A spring with i in a part and j
+ * beyond it ("crossing") is computed first into fs (all parts at once);
+ * after one barrier each part, alone: starts every node's force with the
+ * external force minus its crossing springs from earlier parts (i < n0:
+ * the first of its (i, n)), then runs the serial scatter over its own
+ * springs, taking a crossing spring's force from fs, then integrates its
+ * nodes. Every node thus sums its springs in ascending spring order for any
+ * part count: the same bits as the serial scatter, which one thread runs.
+ */
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "tb_model.h"
+#include "tb_threads.h"
+
+/* Springs below which the step stays on one thread (a parallel region
+ * costs more than it saves). */
+#define MSM_PARALLEL_MIN 4096
+/* Parts of the threaded step at most (more threads share them). */
+#define MSM_MAX_PARTS 256
 
 /* msm's settings (its table is at the end of this file). */
 typedef struct msm_settings {
@@ -46,6 +67,17 @@ typedef struct msm {
   int *ij;        /* 2*ns node pairs, i < j */
   double *l0, *k; /* rest lengths, stiffnesses */
   double kd;
+  /* threads (see the head): crossing springs' forces; first[n]: the springs
+   * whose first node is below n; node n's springs (i, n) are
+   * in[in_start[n] .. in_start[n+1]), ascending, with their i in in_i;
+   * prescribed-node flags */
+  tb_vec3 *fs;
+  int *first, *in_start, *in, *in_i;
+  /* for the split into split_nt parts: part t is nodes [part[t], part[t+1]);
+   * node n's springs first[n] .. cross[n] - 1 stay in its part, cross[n] ..
+   * first[n+1] - 1 cross beyond it */
+  int split_nt, part[MSM_MAX_PARTS + 1], *cross;
+  unsigned char *fixed;
 } msm;
 
 static double edge_len(tb_vec3 a, tb_vec3 b) {
@@ -58,6 +90,8 @@ static void destroy(void *self) {
   if (!s) return;
   free(s->x), free(s->v), free(s->f), free(s->mass), free(s->invm);
   free(s->ij), free(s->l0), free(s->k);
+  free(s->fs), free(s->first), free(s->in_start), free(s->in), free(s->in_i), free(s->fixed);
+  free(s->cross);
   free(s);
 }
 
@@ -93,6 +127,32 @@ static int calibrate(msm *s, const tb_mesh *mesh, double E, tb_error *err) {
     }
   }
   for (int e = 0; e < s->ns; e++) s->k[e] *= E / (s->l0[e] * s->l0[e]);
+  return 0;
+}
+
+/* The arrays of the threaded step (see the head and struct msm). */
+static int node_springs(msm *s) {
+  size_t ns = (size_t)s->ns, nv = (size_t)s->nv;
+  s->fs = malloc(sizeof(tb_vec3) * (ns ? ns : 1));
+  s->first = calloc(nv + 1, sizeof(int));
+  s->in_start = calloc(nv + 1, sizeof(int));
+  s->in = malloc(sizeof(int) * (ns ? ns : 1));
+  s->in_i = malloc(sizeof(int) * (ns ? ns : 1));
+  s->fixed = calloc(nv, 1);
+  s->cross = malloc(sizeof(int) * (nv ? nv : 1));
+  if (!s->fs || !s->first || !s->in_start || !s->in || !s->in_i || !s->fixed || !s->cross)
+    return -1;
+  for (int e = 0; e < s->ns; e++) s->first[s->ij[2 * e] + 1]++, s->in_start[s->ij[2 * e + 1] + 1]++;
+  for (int i = 0; i < s->nv; i++)
+    s->first[i + 1] += s->first[i], s->in_start[i + 1] += s->in_start[i];
+  int *fill = malloc(sizeof(int) * (nv ? nv : 1));
+  if (!fill) return -1;
+  memcpy(fill, s->in_start, sizeof(int) * nv);
+  for (int e = 0; e < s->ns; e++) { /* ascending e */
+    int q = fill[s->ij[2 * e + 1]]++;
+    s->in[q] = e, s->in_i[q] = s->ij[2 * e];
+  }
+  free(fill);
   return 0;
 }
 
@@ -148,6 +208,10 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
     s->k[e] = def->ks;
   }
   if (def->calibrated && calibrate(s, mesh, def->E, err)) goto fail;
+  if (node_springs(s)) {
+    tb_error_set(err, "msm", 0, "out of memory");
+    goto fail;
+  }
   return s;
 fail:
   destroy(s);
@@ -173,6 +237,113 @@ static void spring_forces(int ns, const int *restrict ij, const double *restrict
   }
 }
 
+/* Kelvin spring e's force on its first node (eq. 3-2). */
+static inline tb_vec3 spring_force(const msm *s, int e, const tb_vec3 *restrict x,
+                                   const tb_vec3 *restrict v) {
+  const int i = s->ij[2 * e], j = s->ij[2 * e + 1];
+  const double dx = x[j].x - x[i].x, dy = x[j].y - x[i].y, dz = x[j].z - x[i].z;
+  const double len = sqrt(dx * dx + dy * dy + dz * dz);
+  const double c = len > 0 ? s->k[e] * (len - s->l0[e]) / len : 0.0;
+  return tb_v3(c * dx + s->kd * (v[j].x - v[i].x), c * dy + s->kd * (v[j].y - v[i].y),
+               c * dz + s->kd * (v[j].z - v[i].z));
+}
+
+/* Symplectic Euler for free node i with force fi (eqs 3-4..3-6). */
+static inline void integrate(tb_vec3 *restrict x, tb_vec3 *restrict v, int i, tb_vec3 fi,
+                             double invm, tb_vec3 g, double dt) {
+  v[i].x += dt * (g.x + fi.x * invm);
+  v[i].y += dt * (g.y + fi.y * invm);
+  v[i].z += dt * (g.z + fi.z * invm);
+  x[i].x += dt * v[i].x, x[i].y += dt * v[i].y, x[i].z += dt * v[i].z;
+}
+
+/* The first node of part t of nt: the smallest n with first[n] >= t ns / nt. */
+static int part_start(const msm *s, int t, int nt) {
+  if (t >= nt) return s->nv;
+  long target = (long)s->ns * t / nt;
+  int lo = 0, hi = s->nv;
+  while (lo < hi) {
+    int mid = lo + (hi - lo) / 2;
+    if (s->first[mid] >= target)
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  return lo;
+}
+
+/* The split into nt parts (part, cross), kept until nt changes. */
+static void split(msm *s, int nt) {
+  if (s->split_nt == nt) return;
+  for (int t = 0; t <= nt; t++) s->part[t] = part_start(s, t, nt);
+  for (int t = 0; t < nt; t++)
+    for (int n = s->part[t]; n < s->part[t + 1]; n++) {
+      int e = s->first[n + 1];
+      while (e > s->first[n] && s->ij[2 * (e - 1) + 1] >= s->part[t + 1]) e--;
+      s->cross[n] = e;
+    }
+  s->split_nt = nt;
+}
+
+/* Part [n0, n1)'s springs that cross beyond n1, into fs. */
+static void part_crossing(msm *s, int n0, int n1) {
+  const tb_vec3 *restrict x = s->x, *restrict v = s->v;
+  tb_vec3 *restrict fs = s->fs;
+  for (int n = n0; n < n1; n++)
+    for (int e = s->cross[n]; e < s->first[n + 1]; e++) fs[e] = spring_force(s, e, x, v);
+}
+
+/* Part [n0, n1) after the crossing springs: its nodes' forces in ascending
+ * spring order (see the head), then their integration. */
+static void part_step(msm *s, const tb_step *in, int n0, int n1) {
+  tb_vec3 *restrict x = s->x, *restrict v = s->v, *restrict f = s->f;
+  const tb_vec3 *restrict fs = s->fs, *restrict ext = in->force;
+  const int *restrict ij = s->ij, *restrict in_start = s->in_start, *restrict in_e = s->in,
+                      *restrict in_i = s->in_i, *restrict first = s->first,
+                      *restrict cross = s->cross;
+  const double *restrict l0 = s->l0, *restrict k = s->k, *restrict invm = s->invm;
+  const unsigned char *restrict fixed = s->fixed;
+  const double kd = s->kd, dt = in->dt;
+  const tb_vec3 g = in->gravity;
+  for (int n = n0; n < n1; n++) { /* external force, crossing springs from below */
+    tb_vec3 fn = ext ? ext[n] : tb_v3(0, 0, 0);
+    for (int q = in_start[n]; q < in_start[n + 1] && in_i[q] < n0; q++) {
+      const tb_vec3 c = fs[in_e[q]];
+      fn.x -= c.x, fn.y -= c.y, fn.z -= c.z;
+    }
+    f[n] = fn;
+  }
+  for (int i = n0; i < n1; i++) { /* the serial scatter, node by node */
+    for (int e = first[i]; e < cross[i]; e++) {
+      const int j = ij[2 * e + 1];
+      const double dx = x[j].x - x[i].x, dy = x[j].y - x[i].y, dz = x[j].z - x[i].z;
+      const double len = sqrt(dx * dx + dy * dy + dz * dz);
+      const double c = len > 0 ? k[e] * (len - l0[e]) / len : 0.0;
+      const double fx = c * dx + kd * (v[j].x - v[i].x);
+      const double fy = c * dy + kd * (v[j].y - v[i].y);
+      const double fz = c * dz + kd * (v[j].z - v[i].z);
+      f[i].x += fx, f[i].y += fy, f[i].z += fz;
+      f[j].x -= fx, f[j].y -= fy, f[j].z -= fz;
+    }
+    for (int e = cross[i]; e < first[i + 1]; e++) /* its springs beyond the part: last */
+      f[i].x += fs[e].x, f[i].y += fs[e].y, f[i].z += fs[e].z;
+  }
+  for (int n = n0; n < n1; n++)
+    if (!fixed[n]) integrate(x, v, n, f[n], invm[n], g, dt);
+}
+
+/* The threaded step's forces and integration in nt parts (see the head). */
+static void step_threads(msm *s, const tb_step *in, int nt) {
+  const int *part = s->part;
+#pragma omp parallel
+  {
+#pragma omp for schedule(static)
+    for (int t = 0; t < nt; t++) part_crossing(s, part[t], part[t + 1]);
+#pragma omp for schedule(static)
+    for (int t = 0; t < nt; t++) part_step(s, in, part[t], part[t + 1]);
+  }
+}
+
 static int step(void *self, const tb_step *in, tb_error *err) {
   msm *s = self;
   const int nv = s->nv, nfixed = in->nfixed;
@@ -185,6 +356,23 @@ static int step(void *self, const tb_step *in, tb_error *err) {
                           nv, p, in->fixed[p]);
   tb_vec3 *x = s->x, *v = s->v, *f = s->f;
   const double *invm = s->invm, dt = in->dt;
+  const tb_vec3 g = in->gravity;
+
+  const int nt = tb_threads() < MSM_MAX_PARTS ? tb_threads() : MSM_MAX_PARTS;
+  if (nt > 1 && s->ns >= MSM_PARALLEL_MIN) {
+    split(s, nt);
+    /* prescribed nodes after the free ones: the springs read their old x, v */
+    for (int p = 0; p < nfixed; p++) s->fixed[in->fixed[p]] = 1;
+    step_threads(s, in, nt);
+    for (int p = 0; p < nfixed; p++) {
+      const int i = in->fixed[p];
+      const tb_vec3 xe = in->fixed_x[p];
+      v[i].x = (xe.x - x[i].x) / dt, v[i].y = (xe.y - x[i].y) / dt, v[i].z = (xe.z - x[i].z) / dt;
+      x[i] = xe;
+      s->fixed[i] = 0;
+    }
+    return 0;
+  }
 
   /* external forces (eq. 3-1); gravity is added as an acceleration below */
   if (in->force)
@@ -195,7 +383,6 @@ static int step(void *self, const tb_step *in, tb_error *err) {
 
   /* symplectic Euler (eqs 3-4..3-6), prescribed nodes merged in (ascending);
    * fixed_x may alias the positions (holding nodes where they are) */
-  const tb_vec3 g = in->gravity;
   int p = 0, next = nfixed > 0 ? in->fixed[0] : nv;
   for (int i = 0; i < nv; i++) {
     if (i == next) {
@@ -206,10 +393,7 @@ static int step(void *self, const tb_step *in, tb_error *err) {
       next = p < nfixed ? in->fixed[p] : nv;
       continue;
     }
-    v[i].x += dt * (g.x + f[i].x * invm[i]);
-    v[i].y += dt * (g.y + f[i].y * invm[i]);
-    v[i].z += dt * (g.z + f[i].z * invm[i]);
-    x[i].x += dt * v[i].x, x[i].y += dt * v[i].y, x[i].z += dt * v[i].z;
+    integrate(x, v, i, f[i], invm[i], g, dt);
   }
   return 0;
 }

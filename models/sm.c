@@ -21,13 +21,24 @@
  *    span, never a NaN. Linear mode falls back to R when det A <= 0;
  *  - R comes from Higham's scaled Newton iteration (tb_m3_polar_newton; tb_m3_polar for inverted
  *    or singular A_pq): the same rotation, about 3x faster.
- * The step allocates nothing; the member loops read flat CSR arrays. */
+ * The step allocates nothing; the member loops read flat CSR arrays.
+ *
+ * Threads (core/tb_threads.h): each cluster is matched whole by one thread
+ * (clusters handed out dynamically: their sizes differ), its goals written
+ * per member into gm; then each node sums its clusters' goals in ascending
+ * cluster order through a node -> member list (CSR) and integrates. That is
+ * the order one pass over the clusters adds them in, so the positions are
+ * the same bits for any thread count. */
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "tb_sm.h"
+#include "tb_threads.h"
+
+/* Cluster members below which the step stays on one thread. */
+#define SM_PARALLEL_MIN 4096
 
 extern const tb_model_class tb_model_sm;
 
@@ -46,8 +57,11 @@ typedef struct sm_settings {
 typedef struct sm {
   int nv, mode, dim; /* dim: 3 (rigid, linear) or 9 (quadratic) */
   double alpha, beta, damping;
-  tb_vec3 *x, *v; /* hot state */
-  tb_vec3 *goal;  /* per step: sum of the node's cluster goals */
+  tb_vec3 *x, *v;        /* hot state */
+  tb_vec3 *goal;         /* per step, one thread: the sum of the node's cluster goals */
+  tb_vec3 *gm;           /* per step, threads: each member's goal in its cluster */
+  int *nstart, *nmember; /* node -> its member slots in the clusters, ascending */
+  unsigned char *fixed;  /* per step: prescribed nodes */
   double *mass, *inv_mass, *inv_count;
   /* clusters: CSR members, per member weight and rest vector, per cluster
    * 1 / sum of weights, length scale and A_qq^-1 (dim x dim) */
@@ -144,7 +158,9 @@ static void precompute_cluster(sm *s, const tb_vec3 *x0, int c) {
 static void destroy(void *self) {
   sm *s = self;
   if (!s) return;
-  free(s->x), free(s->v), free(s->goal), free(s->mass), free(s->inv_mass), free(s->inv_count);
+  free(s->x), free(s->v), free(s->goal), free(s->gm), free(s->nstart), free(s->nmember),
+      free(s->fixed);
+  free(s->mass), free(s->inv_mass), free(s->inv_count);
   tb_sm_clusters_free(&s->cl);
   free(s->w), free(s->q), free(s->inv_wsum), free(s->scale), free(s->aqq_inv);
   free(s);
@@ -178,6 +194,10 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   s->x = malloc(sizeof(tb_vec3) * (size_t)nv);
   s->v = calloc((size_t)nv, sizeof(tb_vec3));
   s->goal = malloc(sizeof(tb_vec3) * (size_t)nv);
+  s->gm = malloc(sizeof(tb_vec3) * (size_t)nm);
+  s->nstart = calloc((size_t)nv + 1, sizeof(int));
+  s->nmember = malloc(sizeof(int) * (size_t)nm);
+  s->fixed = calloc((size_t)nv, 1);
   s->mass = malloc(sizeof(double) * (size_t)nv);
   s->inv_mass = malloc(sizeof(double) * (size_t)nv);
   s->inv_count = calloc((size_t)nv, sizeof(double));
@@ -186,8 +206,8 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   s->inv_wsum = malloc(sizeof(double) * (size_t)nc);
   s->scale = malloc(sizeof(double) * (size_t)nc);
   s->aqq_inv = malloc(sizeof(double) * d * d * (size_t)nc);
-  if (!s->x || !s->v || !s->goal || !s->mass || !s->inv_mass || !s->inv_count || !s->w || !s->q ||
-      !s->inv_wsum || !s->scale || !s->aqq_inv) {
+  if (!s->x || !s->v || !s->goal || !s->gm || !s->nstart || !s->nmember || !s->fixed || !s->mass ||
+      !s->inv_mass || !s->inv_count || !s->w || !s->q || !s->inv_wsum || !s->scale || !s->aqq_inv) {
     destroy(s);
     tb_error_set(err, "sm", 0, "out of memory");
     return NULL;
@@ -203,19 +223,36 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   for (int i = 0; i < nv; i++)
     s->inv_count[i] = 1.0 / s->inv_count[i], s->inv_mass[i] = 1.0 / mass[i];
   for (int c = 0; c < nc; c++) precompute_cluster(s, mesh->x, c);
+  /* node -> member slots: slots ascend with the cluster, so each node's do */
+  for (int k = 0; k < nm; k++) s->nstart[s->cl.node[k] + 1]++;
+  for (int i = 0; i < nv; i++) s->nstart[i + 1] += s->nstart[i];
+  for (int k = 0; k < nm; k++) s->nmember[s->nstart[s->cl.node[k]]++] = k;
+  for (int i = nv; i > 0; i--) s->nstart[i] = s->nstart[i - 1];
+  s->nstart[0] = 0;
   return s;
 }
 
 /* ---- the step ---- */
 
+/* Member k's goal g: added to its node's sum (scatter, one thread), else
+ * kept in its slot for the nodes to gather. */
+static inline void put_goal(sm *s, int k, tb_vec3 g, int scatter) {
+  if (scatter) {
+    tb_vec3 *n = &s->goal[s->cl.node[k]];
+    n->x += g.x, n->y += g.y, n->z += g.z;
+  } else {
+    s->gm[k] = g;
+  }
+}
+
 /* Cluster goals, quadratic mode: A~_pq = sum w p q~^T, one pass per row (the
  * weighted sum of q~ is zero, so p may be taken from any reference point),
  * R from its linear block, T = beta A~_pq A~_qq^-1 + (1 - beta) [s R 0 0]. */
-static void goals_quadratic(sm *s) {
+static void goals_quadratic(sm *s, int c, int scatter) {
   const int *node = s->cl.node;
   const tb_vec3 *x = s->x;
   double beta = s->beta;
-  for (int c = 0; c < s->cl.n; c++) {
+  {
     int b = s->cl.start[c], e = s->cl.start[c + 1];
     tb_vec3 xr = x[node[b]];
     double sum[3], apq[3][9];
@@ -253,18 +290,17 @@ static void goals_quadratic(sm *s) {
       const double *q = s->q + (size_t)9 * k;
       double gx = cm.x, gy = cm.y, gz = cm.z;
       for (int j = 0; j < 9; j++) gx += t[0][j] * q[j], gy += t[1][j] * q[j], gz += t[2][j] * q[j];
-      tb_vec3 *g = &s->goal[node[k]];
-      g->x += gx, g->y += gy, g->z += gz;
+      put_goal(s, k, tb_v3(gx, gy, gz), scatter);
     }
   }
 }
 
 /* Cluster goals, rigid and linear modes (3-vectors q). */
-static void goals_linear(sm *s) {
+static void goals_linear(sm *s, int c, int scatter) {
   const int *node = s->cl.node;
   const tb_vec3 *x = s->x;
   double beta = s->beta;
-  for (int c = 0; c < s->cl.n; c++) {
+  {
     int b = s->cl.start[c], e = s->cl.start[c + 1];
     tb_vec3 xr = x[node[b]];
     double sx = 0, sy = 0, sz = 0; /* scalar accumulators: they stay in registers */
@@ -299,10 +335,21 @@ static void goals_linear(sm *s) {
     }
     for (int k = b; k < e; k++) {
       const double *q = s->q + (size_t)3 * k;
-      tb_vec3 g = tb_add(cm, tb_m3_mulv(t, tb_v3(q[0], q[1], q[2])));
-      s->goal[node[k]] = tb_add(s->goal[node[k]], g);
+      put_goal(s, k, tb_add(cm, tb_m3_mulv(t, tb_v3(q[0], q[1], q[2]))), scatter);
     }
   }
+}
+
+/* Eq. 3-41 for free node i whose clusters' goals sum to g. */
+static inline void advance(sm *s, int i, tb_vec3 g, const tb_step *in) {
+  const double h = in->dt, ah = s->alpha / h, keep = 1.0 - s->damping;
+  const tb_vec3 xi = s->x[i];
+  g = tb_scale(g, s->inv_count[i]);
+  tb_vec3 vi = tb_add(s->v[i], tb_add(tb_scale(tb_sub(g, xi), ah), tb_scale(in->gravity, h)));
+  if (in->force) vi = tb_madd(vi, h * s->inv_mass[i], in->force[i]);
+  vi = tb_scale(vi, keep);
+  s->v[i] = vi;
+  s->x[i] = tb_madd(xi, h, vi);
 }
 
 static int step(void *self, const tb_step *in, tb_error *err) {
@@ -315,28 +362,44 @@ static int step(void *self, const tb_step *in, tb_error *err) {
       return tb_error_set(err, "sm", 0,
                           "prescribed nodes must be strictly ascending in [0, %d) (entry %d: %d)",
                           nv, j, in->fixed[j]);
-  memset(s->goal, 0, sizeof(tb_vec3) * (size_t)nv);
-  if (s->dim == 9)
-    goals_quadratic(s);
-  else
-    goals_linear(s);
-  double h = in->dt, ah = s->alpha / h, keep = 1.0 - s->damping;
-  tb_vec3 gh = tb_scale(in->gravity, h);
-  int j = 0;
-  for (int i = 0; i < nv; i++) {
-    tb_vec3 xi = s->x[i];
-    if (j < in->nfixed && in->fixed[j] == i) { /* prescribed: ends exactly at fixed_x */
-      tb_vec3 xf = in->fixed_x[j++];
-      s->v[i] = tb_scale(tb_sub(xf, xi), 1.0 / h);
-      s->x[i] = xf;
-      continue;
+  for (int j = 0; j < in->nfixed; j++) s->fixed[in->fixed[j]] = 1;
+  const int nc = s->cl.n, quad = s->dim == 9, chunk = nc > 1024 ? 32 : 1;
+  const double h = in->dt;
+  if (tb_threads() > 1 && s->cl.start[nc] >= SM_PARALLEL_MIN) {
+#pragma omp parallel
+    {
+#pragma omp for schedule(dynamic, chunk)
+      for (int c = 0; c < nc; c++) {
+        if (quad)
+          goals_quadratic(s, c, 0);
+        else
+          goals_linear(s, c, 0);
+      }
+#pragma omp for schedule(static)
+      for (int i = 0; i < nv; i++) {
+        if (s->fixed[i]) continue;
+        tb_vec3 g = tb_v3(0, 0, 0);
+        for (int k = s->nstart[i]; k < s->nstart[i + 1]; k++) g = tb_add(g, s->gm[s->nmember[k]]);
+        advance(s, i, g, in);
+      }
     }
-    tb_vec3 g = tb_scale(s->goal[i], s->inv_count[i]);
-    tb_vec3 vi = tb_add(s->v[i], tb_add(tb_scale(tb_sub(g, xi), ah), gh));
-    if (in->force) vi = tb_madd(vi, h * s->inv_mass[i], in->force[i]);
-    vi = tb_scale(vi, keep);
-    s->v[i] = vi;
-    s->x[i] = tb_madd(xi, h, vi);
+  } else {
+    memset(s->goal, 0, sizeof(tb_vec3) * (size_t)nv);
+    for (int c = 0; c < nc; c++) {
+      if (quad)
+        goals_quadratic(s, c, 1);
+      else
+        goals_linear(s, c, 1);
+    }
+    for (int i = 0; i < nv; i++)
+      if (!s->fixed[i]) advance(s, i, s->goal[i], in);
+  }
+  for (int j = 0; j < in->nfixed; j++) { /* prescribed: ends exactly at fixed_x */
+    int i = in->fixed[j];
+    tb_vec3 xf = in->fixed_x[j];
+    s->v[i] = tb_scale(tb_sub(xf, s->x[i]), 1.0 / h);
+    s->x[i] = xf;
+    s->fixed[i] = 0;
   }
   return 0;
 }

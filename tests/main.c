@@ -201,6 +201,7 @@ static const struct {
     {"cut_surface", tb_tests_cut_surface},
     {"metaball_suite", tb_tests_metaball_suite},
     {"shard", tb_tests_shard},
+    {"scaling", tb_tests_scaling},
 };
 
 static int selected(const char *id, int argc, char **argv) {

@@ -1,0 +1,171 @@
+/* Threads and the scaling suite (issue 15, parts 3 and 4): msm and sm give
+ * bit-identical positions and velocities on 1 and 2 threads (every sm mode,
+ * overlapping regions and per-node tet clusters) on a beam large enough
+ * that both threads get work (the models stay on one thread below 4096
+ * springs or cluster members); the `scaling` suite run tiny
+ * (bench/suite_scaling.c, --scale 0.01: livers of 600, 1200 and 2500
+ * tets) writes its tables with their columns, a finite slope, a 30 Hz
+ * limit and a peak RSS per tet for every model of the table, finite
+ * collision slopes, bit-identical threads and its charts. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_meshgen.h"
+#include "tb_model.h"
+#include "tb_test.h"
+#include "tb_test_models.h"
+#include "tb_threads.h"
+
+/* A 3 x 0.8 x 0.8 beam of 30 x 8 x 8 cubes (2511 nodes, 11520 tets,
+ * about 17000 springs) held at x = 0, under gravity and a sideways force
+ * on its far end, `steps` steps on `threads` threads; x and v copied out. */
+static int run(const char *model, const char *kvs, int threads, int steps, tb_vec3 *x, tb_vec3 *v,
+               int *nv) {
+  tb_mesh m;
+  tb_error err;
+  memset(&m, 0, sizeof m);
+  if (tb_beam(3, 0.8, 0.8, 30, 8, 8, &m, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return -1;
+  }
+  tb_settings set = tb_test_settings(kvs);
+  tb_model md;
+  int rc = tb_model_create(&md, model, &m, &set, &err);
+  TB_CHECK_MSG(rc == 0, "%s %s: %s", model, kvs, err.msg);
+  int *fixed = malloc(sizeof(int) * (size_t)m.nv), nfixed = 0;
+  tb_vec3 *fx = malloc(sizeof(tb_vec3) * (size_t)m.nv), *f = calloc((size_t)m.nv, sizeof(tb_vec3));
+  for (int i = 0; i < m.nv; i++) {
+    if (m.x[i].x < 1e-9) fixed[nfixed] = i, fx[nfixed++] = m.x[i];
+    if (m.x[i].x > 3 - 1e-9) f[i] = tb_v3(0, 0.5, 0.2);
+  }
+  tb_threads_set(threads);
+  tb_step st = {0};
+  st.dt = 0.005, st.gravity = tb_v3(0, 0, -9.81), st.force = f;
+  st.nfixed = nfixed, st.fixed = fixed, st.fixed_x = fx;
+  for (int k = 0; k < steps && !rc; k++) {
+    rc = tb_model_step(&md, &st, &err);
+    TB_CHECK_MSG(rc == 0, "%s %s step %d: %s", model, kvs, k, err.msg);
+  }
+  if (!rc) {
+    *nv = m.nv;
+    memcpy(x, tb_model_positions(&md), sizeof(tb_vec3) * (size_t)m.nv);
+    memcpy(v, tb_model_velocities(&md), sizeof(tb_vec3) * (size_t)m.nv);
+    tb_model_destroy(&md);
+  }
+  free(fixed), free(fx), free(f);
+  tb_mesh_free(&m);
+  return rc;
+}
+
+/* 1 and 2 threads: the same bits, and the beam moved (the steps did work). */
+static void identical(const char *model, const char *kvs) {
+  enum { NV = 31 * 9 * 9, STEPS = 40 };
+  static tb_vec3 x1[NV], v1[NV], x2[NV], v2[NV];
+  int n1 = 0, n2 = 0, threads = tb_threads();
+  int r1 = run(model, kvs, 1, STEPS, x1, v1, &n1), r2 = run(model, kvs, 2, STEPS, x2, v2, &n2);
+  tb_threads_set(threads);
+  if (r1 || r2) return;
+  TB_CHECK(n1 == NV && n2 == NV);
+  TB_CHECK_MSG(!memcmp(x1, x2, sizeof x1) && !memcmp(v1, v2, sizeof v1),
+               "%s %s: 1 and 2 threads differ", model, kvs);
+  double moved = 0;
+  for (int i = 0; i < NV; i++) moved = fmax(moved, fabs(v1[i].z));
+  TB_CHECK_MSG(moved > 1e-3 && isfinite(moved), "%s %s: fastest node %g", model, kvs, moved);
+}
+
+static void msm_threads_identical(void) {
+  identical("msm", "");
+  identical("msm", "calibrated=1 node_mass=0 density=1000 E=3000 kd=0.01");
+}
+
+static void sm_threads_identical(void) {
+  static const char *const kvs[] = {
+      "sm_mode=rigid clusters=12 radius=1.0",     "sm_mode=linear clusters=12 radius=1.0",
+      "sm_mode=quadratic clusters=12 radius=1.0", "sm_mode=rigid cluster_mode=tets",
+      "sm_mode=linear cluster_mode=tets",         "sm_mode=quadratic cluster_mode=tets"};
+  for (int k = 0; k < 6; k++) identical("sm", kvs[k]);
+}
+
+/* The suite's CSV file into buf; 0 when read. */
+static int slurp(const char *file, char *buf, int cap) {
+  char cmd[700];
+  snprintf(cmd, sizeof cmd, "cat %s/rsc/scaling/%s", tb_test_tmpdir(), file);
+  return tb_test_run(cmd, buf, cap);
+}
+
+/* 1 when the CSV's header line holds every column of cols. */
+static int has_columns(const char *csv, const char *const *cols, int n) {
+  const char *nl = strchr(csv, '\n');
+  size_t len = nl ? (size_t)(nl - csv) : strlen(csv);
+  for (int k = 0; k < n; k++) {
+    const char *p = strstr(csv, cols[k]);
+    if (!p || (size_t)(p - csv) >= len) {
+      TB_CHECK_MSG(0, "no column '%s' in %.*s", cols[k], (int)len, csv);
+      return 0;
+    }
+  }
+  return 1;
+}
+
+/* `figure scaling --scale 0.01`: three small livers; every table's columns,
+ * a row per model of the table with a finite slope, the collision's
+ * slopes, bit-identical threads, the charts. */
+static void scaling_suite_smoke(void) {
+  static char csv[32768];
+  char args[600];
+  snprintf(args, sizeof args, "figure scaling --scale 0.01 --results %s/rsc", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  static const char *const time_cols[] = {"model",
+                                          "tets",
+                                          "nodes",
+                                          "ms/step",
+                                          "steps timed",
+                                          "peak RSS added (MiB)",
+                                          "RSS per tet (KiB)",
+                                          "status"};
+  TB_CHECK(slurp("table-time.csv", csv, sizeof csv) == 0 && has_columns(csv, time_cols, 8));
+  static const char *const fit_cols[] = {"series",
+                                         "x",
+                                         "sizes fitted",
+                                         "slope (log-log)",
+                                         "largest x at 33.3 ms (30 Hz)",
+                                         "largest x at 3.33 ms (300 Hz)",
+                                         "RSS per tet at the largest (KiB)"};
+  TB_CHECK(slurp("table-fit.csv", csv, sizeof csv) == 0 && has_columns(csv, fit_cols, 7));
+  for (int k = 0; k < tb_model_count; k++) {
+    const char *name = tb_model_classes[k]->name;
+    double slope = tb_test_csv_num(csv, name, 3), rss = tb_test_csv_num(csv, name, 7);
+    TB_CHECK_MSG(tb_test_csv_num(csv, name, 2) == 3 && isfinite(slope) && fabs(slope) < 3, "%s: %s",
+                 name, csv);
+    TB_CHECK_MSG(rss > 0 && rss < 1000, "%s: RSS per tet %g KiB", name, rss);
+    if (slope > 0) /* a rising line reaches 30 Hz somewhere */
+      TB_CHECK_MSG(tb_test_csv_num(csv, name, 5) > 0, "%s: no 30 Hz limit: %s", name, csv);
+  }
+  static const char *const coll[] = {"collision: refit", "collision: query",
+                                     "collision: refit + query"};
+  for (int k = 0; k < 3; k++)
+    TB_CHECK_MSG(isfinite(tb_test_csv_num(csv, coll[k], 3)), "%s: %s", coll[k], csv);
+  static const char *const thr_cols[] = {"model", "ms/step, 1 thread", "ms/step, all threads",
+                                         "speed-up", "identical"};
+  TB_CHECK(slurp("table-threads.csv", csv, sizeof csv) == 0 && has_columns(csv, thr_cols, 5));
+  for (int k = 0; k < tb_model_count; k++)
+    TB_CHECK_MSG(!strcmp(tb_test_csv_cell(csv, tb_model_classes[k]->name, 6), "yes"), "%s: %s",
+                 tb_model_classes[k]->name, csv);
+  static const char *const col_cols[] = {"tets", "triangles (all tet faces)", "refit (ms)",
+                                         "query (ms)"};
+  TB_CHECK(slurp("table-collision.csv", csv, sizeof csv) == 0 && has_columns(csv, col_cols, 4));
+  snprintf(args, sizeof args,
+           "test -s %s/rsc/scaling/time.png && test -s %s/rsc/scaling/collision.png && test -s "
+           "%s/rsc/scaling/data.json",
+           tb_test_tmpdir(), tb_test_tmpdir(), tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_run(args, tb_test_out, sizeof tb_test_out) == 0, "%s", tb_test_out);
+}
+
+const tb_test_case tb_tests_scaling[] = {
+    {"scaling_suite_smoke", scaling_suite_smoke},
+    {"msm_threads_identical", msm_threads_identical},
+    {"sm_threads_identical", sm_threads_identical},
+    {0, 0},
+};
