@@ -65,7 +65,7 @@ static const tb_suite_entry suites[] = {
     {"scaling", NULL, "scaling",
      "ms per step against mesh size (600 to 100k+ tets) for every model of the table, fitted "
      "exponents, 30/300 Hz limits, peak RSS per tet, 1 vs all threads, collision refit + query",
-     tb_suite_scaling, 0},
+     tb_suite_scaling, 1},
     {"figures", NULL, "pictures",
      "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures, 0},
 };

@@ -170,6 +170,122 @@ static int collide(const tb_mesh *tets, const tb_mesh *inst, int frames, size_ro
   return rc ? -1 : 0;
 }
 
+/* ---- the cases of `reproduce --shard`: a mesh's collision row, a model on a mesh ---- */
+
+/* A liver of the ladder, made when a case that runs here first needs it. */
+typedef struct scaling_mesh {
+  int tets;
+  uint64_t seed;
+  int made; /* 1: mesh holds it; -1: it could not be made (why) */
+  tb_mesh mesh;
+  char why[150];
+} scaling_mesh;
+
+static const tb_mesh *mesh_of(scaling_mesh *sm, double *gen_s) {
+  if (!sm->made) {
+    tb_error err;
+    uint64_t g0 = tb_time_ns();
+    sm->made = tb_liver_of_tets(sm->tets, sm->seed, &sm->mesh, &err) ? -1 : 1;
+    if (sm->made < 0) snprintf(sm->why, sizeof sm->why, "%.140s", err.msg);
+    if (gen_s) *gen_s = (double)(tb_time_ns() - g0) * 1e-9;
+  }
+  return sm->made > 0 ? &sm->mesh : NULL;
+}
+
+/* A hash as two exact doubles, and back. */
+static void put_sum(double *v, uint64_t h) {
+  v[0] = (double)(h >> 32), v[1] = (double)(h & 0xffffffffu);
+}
+static uint64_t get_sum(const double *v) { return (uint64_t)v[0] << 32 | (uint64_t)v[1]; }
+
+/* The mesh's row: its counts and the composite hierarchy's refit + query.
+ * 1 when it failed. */
+static int size_case(tb_suite *su, scaling_mesh *sm, const tb_mesh *inst, int frames, size_row *w) {
+  char key[64];
+  snprintf(key, sizeof key, "tets:%d/mesh", sm->tets);
+  tb_case c;
+  int mode = tb_suite_case(su, key, 0, &c), failed = 0;
+  memset(w, 0, sizeof *w);
+  if (mode == TB_CASE_SKIP) return 0;
+  if (mode == TB_CASE_RUN) {
+    const tb_mesh *m = mesh_of(sm, &w->gen_s);
+    tb_error err;
+    if (!m) {
+      snprintf(w->why, sizeof w->why, "no mesh (%.140s)", sm->why);
+      fprintf(stderr, "scaling: %d tets: %s\n", sm->tets, w->why);
+      failed = 1;
+    } else {
+      w->ok = 1, w->target = sm->tets, w->ntet = m->ntet, w->nv = m->nv;
+      tb_threads_set(1);
+      if (collide(m, inst, frames, w, &err)) {
+        fprintf(stderr, "scaling: collision on %d tets: %s\n", m->ntet, err.msg);
+        w->refit_ms = w->query_ms = NAN;
+        failed = 1;
+      }
+    }
+    double v[] = {w->ok,    w->target, w->ntet,     w->nv,       w->ntri,
+                  w->pairs, w->gen_s,  w->refit_ms, w->query_ms, failed};
+    memcpy(c.v, v, sizeof v);
+    c.nv = (int)(sizeof v / sizeof v[0]), c.nt = 1;
+    snprintf(c.t[0], sizeof c.t[0], "%s", w->why);
+    tb_suite_case_done(su, &c);
+    return failed;
+  }
+  w->ok = (int)c.v[0], w->target = (int)c.v[1], w->ntet = (int)c.v[2], w->nv = (int)c.v[3];
+  w->ntri = (int)c.v[4], w->pairs = (int)c.v[5], w->gen_s = c.v[6], w->refit_ms = c.v[7];
+  w->query_ms = c.v[8];
+  snprintf(w->why, sizeof w->why, "%.159s", c.t[0]);
+  return (int)c.v[9];
+}
+
+/* model on the mesh, one thread (peak RSS measured), and with cores > 0 the
+ * same steps on every core (all). 1 when the thread count changed a bit. */
+static int model_case(tb_suite *su, scaling_mesh *sm, const char *model, double budget, int cores,
+                      cell *one, cell *all) {
+  char key[96];
+  snprintf(key, sizeof key, "tets:%d/%s%s", sm->tets, model, cores ? "/threads" : "");
+  tb_case c;
+  int mode = tb_suite_case(su, key, 0, &c);
+  memset(one, 0, sizeof *one);
+  if (cores) memset(all, 0, sizeof *all);
+  if (mode == TB_CASE_SKIP) return 0;
+  if (mode == TB_CASE_RUN) {
+    const tb_mesh *m = mesh_of(sm, NULL);
+    tb_error err;
+    if (!m)
+      snprintf(one->why, sizeof one->why, "no mesh");
+    else {
+      tb_progress_tick("%s", model);
+      run_measured(m, model, budget, one);
+      if (!one->ok) fprintf(stderr, "scaling: %s on %d tets: %s\n", model, m->ntet, one->why);
+    }
+    if (m && cores && one->ok) { /* all cores, the same steps as the one-thread run */
+      if (run_model(m, model, cores, one->steps, 0, all, &err))
+        snprintf(all->why, sizeof all->why, "%.150s", err.msg);
+      else
+        all->ok = 1;
+    }
+    const cell *x[2] = {one, all};
+    for (int q = 0; q < 2; q++) {
+      double *v = c.v + 6 * q;
+      v[0] = x[q]->ok, v[1] = x[q]->steps, v[2] = x[q]->ms, v[3] = x[q]->rss;
+      put_sum(v + 4, x[q]->sum);
+      snprintf(c.t[q], sizeof c.t[q], "%s", x[q]->why);
+    }
+    c.nv = cores ? 12 : 6, c.nt = cores ? 2 : 1;
+    tb_suite_case_done(su, &c);
+  } else {
+    cell *x[2] = {one, all};
+    for (int q = 0; q < (cores ? 2 : 1); q++) {
+      const double *v = c.v + 6 * q;
+      x[q]->ok = (int)v[0], x[q]->steps = (int)v[1], x[q]->ms = v[2], x[q]->rss = v[3];
+      x[q]->sum = get_sum(v + 4);
+      snprintf(x[q]->why, sizeof x[q]->why, "%.159s", c.t[q]);
+    }
+  }
+  return cores && one->ok && all->ok && all->sum != one->sum; /* must not change a bit */
+}
+
 int tb_suite_scaling(const tb_suite_opts *o) {
   char dir[900];
   tb_error err;
@@ -212,42 +328,16 @@ int tb_suite_scaling(const tb_suite_opts *o) {
     return 1;
   }
   for (int r = 0; r < nsizes; r++) {
-    size_row *w = &rows[r];
     tb_progress("scaling", r, nsizes);
-    tb_mesh m;
-    uint64_t g0 = tb_time_ns();
-    if (tb_liver_of_tets(ladder[r], o->seed, &m, &err)) {
-      snprintf(w->why, sizeof w->why, "no mesh (%.140s)", err.msg);
-      fprintf(stderr, "scaling: %d tets: %s\n", ladder[r], w->why);
-      failed = 1;
-      continue;
-    }
-    w->gen_s = (double)(tb_time_ns() - g0) * 1e-9;
-    w->ok = 1, w->target = ladder[r], w->ntet = m.ntet, w->nv = m.nv, sr->big = r;
-    tb_threads_set(1);
-    if (collide(&m, &inst, frames, w, &err)) {
-      fprintf(stderr, "scaling: collision on %d tets: %s\n", m.ntet, err.msg);
-      w->refit_ms = w->query_ms = NAN;
-      failed = 1;
-    }
-    for (int k = 0; k < nm; k++) {
-      const char *name = tb_model_classes[k]->name;
-      tb_progress_tick("%s", name);
-      run_measured(&m, name, budget, &cells[k][r]);
-      if (!cells[k][r].ok)
-        fprintf(stderr, "scaling: %s on %d tets: %s\n", name, m.ntet, cells[k][r].why);
-    }
-    if (r == sr->threads_row)
-      for (int k = 0; k < nm; k++) { /* all cores, the same steps as the one-thread run */
-        const cell *one = &cells[k][r];
-        if (!one->ok) continue;
-        if (run_model(&m, tb_model_classes[k]->name, cores, one->steps, 0, &all[k], &err))
-          snprintf(all[k].why, sizeof all[k].why, "%.150s", err.msg);
-        else
-          all[k].ok = 1;
-        if (all[k].ok && all[k].sum != one->sum) failed = 1; /* the count must not change a bit */
-      }
-    tb_mesh_free(&m);
+    scaling_mesh sm;
+    memset(&sm, 0, sizeof sm);
+    sm.tets = ladder[r], sm.seed = o->seed;
+    failed |= size_case(su, &sm, &inst, frames, &rows[r]);
+    if (rows[r].ok) sr->big = r;
+    for (int k = 0; k < nm; k++)
+      failed |= model_case(su, &sm, tb_model_classes[k]->name, budget,
+                           r == sr->threads_row ? cores : 0, &cells[k][r], &all[k]);
+    if (sm.made > 0) tb_mesh_free(&sm.mesh);
   }
   tb_progress("scaling", nsizes, nsizes);
   tb_threads_set(threads_before);

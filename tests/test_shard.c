@@ -21,11 +21,12 @@ static int fields(const char *line, char out[32][256]) {
 
 /* Timing columns (and the front, which ranks by speed) differ between runs. */
 static int timing_column(const char *name) {
-  return strstr(name, "steps/s") || strstr(name, "ms/step") || !strcmp(name, "front");
+  return strstr(name, "steps/s") || strstr(name, "ms/step") || !strcmp(name, "front") ||
+         strstr(name, "(ms)") || strstr(name, "made (s)");
 }
 
 /* Two CSV files equal in every non-timing column, row by row. */
-static void same_but_timing(const char *a_path, const char *b_path) {
+static void same_but_timing(const char *a_path, const char *b_path, int min_rows) {
   char *a = tb_test_slurp(a_path), *b = tb_test_slurp(b_path);
   TB_CHECK_MSG(a && b, "missing %s or %s", a_path, b_path);
   if (!a || !b) {
@@ -50,7 +51,7 @@ static void same_but_timing(const char *a_path, const char *b_path) {
       if (!timing_column(ha[j]) && strcmp(fa[j], fb[j]) && diffs++ < 5)
         TB_CHECK_MSG(0, "%s row %d column '%s': %s against %s", b_path, rows, ha[j], fa[j], fb[j]);
   }
-  TB_CHECK_MSG(rows >= 10, "%s: only %d rows", a_path, rows);
+  TB_CHECK_MSG(rows >= min_rows, "%s: only %d rows", a_path, rows);
   printf("  %d rows of %s equal but for timing\n", rows, b_path);
   free(a), free(b);
 }
@@ -64,7 +65,8 @@ static int exists(const char *dir, const char *name) {
 
 static void merge_equals_unsharded(void) {
   const char *tmp = tb_test_tmpdir(), *root = tb_test_source_root();
-  const char *args = "--only pareto,stability,pbd-stiffness,figure-3.10 --scene beam --scale 0.1";
+  const char *args =
+      "--only pareto,stability,pbd-stiffness,scaling,figure-3.10 --scene beam --scale 0.1";
   char cmd[4096], out[8192];
   snprintf(cmd, sizeof cmd, "reproduce %s --results '%s/u' 2>&1", args, tmp);
   TB_CHECK_MSG(tb_test_cli_run(cmd) == 0, "%s", tb_test_out);
@@ -80,12 +82,13 @@ static void merge_equals_unsharded(void) {
   char m[1024], s[1024];
   snprintf(m, sizeof m, "%s/m/pareto/beam", tmp);
   const char *csv[] = {"pareto/beam/table-points.csv", "pareto/beam/points.csv",
-                       "pbd-stiffness/table-sag.csv"};
-  for (int i = 0; i < 3; i++) {
+                       "pbd-stiffness/table-sag.csv", "scaling/table-collision.csv"};
+  const int min_rows[] = {10, 10, 10, 3};
+  for (int i = 0; i < 4; i++) {
     char a[1100], b[1100];
     snprintf(a, sizeof a, "%s/u/%s", tmp, csv[i]);
     snprintf(b, sizeof b, "%s/m/%s", tmp, csv[i]);
-    same_but_timing(a, b);
+    same_but_timing(a, b, min_rows[i]);
   }
   /* the stability maps, their bounds and the large deformations have no timing column */
   const char *whole_csv[] = {
@@ -110,10 +113,12 @@ static void merge_equals_unsharded(void) {
     cases += exists(s, "cases.ini");
     snprintf(s, sizeof s, "%s/shards/%d/stability", tmp, k);
     cases += exists(s, "cases.ini");
+    snprintf(s, sizeof s, "%s/shards/%d/scaling", tmp, k);
+    cases += exists(s, "cases.ini");
     snprintf(s, sizeof s, "%s/shards/%d", tmp, k);
     whole += exists(s, "figure-3.10/table.md");
   }
-  TB_CHECK(cases == 9 && whole == 1);
+  TB_CHECK(cases == 12 && whole == 1);
   snprintf(s, sizeof s, "%s/m", tmp);
   TB_CHECK(exists(s, "figure-3.10/table.md") && !exists(s, "figure-3.10/" TB_REPORT_SECTION));
   snprintf(s, sizeof s, "%s/m/REPORT.md", tmp);
