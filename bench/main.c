@@ -29,9 +29,8 @@ static const tb_command commands[] = {
      "  --list    list the suites\n"
      "  --scale F multiply every suite's pair and test counts by F (smoke tests)\n"
      "  --shard k/N  this machine's share (k of N) of the run, for `merge`: every N-th case\n"
-     "            of the suites made of cases (pareto, stability, pbd-stiffness, scaling), every "
-     "N-th\n"
-     "            of the other suites whole",
+     "            of the suites made of cases (pareto, stability, pbd-stiffness, scaling),\n"
+     "            every N-th of the other suites whole",
      tb_cmd_reproduce},
     {"merge", "combine the folders of `reproduce --shard k/N` (k = 1..N) into one results folder",
      "tissuebench merge SHARD_DIR... [--out DIR]\n"
