@@ -30,6 +30,7 @@ tb_bvh_def tb_bvh_default_def(void) {
   d.max_leaf = 10;
   d.sphere_layers = 0;
   d.both_layers = 0;
+  d.box_check = 0;
   return d;
 }
 
@@ -45,6 +46,7 @@ tb_bvh_def tb_bvh_kind_def(const char *kind) {
   }
   if (kind && !strcmp(kind, "composite")) {
     d.sphere_layers = 3, d.both_layers = 3; /* the thesis's liver: 3/3/5 */
+    d.box_check = 1;
     return d;
   }
   memset(&d, 0, sizeof d);
@@ -266,6 +268,8 @@ static int check_def(const tb_bvh_def *d, tb_error *err) {
   if (d->sphere_layers < 0 || d->both_layers < 0)
     return tb_error_set(err, "bvh", 0, "layer depths must not be negative (%d, %d)",
                         d->sphere_layers, d->both_layers);
+  if (d->box_check != 0 && d->box_check != 1)
+    return tb_error_set(err, "bvh", 0, "box_check must be 0 or 1, not %d", d->box_check);
   return 0;
 }
 
@@ -291,7 +295,7 @@ int tb_bvh_build(tb_bvh *b, const tb_vec3 *x, const int *tri, int ntri, const tb
   if (ntri < 0 || ntri > (1 << 29))
     return tb_error_set(err, "bvh", 0, "triangle count %d out of range", ntri);
   if (ntri > 0 && (!x || !tri)) return tb_error_set(err, "bvh", 0, "no vertices or triangles");
-  b->tri = tri, b->ntri = ntri;
+  b->tri = tri, b->ntri = ntri, b->box_check = def->box_check;
   if (ntri == 0) return 0;
   builder B = {def, NULL, NULL, NULL, NULL, NULL, NULL};
   int rc = 0;

@@ -56,12 +56,14 @@ static int same_pairs(const tb_pairlist *a, const tb_pairlist *b) {
   return a->n == b->n && (a->n == 0 || !memcmp(a->ij, b->ij, (size_t)a->n * 2 * sizeof(int)));
 }
 
-/* The 18 build options: kind x axis x point. */
+/* The 18 build options: kind x axis x point (composite with the variance
+ * axis: without box_check). */
 static const char *const KINDS[3] = {"sphere", "aabb", "composite"};
 static tb_bvh_def option(int k) {
   tb_bvh_def d = tb_bvh_kind_def(KINDS[k % 3]);
   d.axis = (tb_split_axis)(k / 3 % 3);
   d.point = k / 9 ? TB_SPLIT_MEAN : TB_SPLIT_MEDIAN;
+  if (k % 3 == 2 && k / 3 % 3 == 1) d.box_check = 0; /* the thesis's rule alone */
   return d;
 }
 #define NOPTIONS 18
@@ -610,6 +612,144 @@ static void collide_liver_instrument(void) {
   tb_mesh_free(&faces), tb_mesh_free(&surf), tb_mesh_free(&inst);
 }
 
+/* ---- near misses ---- */
+/* Pairs of A against B at rest moved by (R, o + s d), by the hierarchies
+ * (B0 built at rest, moved by the rotated-AABB update); y: scratch. */
+static int pairs_at(const tb_bvh *A, const tb_mesh *a, tb_bvh *B0, const tb_mesh *b, tb_mat3 R,
+                    tb_vec3 t, tb_vec3 *y, tb_collide_stats *st) {
+  move(b->x, b->nv, R, t, y);
+  tb_bvh_transform(B0, R, t);
+  tb_pairlist p = no_pairs();
+  int n = tb_bvh_collide(A, a->x, B0, y, tb_tritri_exact, &p, st) ? -1 : p.n;
+  tb_pairlist_free(&p);
+  return n;
+}
+
+/* B (at rest: b) rotated by a few rotations and slid from A's centre along
+ * a direction until the two just part (bisection on the AABB hierarchy's
+ * pair count), then placed clear by gap (relative to B's size) -- poses
+ * where every top volume meets and only the lower ones can separate the
+ * meshes. At each: brute force finds no pair, and neither does any of our
+ * hierarchies; the pose the bisection ended on just inside has pairs, and
+ * they agree with brute force; the composite with box_check never needs
+ * more node tests than the AABB hierarchy (it visits a subset of its node
+ * pairs) nor than the thesis's rule alone. */
+static void near_miss_case(const char *name, const tb_mesh *a, const tb_mesh *b) {
+  tb_error err;
+  tb_vec3 *y = malloc((size_t)b->nv * sizeof *y), alo, ahi, blo, bhi;
+  tb_bvh A[4], B0[4];
+  tb_bvh_def defs[4] = {tb_bvh_kind_def("aabb"), tb_bvh_kind_def("composite"),
+                        tb_bvh_kind_def("composite"), tb_bvh_kind_def("sphere")};
+  defs[2].box_check = 0;
+  int ok = y != NULL;
+  for (int k = 0; k < 4; k++)
+    ok &= tb_bvh_build(&A[k], a->x, a->tri, a->ntri, &defs[k], &err) == 0 &&
+          tb_bvh_build(&B0[k], b->x, b->tri, b->ntri, &defs[k], &err) == 0;
+  TB_CHECK_MSG(ok, "%s: build failed", name);
+  if (!ok) return;
+  tb_mesh_bbox(a, &alo, &ahi), tb_mesh_bbox(b, &blo, &bhi);
+  tb_vec3 ac = tb_scale(tb_add(alo, ahi), 0.5), bc = tb_scale(tb_add(blo, bhi), 0.5);
+  double size = tb_dist(alo, ahi) + tb_dist(blo, bhi);
+  static const double gaps[2] = {1e-3, 0.05};
+  int wrong = 0, fewer = 0, poses = 0, inside = 0;
+  for (int p = 0; p < 4; p++) {
+    tb_mat3 R = p == 0 ? tb_m3_identity() : tb_m3_rotation(tb_v3(1, 2 - p, p), 0.7 * p);
+    tb_vec3 d = tb_normalize(tb_v3(p == 2 ? -1 : 0.3 * p, 1, p == 3 ? 1 : 0.2));
+    /* o + s d with o placing B's centre at A's: s = size is clear of A */
+    tb_vec3 o = tb_sub(ac, tb_m3_mulv(R, bc));
+    double lo = 0, hi = size; /* hi: apart; lo: touching (if at all) */
+    if (pairs_at(&A[0], a, &B0[0], b, R, o, y, NULL) == 0 ||
+        pairs_at(&A[0], a, &B0[0], b, R, tb_add(o, tb_scale(d, hi)), y, NULL) != 0)
+      continue; /* not a pose that passes from touching to apart */
+    for (int it = 0; it < 40; it++) {
+      double mid = 0.5 * (lo + hi);
+      if (pairs_at(&A[0], a, &B0[0], b, R, tb_add(o, tb_scale(d, mid)), y, NULL))
+        lo = mid;
+      else
+        hi = mid;
+    }
+    /* just inside: pairs, equal to brute force for every kind */
+    tb_vec3 tin = tb_add(o, tb_scale(d, lo));
+    move(b->x, b->nv, R, tin, y);
+    tb_pairlist ref = no_pairs();
+    TB_CHECK(tb_collide_brute(a->x, a->tri, a->ntri, y, b->tri, b->ntri, tb_tritri_exact, &ref,
+                              NULL) == 0);
+    tb_pairlist_sort_unique(&ref);
+    inside += ref.n > 0;
+    for (int k = 0; k < 4; k++) {
+      tb_bvh_transform(&B0[k], R, tin);
+      wrong += !query_equals(&A[k], a->x, &B0[k], y, &ref);
+    }
+    tb_pairlist_free(&ref);
+    for (int g = 0; g < 2; g++) {
+      tb_vec3 t = tb_add(o, tb_scale(d, hi + gaps[g] * size));
+      long tests[4];
+      for (int k = 0; k < 4; k++) {
+        tb_collide_stats st;
+        int n = pairs_at(&A[k], a, &B0[k], b, R, t, y, &st);
+        wrong += n != 0;
+        tests[k] = st.bv_tests;
+      }
+      tb_pairlist bf = no_pairs();
+      TB_CHECK(tb_collide_brute(a->x, a->tri, a->ntri, y, b->tri, b->ntri, tb_tritri_exact, &bf,
+                                NULL) == 0);
+      wrong += bf.n != 0;
+      tb_pairlist_free(&bf);
+      fewer += tests[1] <= tests[0] && tests[1] <= tests[2];
+      poses++;
+      if (tests[1] > tests[0] || tests[1] > tests[2])
+        fprintf(stderr, "  %s pose %d gap %g: node tests aabb %ld composite %ld thesis rule %ld\n",
+                name, p, gaps[g], tests[0], tests[1], tests[2]);
+    }
+  }
+  TB_CHECK_MSG(poses >= 6, "%s: only %d near-miss poses found", name, poses);
+  TB_CHECK_MSG(inside == poses / 2, "%s: %d of %d contact poses have pairs", name, inside,
+               poses / 2);
+  TB_CHECK_MSG(!wrong, "%s: %d near-miss queries differ from brute force", name, wrong);
+  TB_CHECK_MSG(fewer == poses, "%s: composite needs more node tests at %d of %d poses", name,
+               poses - fewer, poses);
+  for (int k = 0; k < 4; k++) tb_bvh_free(&A[k]), tb_bvh_free(&B0[k]);
+  free(y);
+}
+
+static void near_miss(void) {
+  tb_mesh faces, surf, inst;
+  if (liver_faces(&faces, &surf)) return;
+  if (instrument(&inst)) {
+    tb_mesh_free(&faces), tb_mesh_free(&surf);
+    return;
+  }
+  near_miss_case("liver faces/instrument", &faces, &inst);
+  tb_mesh_free(&faces), tb_mesh_free(&surf), tb_mesh_free(&inst);
+}
+
+/* SOFA's liver-smooth against its dental instrument (long and thin: the
+ * case where the top spheres are loosest). */
+static void near_miss_sofa(void) {
+  char pl[1024], pi[1024];
+  snprintf(pl, sizeof pl, "%s/../shared/data/sofa/liver-smooth.obj", tb_test_source_root());
+  snprintf(pi, sizeof pi, "%s/../shared/data/sofa/dental_instrument.obj", tb_test_source_root());
+  FILE *probe = fopen(pl, "r");
+  if (!probe) {
+    tb_test_skip("%s absent (../shared/data not present)", pl);
+    return;
+  }
+  fclose(probe);
+  tb_mesh liver, inst;
+  tb_error err;
+  if (tb_mesh_read(pl, &liver, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  if (tb_mesh_read(pi, &inst, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    tb_mesh_free(&liver);
+    return;
+  }
+  near_miss_case("SOFA liver-smooth/dental_instrument", &liver, &inst);
+  tb_mesh_free(&liver), tb_mesh_free(&inst);
+}
+
 /* ---- motion and deformation ---- */
 static void transform_rules(void) {
   tb_mesh m;
@@ -899,6 +1039,8 @@ const tb_test_case tb_tests_bvh[] = {{"volumes_hand", volumes_hand},
                                      {"thesis_layers", thesis_layers},
                                      {"collide_generated", collide_generated},
                                      {"collide_liver_instrument", collide_liver_instrument},
+                                     {"near_miss", near_miss},
+                                     {"near_miss_sofa", near_miss_sofa},
                                      {"transform_rules", transform_rules},
                                      {"refit_vs_brute", refit_vs_brute},
                                      {"fcl_env_rob", fcl_env_rob},
