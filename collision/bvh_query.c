@@ -33,6 +33,7 @@
 #include <string.h>
 
 #include "tb_bvh.h"
+#include "tb_threads.h"
 
 /* ---- pair lists ---- */
 void tb_pairlist_free(tb_pairlist *p) {
@@ -194,26 +195,31 @@ static int leaf_pair(query *Q, int i, int j) {
   return 0;
 }
 
-int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb_vec3 *xb,
-                   tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats) {
-  if (stats) stats->bv_tests = stats->tri_tests = 0;
-  if (!a || !b || !test || !out) return -1;
-  if (a->nnodes == 0 || b->nnodes == 0) return 0;
-  query q, *Q = &q; /* about 9 KB: on the stack, no allocation per query */
+/* The pair of nodes to descend first when both overlap: the node that is
+ * not a leaf, or of two inner nodes the larger (sphere radius, A on a tie);
+ * its two children pairs in (first, second) order. */
+static inline void children(const tb_bvh *a, int i, const tb_bvh *b, int j, int *c) {
+  int ci = a->child[i], cj = b->child[j];
+  if (cj < 0 || (ci >= 0 && a->sph[i].r >= b->sph[j].r))
+    c[0] = ci, c[1] = j, c[2] = ci + 1, c[3] = j;
+  else
+    c[0] = i, c[1] = cj, c[2] = i, c[3] = cj + 1;
+}
+
+/* Depth-first descent from the node pair (i0, j0): pairs appended to
+ * Q->out, node tests added to *bv. */
+static int descend(query *Q, int i0, int j0, int check, long *bv) {
+  const tb_bvh *a = Q->A, *b = Q->B;
   int local[2 * 256], cap = 256, sp = 0, rc = 0;
   int *stack = local;
-  long bv = 0;
-  const int check = a->box_check | b->box_check;
-  Q->A = a, Q->B = b, Q->xa = xa, Q->xb = xb, Q->test = test, Q->out = out, Q->tri_tests = 0;
-  Q->ga.node = Q->gb.node = -1;
-  stack[0] = 0, stack[1] = 0, sp = 1;
+  long tests = 0;
+  stack[0] = i0, stack[1] = j0, sp = 1;
   while (sp > 0) {
     sp--;
     int i = stack[2 * sp], j = stack[2 * sp + 1];
-    bv++;
+    tests++;
     if (!overlap(a, i, b, j, check)) continue;
-    int ci = a->child[i], cj = b->child[j];
-    if (ci < 0 && cj < 0) {
+    if (a->child[i] < 0 && b->child[j] < 0) {
       if ((rc = leaf_pair(Q, i, j))) break;
       continue;
     }
@@ -227,17 +233,118 @@ int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb
       if (stack != local) free(stack);
       stack = s, cap *= 2;
     }
-    if (cj < 0 || (ci >= 0 && a->sph[i].r >= b->sph[j].r)) {
-      stack[2 * sp] = ci + 1, stack[2 * sp + 1] = j;
-      stack[2 * sp + 2] = ci, stack[2 * sp + 3] = j;
-    } else {
-      stack[2 * sp] = i, stack[2 * sp + 1] = cj + 1;
-      stack[2 * sp + 2] = i, stack[2 * sp + 3] = cj;
-    }
+    int c[4];
+    children(a, i, b, j, c);
+    /* the first child pair on top: popped first */
+    stack[2 * sp] = c[2], stack[2 * sp + 1] = c[3];
+    stack[2 * sp + 2] = c[0], stack[2 * sp + 3] = c[1];
     sp += 2;
   }
-  if (stats) stats->bv_tests = bv, stats->tri_tests = Q->tri_tests;
+  *bv += tests;
   if (stack != local) free(stack);
+  return rc;
+}
+
+static void query_init(query *Q, const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b,
+                       const tb_vec3 *xb, tb_tritri_fn test, tb_pairlist *out) {
+  Q->A = a, Q->B = b, Q->xa = xa, Q->xb = xb, Q->test = test, Q->out = out, Q->tri_tests = 0;
+  Q->ga.node = Q->gb.node = -1;
+}
+
+/* ---- on threads ---- */
+/* The descent is a pre-order walk, so it can be cut: the front below is a
+ * left-to-right cut of its tree of node pairs, each front pair's walk
+ * appends a contiguous run of the serial output, and the runs concatenated
+ * in front order are the serial output, pair for pair. The front is grown
+ * breadth first (each untested pair tested, an overlapping one replaced by
+ * its two children pairs in descent order, leaf pairs kept untested) until
+ * it holds at least FRONT pairs or stops growing. It depends on the
+ * hierarchies only, never on the thread count; every pair is still tested
+ * once, so the counters are the serial ones too. Fewer than PAR_MIN front
+ * pairs (a query that dies near the top: separated or barely touching
+ * meshes) are walked on the calling thread: no thread start-up for it. */
+#define FRONT 64
+#define PAR_MIN 16
+enum { FRONT_CAP = 4 * FRONT };
+
+/* Grows the front f (n pairs) in place; returns its new size. */
+static int grow_front(const tb_bvh *a, const tb_bvh *b, int check, int *f, int n, long *bv) {
+  int g[2 * FRONT_CAP];
+  while (n > 0 && n < FRONT) {
+    int m = 0, grew = 0;
+    for (int k = 0; k < n; k++) {
+      int i = f[2 * k], j = f[2 * k + 1];
+      if (a->child[i] < 0 && b->child[j] < 0) { /* a leaf pair: kept, untested */
+        g[2 * m] = i, g[2 * m + 1] = j, m++;
+        continue;
+      }
+      (*bv)++;
+      if (!overlap(a, i, b, j, check)) continue;
+      children(a, i, b, j, g + 2 * m);
+      m += 2, grew = 1;
+    }
+    memcpy(f, g, (size_t)m * 2 * sizeof *f);
+    n = m;
+    if (!grew) break;
+  }
+  return n;
+}
+
+/* One thread's pairs: a buffer kept between queries (no allocation once it
+ * is large enough); each front pair's run is [start, start + count) in the
+ * buffer of the thread that walked it. */
+static _Thread_local tb_pairlist thread_pairs;
+
+static int collide_front(query *Q0, int check, const int *f, int n, long *bv) {
+  if (n < PAR_MIN) { /* small: the calling thread, straight into out */
+    int rc = 0;
+    for (int k = 0; k < n && !rc; k++) rc = descend(Q0, f[2 * k], f[2 * k + 1], check, bv);
+    return rc;
+  }
+  const tb_pairlist *buf[FRONT_CAP];
+  int start[FRONT_CAP], count[FRONT_CAP], bad[FRONT_CAP];
+  long tests[FRONT_CAP], tris[FRONT_CAP];
+#pragma omp parallel
+  {
+    query Q = *Q0; /* own gather caches and output */
+    tb_pairlist *mine = &thread_pairs;
+    mine->n = 0, Q.out = mine, Q.ga.node = Q.gb.node = -1;
+#pragma omp for schedule(dynamic, 1)
+    for (int k = 0; k < n; k++) {
+      buf[k] = mine, start[k] = mine->n, tests[k] = 0, Q.tri_tests = 0;
+      bad[k] = descend(&Q, f[2 * k], f[2 * k + 1], check, &tests[k]);
+      count[k] = mine->n - start[k], tris[k] = Q.tri_tests;
+    }
+  }
+  int rc = 0;
+  for (int k = 0; k < n && !rc; k++) { /* in front order: the serial output */
+    const int *ij = buf[k]->ij + 2 * start[k];
+    rc = bad[k];
+    for (int m = 0; m < count[k] && !rc; m++)
+      rc = tb_pairlist_push(Q0->out, ij[2 * m], ij[2 * m + 1]);
+    *bv += tests[k], Q0->tri_tests += tris[k];
+  }
+  return rc;
+}
+
+int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb_vec3 *xb,
+                   tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats) {
+  if (stats) stats->bv_tests = stats->tri_tests = 0;
+  if (!a || !b || !test || !out) return -1;
+  if (a->nnodes == 0 || b->nnodes == 0) return 0;
+  const int check = a->box_check | b->box_check;
+  long bv = 0;
+  int rc;
+  query q; /* about 9 KB: on the stack, no allocation per query */
+  query_init(&q, a, xa, b, xb, test, out);
+  if (tb_threads() > 1) {
+    int f[2 * FRONT_CAP] = {0, 0};
+    int n = grow_front(a, b, check, f, 1, &bv);
+    rc = collide_front(&q, check, f, n, &bv);
+  } else {
+    rc = descend(&q, 0, 0, check, &bv);
+  }
+  if (stats) stats->bv_tests = bv, stats->tri_tests = q.tri_tests;
   return rc;
 }
 

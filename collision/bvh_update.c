@@ -22,7 +22,12 @@
  * equals B whenever B already contains B' -- the thesis's "no update". With
  * delta = 0 every box is exact. A node's sphere is recomputed from its box
  * when the box changed, or when it no longer contains it (after a rigid
- * motion the moved sphere is tighter than the moved box). */
+ * motion the moved sphere is tighter than the moved box).
+ *
+ * Threads (tb_threads.h): the refit runs level by level, deepest first,
+ * the nodes of a level in parallel (a node reads only its children, one
+ * level down, and writes only itself; the change count is an integer
+ * sum), so the volumes are the same for any thread count. */
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
@@ -81,6 +86,10 @@ static int same_box(tb_aabb a, tb_aabb b) {
 }
 
 #define CHANGED 0x80 /* scratch bit in kind[] during a refit */
+/* Refits of hierarchies with fewer nodes (and finiteness checks of fewer
+ * vertex references) stay on the calling thread: a level's barrier costs
+ * more than its nodes. */
+#define REFIT_PAR_MIN 4096
 
 /* Plain comparisons: fmin/fmax are library calls here (NaN rules). */
 static inline tb_vec3 vmin(tb_vec3 a, tb_vec3 b) {
@@ -90,52 +99,63 @@ static inline tb_vec3 vmax(tb_vec3 a, tb_vec3 b) {
   return tb_v3(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
 
-/* 1 when every vertex of every triangle is finite: v * 0 is 0 for finite v
- * and NaN for an infinity or a NaN. */
+/* 1 when every vertex of every triangle is finite. */
 static int all_finite(const tb_bvh *b, const tb_vec3 *x) {
-  double z = 0.0;
-  for (int k = 0; k < 3 * b->ntri; k++) {
-    tb_vec3 p = x[b->tri[k]];
-    z += p.x * 0.0 + p.y * 0.0 + p.z * 0.0;
-  }
-  return z == 0.0;
+  int bad = 0, n = 3 * b->ntri;
+#pragma omp parallel for schedule(static) reduction(+ : bad) if (n >= REFIT_PAR_MIN)
+  for (int k = 0; k < n; k++) bad += !tb_isfinite3(x[b->tri[k]]);
+  return bad == 0;
 }
 
+/* Node k's new volumes from the vertices (a leaf) or its children (refit
+ * before it); returns 1 when a volume changed. */
+static int refit_node(tb_bvh *b, const tb_vec3 *x, double delta, int k) {
+  int c = b->child[k];
+  tb_aabb nb, old = b->box[k];
+  if (c < 0) {
+    const int *ord = b->tri_index + b->first[k], *tri = b->tri;
+    nb.lo = nb.hi = x[tri[3 * ord[0]]];
+    for (int m = 0; m < b->count[k]; m++) {
+      const int *f = tri + 3 * ord[m];
+      tb_vec3 p = x[f[0]], q = x[f[1]], r = x[f[2]];
+      nb.lo = vmin(nb.lo, vmin(p, vmin(q, r))), nb.hi = vmax(nb.hi, vmax(p, vmax(q, r)));
+    }
+  } else if ((b->kind[c] | b->kind[c + 1]) & CHANGED) {
+    nb.lo = vmin(b->box[c].lo, b->box[c + 1].lo);
+    nb.hi = vmax(b->box[c].hi, b->box[c + 1].hi);
+  } else {
+    nb = old;
+  }
+  if (!same_box(nb, old) && delta > 0) {
+    double d = tb_dist(nb.lo, old.lo) + tb_dist(nb.hi, old.hi);
+    if (!(d > delta)) nb.lo = vmin(nb.lo, old.lo), nb.hi = vmax(nb.hi, old.hi);
+  }
+  if (!same_box(nb, old)) {
+    b->box[k] = nb;
+    b->sph[k] = tb_aabb_sphere(nb);
+    b->kind[k] |= CHANGED;
+    return 1;
+  }
+  if (!sphere_holds_box(b->sph[k], nb)) {
+    b->sph[k] = tb_aabb_sphere(nb);
+    return 1;
+  }
+  return 0;
+}
+
+/* Deepest level first, so a node's children are done before it; the nodes
+ * of one level depend on the level below only, so they run in parallel
+ * (each writes its own node): the same volumes for any thread count. */
 int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta) {
   if (!b || b->nnodes == 0) return 0;
   if (!x || !all_finite(b, x)) return -1;
   if (!(delta > 0)) delta = 0; /* negative or NaN: exact */
   int nchanged = 0;
-  for (int k = b->nnodes - 1; k >= 0; k--) {
-    int c = b->child[k];
-    tb_aabb nb, old = b->box[k];
-    if (c < 0) {
-      const int *ord = b->tri_index + b->first[k], *tri = b->tri;
-      nb.lo = nb.hi = x[tri[3 * ord[0]]];
-      for (int m = 0; m < b->count[k]; m++) {
-        const int *f = tri + 3 * ord[m];
-        tb_vec3 p = x[f[0]], q = x[f[1]], r = x[f[2]];
-        nb.lo = vmin(nb.lo, vmin(p, vmin(q, r))), nb.hi = vmax(nb.hi, vmax(p, vmax(q, r)));
-      }
-    } else if ((b->kind[c] | b->kind[c + 1]) & CHANGED) {
-      nb.lo = vmin(b->box[c].lo, b->box[c + 1].lo);
-      nb.hi = vmax(b->box[c].hi, b->box[c + 1].hi);
-    } else {
-      nb = old;
-    }
-    if (!same_box(nb, old) && delta > 0) {
-      double d = tb_dist(nb.lo, old.lo) + tb_dist(nb.hi, old.hi);
-      if (!(d > delta)) nb.lo = vmin(nb.lo, old.lo), nb.hi = vmax(nb.hi, old.hi);
-    }
-    if (!same_box(nb, old)) {
-      b->box[k] = nb;
-      b->sph[k] = tb_aabb_sphere(nb);
-      b->kind[k] |= CHANGED;
-      nchanged++;
-    } else if (!sphere_holds_box(b->sph[k], nb)) {
-      b->sph[k] = tb_aabb_sphere(nb);
-      nchanged++;
-    }
+  const int *node = b->level_node, *start = b->level_start;
+#pragma omp parallel if (b->nnodes >= REFIT_PAR_MIN)
+  for (int d = b->depth; d >= 0; d--) {
+#pragma omp for schedule(static) reduction(+ : nchanged)
+    for (int k = start[d]; k < start[d + 1]; k++) nchanged += refit_node(b, x, delta, node[k]);
   }
   for (int k = 0; k < b->nnodes; k++) b->kind[k] &= (unsigned char)~CHANGED;
   memcpy(b->box0, b->box, (size_t)b->nnodes * sizeof *b->box);

@@ -78,6 +78,9 @@ typedef struct tb_bvh {
    * refit for; tb_bvh_transform maps them, never the moved ones */
   tb_aabb *box0;
   tb_sphere *sph0;
+  /* the nodes level by level (breadth first): level d is
+   * level_node[level_start[d] .. level_start[d + 1]), d = 0 .. depth */
+  int *level_node, *level_start;
   /* per triangle */
   int *tri_index; /* triangle numbers in leaf order */
   const int *tri; /* the mesh's triangles (3 per), not owned */
@@ -100,7 +103,9 @@ void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t);
  * exact boxes); a kept box is grown to contain the new one (so it stays
  * within delta of the exact box and queries stay exact). The refit volumes
  * become the rest volumes. Returns the number of nodes whose volume
- * changed. */
+ * changed, -1 for non-finite vertices. Runs level by level on the threads
+ * of tb_threads.h (large hierarchies only): the same volumes for any
+ * thread count. */
 int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta);
 
 /* ---- queries ---- */
@@ -121,10 +126,11 @@ typedef struct tb_collide_stats {
 
 /* Every intersecting pair (i of A, j of B): A's vertices xa, B's xb (world
  * space, the positions the hierarchies were built/refit/transformed for).
- * The pairs are appended to out unsorted, each once; returns 0 or -1 out of
- * memory. tri_tests counts calls of test (pairs whose triangle boxes
- * overlap, after each leaf's triangles were checked against the other
- * leaf's box). */
+ * The pairs are appended to out unsorted, each once, in the same order for
+ * any thread count (tb_threads.h; queries that reach deep run on threads,
+ * see bvh_query.c); returns 0 or -1 out of memory. tri_tests counts calls of test (pairs whose
+ * triangle boxes overlap, after each leaf's triangles were checked against the other leaf's box).
+ */
 int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb_vec3 *xb,
                    tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats);
 /* Brute force over all ntri_a * ntri_b pairs; for a test the method table

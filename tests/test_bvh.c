@@ -17,6 +17,7 @@
 #include "tb_meshgen.h"
 #include "tb_rng.h"
 #include "tb_test.h"
+#include "tb_threads.h"
 
 /* ---- helpers ---- */
 static tb_mat3 random_rotation(tb_rng *r) {
@@ -951,6 +952,61 @@ static void fcl_env_rob(void) {
   tb_mesh_free(&env), tb_mesh_free(&rob);
 }
 
+/* ---- threads ---- */
+/* A large sphere (tens of thousands of triangles, above the thresholds of
+ * the refit's and the query's threads) deformed, refit and queried against
+ * a deformed, shifted copy of itself: 1 and 2 threads give the same refit
+ * volumes (bit for bit), the same change counts, the same pair list in the
+ * same order and the same counters, for the composite and AABB kinds and
+ * delta 0 and > 0. */
+static void threads_identical(void) {
+  tb_mesh m;
+  if (geosphere(40962, 1.0, &m)) return;
+  int was = tb_threads();
+  tb_vec3 *ya = malloc((size_t)m.nv * sizeof *ya), *yb = malloc((size_t)m.nv * sizeof *yb);
+  TB_CHECK(ya && yb);
+  static const char *const kinds[2] = {"composite", "aabb"};
+  int differ = 0;
+  long most = 0;
+  for (int kd = 0; kd < 2 && ya && yb; kd++)
+    for (int dl = 0; dl < 2; dl++) {
+      tb_bvh_def d = tb_bvh_kind_def(kinds[kd]);
+      tb_bvh A[2], B[2];
+      tb_pairlist p[2] = {no_pairs(), no_pairs()};
+      tb_collide_stats st[2];
+      int changed[2][2];
+      tb_error err;
+      for (int t = 0; t < 2; t++) {
+        tb_threads_set(t + 1);
+        TB_CHECK(tb_bvh_build(&A[t], m.x, m.tri, m.ntri, &d, &err) == 0);
+        TB_CHECK(tb_bvh_build(&B[t], m.x, m.tri, m.ntri, &d, &err) == 0);
+        deform(m.x, m.nv, 0.3, 0.05, ya);
+        deform(m.x, m.nv, 1.1, 0.05, yb);
+        for (int v = 0; v < m.nv; v++) yb[v] = tb_add(yb[v], tb_v3(0.3, 0.2, 0.1));
+        changed[t][0] = tb_bvh_refit(&A[t], ya, dl ? 0.02 : 0);
+        changed[t][1] = tb_bvh_refit(&B[t], yb, dl ? 0.02 : 0);
+        TB_CHECK(tb_bvh_collide(&A[t], ya, &B[t], yb, tb_tritri_exact, &p[t], &st[t]) == 0);
+      }
+      size_t nb = (size_t)A[0].nnodes;
+      TB_CHECK(A[0].nnodes > 4 * 4096 && A[1].nnodes == A[0].nnodes);
+      differ += changed[0][0] != changed[1][0] || changed[0][1] != changed[1][1];
+      differ += memcmp(A[0].box, A[1].box, nb * sizeof *A[0].box) != 0;
+      differ += memcmp(A[0].sph, A[1].sph, nb * sizeof *A[0].sph) != 0;
+      differ += memcmp(B[0].box, B[1].box, nb * sizeof *B[0].box) != 0;
+      differ += memcmp(B[0].sph, B[1].sph, nb * sizeof *B[0].sph) != 0;
+      differ += p[0].n != p[1].n || !same_pairs(&p[0], &p[1]);
+      differ += st[0].bv_tests != st[1].bv_tests || st[0].tri_tests != st[1].tri_tests;
+      most = p[0].n > most ? p[0].n : most;
+      TB_CHECK_MSG(changed[0][0] > 0, "%s: the refit changed nothing", kinds[kd]);
+      for (int t = 0; t < 2; t++) tb_bvh_free(&A[t]), tb_bvh_free(&B[t]), tb_pairlist_free(&p[t]);
+    }
+  tb_threads_set(was);
+  TB_CHECK_MSG(!differ, "%d results differ between 1 and 2 threads", differ);
+  TB_CHECK_MSG(most > 1000, "only %ld pairs: too few for the query's threads", most);
+  free(ya), free(yb);
+  tb_mesh_free(&m);
+}
+
 /* A chain: triangles near the planes x = 200^k 1e-300, so every mean split
  * peels off the farthest one (the mean of m + 1 of them exceeds all but the
  * last) and the hierarchy is N - 1 deep; a self-query then needs a
@@ -1045,5 +1101,6 @@ const tb_test_case tb_tests_bvh[] = {{"volumes_hand", volumes_hand},
                                      {"refit_vs_brute", refit_vs_brute},
                                      {"fcl_env_rob", fcl_env_rob},
                                      {"deep_chain", deep_chain},
+                                     {"threads_identical", threads_identical},
                                      {"errors_and_edges", errors_and_edges},
                                      {0, 0}};
