@@ -195,6 +195,25 @@ static int leaf_pair(query *Q, int i, int j) {
   return 0;
 }
 
+/* ---- on threads ---- */
+/* The descent is a pre-order walk, so it can be cut: a left-to-right cut
+ * of its tree of node pairs (such as the stack of a paused walk, read from
+ * the top), each cut pair's walk appends a contiguous run of the serial
+ * output, and the runs concatenated in cut order are the serial output,
+ * pair for pair. So a query first walks on the calling thread; one that is
+ * still going after BUDGET node tests (a query that dies near the top --
+ * separated or barely touching meshes -- never pays for threads) hands the
+ * pairs on its stack to the threads, after growing them breadth first to
+ * at least FRONT (each untested pair tested, an overlapping one replaced
+ * by its two children pairs in descent order, leaf pairs kept untested).
+ * The cut depends on the hierarchies only, never on the thread count, and
+ * every pair is still tested once, so the counters are the serial ones
+ * too. Fewer than PAR_MIN cut pairs are walked on the calling thread. */
+#define BUDGET 4096
+#define FRONT 64
+#define PAR_MIN 16
+enum { FRONT_CAP = 4 * FRONT };
+
 /* The pair of nodes to descend first when both overlap: the node that is
  * not a leaf, or of two inner nodes the larger (sphere radius, A on a tie);
  * its two children pairs in (first, second) order. */
@@ -207,14 +226,25 @@ static inline void children(const tb_bvh *a, int i, const tb_bvh *b, int j, int 
 }
 
 /* Depth-first descent from the node pair (i0, j0): pairs appended to
- * Q->out, node tests added to *bv. */
-static int descend(query *Q, int i0, int j0, int check, long *bv) {
+ * Q->out, node tests added to *bv. With budget > 0 it stops once it has
+ * made that many node tests and its stack holds at most FRONT pairs: the
+ * pairs left, in the order they would be popped, go to front (*left of
+ * them; 0 when it finished). */
+static int descend(query *Q, int i0, int j0, int check, long *bv, long budget, int *front,
+                   int *left) {
   const tb_bvh *a = Q->A, *b = Q->B;
   int local[2 * 256], cap = 256, sp = 0, rc = 0;
   int *stack = local;
   long tests = 0;
+  if (left) *left = 0;
   stack[0] = i0, stack[1] = j0, sp = 1;
   while (sp > 0) {
+    if (budget > 0 && tests >= budget && sp <= FRONT) {
+      for (int k = 0; k < sp; k++)
+        front[2 * k] = stack[2 * (sp - 1 - k)], front[2 * k + 1] = stack[2 * (sp - 1 - k) + 1];
+      *left = sp;
+      break;
+    }
     sp--;
     int i = stack[2 * sp], j = stack[2 * sp + 1];
     tests++;
@@ -251,22 +281,6 @@ static void query_init(query *Q, const tb_bvh *a, const tb_vec3 *xa, const tb_bv
   Q->ga.node = Q->gb.node = -1;
 }
 
-/* ---- on threads ---- */
-/* The descent is a pre-order walk, so it can be cut: the front below is a
- * left-to-right cut of its tree of node pairs, each front pair's walk
- * appends a contiguous run of the serial output, and the runs concatenated
- * in front order are the serial output, pair for pair. The front is grown
- * breadth first (each untested pair tested, an overlapping one replaced by
- * its two children pairs in descent order, leaf pairs kept untested) until
- * it holds at least FRONT pairs or stops growing. It depends on the
- * hierarchies only, never on the thread count; every pair is still tested
- * once, so the counters are the serial ones too. Fewer than PAR_MIN front
- * pairs (a query that dies near the top: separated or barely touching
- * meshes) are walked on the calling thread: no thread start-up for it. */
-#define FRONT 64
-#define PAR_MIN 16
-enum { FRONT_CAP = 4 * FRONT };
-
 /* Grows the front f (n pairs) in place; returns its new size. */
 static int grow_front(const tb_bvh *a, const tb_bvh *b, int check, int *f, int n, long *bv) {
   int g[2 * FRONT_CAP];
@@ -298,7 +312,8 @@ static _Thread_local tb_pairlist thread_pairs;
 static int collide_front(query *Q0, int check, const int *f, int n, long *bv) {
   if (n < PAR_MIN) { /* small: the calling thread, straight into out */
     int rc = 0;
-    for (int k = 0; k < n && !rc; k++) rc = descend(Q0, f[2 * k], f[2 * k + 1], check, bv);
+    for (int k = 0; k < n && !rc; k++)
+      rc = descend(Q0, f[2 * k], f[2 * k + 1], check, bv, 0, NULL, NULL);
     return rc;
   }
   const tb_pairlist *buf[FRONT_CAP];
@@ -312,7 +327,7 @@ static int collide_front(query *Q0, int check, const int *f, int n, long *bv) {
 #pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < n; k++) {
       buf[k] = mine, start[k] = mine->n, tests[k] = 0, Q.tri_tests = 0;
-      bad[k] = descend(&Q, f[2 * k], f[2 * k + 1], check, &tests[k]);
+      bad[k] = descend(&Q, f[2 * k], f[2 * k + 1], check, &tests[k], 0, NULL, NULL);
       count[k] = mine->n - start[k], tris[k] = Q.tri_tests;
     }
   }
@@ -338,11 +353,11 @@ int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb
   query q; /* about 9 KB: on the stack, no allocation per query */
   query_init(&q, a, xa, b, xb, test, out);
   if (tb_threads() > 1) {
-    int f[2 * FRONT_CAP] = {0, 0};
-    int n = grow_front(a, b, check, f, 1, &bv);
-    rc = collide_front(&q, check, f, n, &bv);
+    int f[2 * FRONT_CAP], n = 0;
+    rc = descend(&q, 0, 0, check, &bv, BUDGET, f, &n);
+    if (!rc && n > 0) rc = collide_front(&q, check, f, grow_front(a, b, check, f, n, &bv), &bv);
   } else {
-    rc = descend(&q, 0, 0, check, &bv);
+    rc = descend(&q, 0, 0, check, &bv, 0, NULL, NULL);
   }
   if (stats) stats->bv_tests = bv, stats->tri_tests = q.tri_tests;
   return rc;
