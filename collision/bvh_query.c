@@ -105,8 +105,10 @@ static inline double max3(double a, double b, double c) {
  * the order. */
 #ifdef __GNUC__
 #define HOT inline __attribute__((always_inline)) /* a call per node pair costs ~1 ns */
+#define COLD __attribute__((noinline))            /* its arrays stay off a small query's frame */
 #else
 #define HOT inline
+#define COLD
 #endif
 static HOT int overlap(const tb_bvh *A, int i, const tb_bvh *B, int j, int check) {
   unsigned ka = A->kind[i], kb = B->kind[j];
@@ -208,14 +210,13 @@ static int leaf_pair(query *Q, int i, int j) {
  * the top), each cut pair's walk appends a contiguous run of the serial
  * output, and the runs concatenated in cut order are the serial output,
  * pair for pair. So a query first walks on the calling thread; one that is
- * still going after BUDGET node tests (a query that dies near the top --
- * separated or barely touching meshes -- never pays for threads) hands the
- * pairs on its stack to the threads, after growing them breadth first to
- * at least FRONT (each untested pair tested, an overlapping one replaced
- * by its two children pairs in descent order, leaf pairs kept untested).
- * The cut depends on the hierarchies only, never on the thread count, and
- * every pair is still tested once, so the counters are the serial ones
- * too. Fewer than PAR_MIN cut pairs are walked on the calling thread. */
+ * still going after BUDGET node tests (and more than one thread is set) (a query that dies near the
+ * top -- separated or barely touching meshes -- never pays for threads) hands the pairs on its
+ * stack to the threads, after growing them breadth first to at least FRONT (each untested pair
+ * tested, an overlapping one replaced by its two children pairs in descent order, leaf pairs kept
+ * untested). The cut depends on the hierarchies only, never on the thread count, and every pair is
+ * still tested once, so the counters are the serial ones too. Fewer than PAR_MIN cut pairs are
+ * walked on the calling thread. */
 #define BUDGET 4096
 #define FRONT 64
 #define PAR_MIN 16
@@ -237,8 +238,8 @@ static inline void children(const tb_bvh *a, int i, const tb_bvh *b, int j, int 
  * made that many node tests and its stack holds at most FRONT pairs: the
  * pairs left, in the order they would be popped, go to front (*left of
  * them; 0 when it finished). */
-static int descend(query *Q, int i0, int j0, int check, long *bv, long budget, int *front,
-                   int *left) {
+static HOT int descend(query *Q, int i0, int j0, int check, long *bv, long budget, int *front,
+                       int *left) {
   const tb_bvh *a = Q->A, *b = Q->B;
   int local[2 * 256], cap = 256, sp = 0, rc = 0;
   int *stack = local;
@@ -289,7 +290,7 @@ static void query_init(query *Q, const tb_bvh *a, const tb_vec3 *xa, const tb_bv
 }
 
 /* Grows the front f (n pairs) in place; returns its new size. */
-static int grow_front(const tb_bvh *a, const tb_bvh *b, int check, int *f, int n, long *bv) {
+static COLD int grow_front(const tb_bvh *a, const tb_bvh *b, int check, int *f, int n, long *bv) {
   int g[2 * FRONT_CAP];
   while (n > 0 && n < FRONT) {
     int m = 0, grew = 0;
@@ -316,7 +317,7 @@ static int grow_front(const tb_bvh *a, const tb_bvh *b, int check, int *f, int n
  * buffer of the thread that walked it. */
 static _Thread_local tb_pairlist thread_pairs;
 
-static int collide_front(query *Q0, int check, const int *f, int n, long *bv) {
+static COLD int collide_front(query *Q0, int check, const int *f, int n, long *bv) {
   if (n < PAR_MIN) { /* small: the calling thread, straight into out */
     int rc = 0;
     for (int k = 0; k < n && !rc; k++)
@@ -359,12 +360,14 @@ int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb
   int rc;
   query q; /* about 9 KB: on the stack, no allocation per query */
   query_init(&q, a, xa, b, xb, test, out);
-  if (tb_threads() > 1) {
-    int f[2 * FRONT_CAP], n = 0;
-    rc = descend(&q, 0, 0, check, &bv, BUDGET, f, &n);
-    if (!rc && n > 0) rc = collide_front(&q, check, f, grow_front(a, b, check, f, n, &bv), &bv);
-  } else {
-    rc = descend(&q, 0, 0, check, &bv, 0, NULL, NULL);
+  int f[2 * FRONT_CAP], n = 0;
+  rc = descend(&q, 0, 0, check, &bv, BUDGET, f, &n);
+  if (!rc && n > 0) {
+    if (tb_threads() > 1)
+      rc = collide_front(&q, check, f, grow_front(a, b, check, f, n, &bv), &bv);
+    else /* on alone: the same walks in the same order */
+      for (int k = 0; k < n && !rc; k++)
+        rc = descend(&q, f[2 * k], f[2 * k + 1], check, &bv, 0, NULL, NULL);
   }
   if (stats) stats->bv_tests = bv, stats->tri_tests = q.tri_tests;
   return rc;
