@@ -21,14 +21,16 @@
  * date (build, refit and the rotated-AABB update compute both), so the
  * extra test is a second bound on the same node and only rejects pairs
  * whose triangles cannot meet.
- * An overlapping pair descends the node that is not a leaf, or when
- * both are inner nodes the larger one (sphere radius, A on a tie). Two
+ * An overlapping pair descends the node that is not a leaf, or when both
+ * are inner nodes the larger one (sphere radius, A on a tie). Two
  * overlapping leaves: each leaf's triangles whose boxes miss the other
  * leaf's box are dropped (the second leaf's against the box of the first
- * leaf's remaining triangles, tighter than its node box), then every remaining pair whose triangle
- * boxes overlap goes to the triangle test. Each triangle belongs to one leaf, so every pair is met
- * at most once: the output has no duplicates. Counters: bv_tests counts node volume tests,
- * tri_tests calls of the triangle test (triangle box checks are not counted). */
+ * leaf's remaining triangles, tighter than its node box), then every
+ * remaining pair whose triangle boxes overlap goes to the triangle test.
+ * Each triangle belongs to one leaf, so every pair is met at most once: the
+ * output has no duplicates. Counters: bv_tests counts node volume tests,
+ * tri_tests calls of the triangle test (triangle box checks are not
+ * counted). Large queries run on threads (below: the same output). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -209,14 +211,17 @@ static int leaf_pair(query *Q, int i, int j) {
  * of its tree of node pairs (such as the stack of a paused walk, read from
  * the top), each cut pair's walk appends a contiguous run of the serial
  * output, and the runs concatenated in cut order are the serial output,
- * pair for pair. So a query first walks on the calling thread; one that is
- * still going after BUDGET node tests (and more than one thread is set) (a query that dies near the
- * top -- separated or barely touching meshes -- never pays for threads) hands the pairs on its
- * stack to the threads, after growing them breadth first to at least FRONT (each untested pair
- * tested, an overlapping one replaced by its two children pairs in descent order, leaf pairs kept
- * untested). The cut depends on the hierarchies only, never on the thread count, and every pair is
- * still tested once, so the counters are the serial ones too. Fewer than PAR_MIN cut pairs are
- * walked on the calling thread. */
+ * pair for pair. So a query first walks on the calling thread. One still
+ * going after BUDGET node tests, with more than one thread set, hands the
+ * pairs on its stack to the threads, after growing them breadth first to
+ * at least FRONT (each untested pair tested, an overlapping one replaced by
+ * its two children pairs in descent order, leaf pairs kept untested); a
+ * query that dies near the top (separated or barely touching meshes) never
+ * pays for threads. The cut depends on the hierarchies only, never on the
+ * thread count, and every pair is still tested once, so the counters are
+ * the serial ones too. Fewer than PAR_MIN cut pairs are walked on the
+ * calling thread. Each task writes its own run; the runs are copied to the
+ * output in cut order. */
 #define BUDGET 4096
 #define FRONT 64
 #define PAR_MIN 16

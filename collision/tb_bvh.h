@@ -128,9 +128,9 @@ typedef struct tb_collide_stats {
  * space, the positions the hierarchies were built/refit/transformed for).
  * The pairs are appended to out unsorted, each once, in the same order for
  * any thread count (tb_threads.h; queries that reach deep run on threads,
- * see bvh_query.c); returns 0 or -1 out of memory. tri_tests counts calls of test (pairs whose
- * triangle boxes overlap, after each leaf's triangles were checked against the other leaf's box).
- */
+ * see bvh_query.c); returns 0 or -1 out of memory. tri_tests counts
+ * calls of test (pairs whose triangle boxes overlap, after each leaf's
+ * triangles were checked against the other leaf's box). */
 int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb_vec3 *xb,
                    tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats);
 /* Brute force over all ntri_a * ntri_b pairs; for a test the method table
