@@ -12,10 +12,10 @@
  * collide A B --xform-b "c 0 s 0 0 1 0 y -s 0 c 0"` repeats it).
  * At each pose every method's pair set is checked against brute force (all
  * are empty), then each is timed (queries in a loop of at least 2 ms, median
- * of reps) on one thread (the references have none): ours with the
- * composite, the composite under the thesis's rule alone (box_check 0: the
- * hierarchy before this change), Sphere and AABB, FCL (AABB, OBBRSS) and
- * Bullet GImpact; plus our node tests per query. */
+ * of reps) on one thread (the references have none): ours (with the
+ * settings of `collide --bvh NAME`, tb_bvh_kind_def) with the composite, the composite under the
+ * thesis's rule alone (box_check 0: the hierarchy before this change), Sphere and AABB, FCL (AABB,
+ * OBBRSS) and Bullet GImpact; plus our node tests per query. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -213,8 +213,8 @@ int tb_table42_near_miss(tb_suite *s, const tb_suite_opts *o, const tb_mesh *liv
         ms[k][m] = time_query(c, reps, &pl, &st, &failed, err);
         tests[k][m] = st.bv_tests;
         wrong += pl.n != 0;
-        char bname[160];
-        snprintf(bname, sizeof bname, "table4.2-near/%s/%s", methods[m].label, p[k].name);
+        char bname[256];
+        snprintf(bname, sizeof bname, "table4.2-near/%s/%.96s", methods[m].label, p[k].name);
         double one = ms[k][m];
         tb_suite_bench(s, bname, &one, &one, 1, "ms");
       }
