@@ -24,9 +24,8 @@
  * An overlapping pair descends the node that is not a leaf, or when both
  * are inner nodes the larger one (sphere radius, A on a tie). Two
  * overlapping leaves: each leaf's triangles whose boxes miss the other
- * leaf's box are dropped (the second leaf's against the box of the first
- * leaf's remaining triangles, tighter than its node box), then every
- * remaining pair whose triangle boxes overlap goes to the triangle test.
+ * leaf's box are dropped, then every remaining pair whose triangle boxes
+ * overlap goes to the triangle test.
  * Each triangle belongs to one leaf, so every pair is met at most once: the
  * output has no duplicates. Counters: bv_tests counts node volume tests,
  * tri_tests calls of the triangle test (triangle box checks are not
@@ -146,25 +145,10 @@ static void gather(gathered *g, const tb_vec3 *x, const int *tri, const int *ord
   }
 }
 
-/* Positions in g of the triangles whose boxes meet `other`; returns how
- * many, and in *hull the box of those triangles (meaningful when some). */
-static int select_meeting(const gathered *g, const tb_aabb *other, unsigned char *sel,
-                          tb_aabb *hull) {
+/* Positions in g of the triangles whose boxes meet `other`; returns how many. */
+static int select_meeting(const gathered *g, const tb_aabb *other, unsigned char *sel) {
   int m = 0;
-  tb_aabb h = {{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
-  for (int u = 0; u < g->n; u++) {
-    const tb_aabb *b = g->box + u;
-    int in = box_box(b, other);
-    sel[m] = (unsigned char)u, m += in;
-    /* no branch: a box that misses adds the empty box */
-    double lx = in ? b->lo.x : HUGE_VAL, ly = in ? b->lo.y : HUGE_VAL, lz = in ? b->lo.z : HUGE_VAL;
-    double hx = in ? b->hi.x : -HUGE_VAL, hy = in ? b->hi.y : -HUGE_VAL;
-    double hz = in ? b->hi.z : -HUGE_VAL;
-    h.lo.x = lx < h.lo.x ? lx : h.lo.x, h.hi.x = hx > h.hi.x ? hx : h.hi.x;
-    h.lo.y = ly < h.lo.y ? ly : h.lo.y, h.hi.y = hy > h.hi.y ? hy : h.hi.y;
-    h.lo.z = lz < h.lo.z ? lz : h.lo.z, h.hi.z = hz > h.hi.z ? hz : h.hi.z;
-  }
-  *hull = h;
+  for (int u = 0; u < g->n; u++) sel[m] = (unsigned char)u, m += box_box(g->box + u, other);
   return m;
 }
 
@@ -183,14 +167,11 @@ static int leaf_pair(query *Q, int i, int j) {
   unsigned char sa[CHUNK], sb[CHUNK];
   for (int ka = a0; ka < a1; ka += CHUNK) {
     gather(&Q->ga, Q->xa, A->tri, A->tri_index, i, ka, ka + CHUNK < a1 ? ka + CHUNK : a1);
-    tb_aabb ha, hb;
-    int na = select_meeting(&Q->ga, B->box + j, sa, &ha);
+    int na = select_meeting(&Q->ga, B->box + j, sa);
     if (!na) continue;
     for (int kb = b0; kb < b1; kb += CHUNK) {
       gather(&Q->gb, Q->xb, B->tri, B->tri_index, j, kb, kb + CHUNK < b1 ? kb + CHUNK : b1);
-      /* against the box of A's selected triangles: tighter than A's node */
-      int nb = select_meeting(&Q->gb, &ha, sb, &hb);
-      if (!nb) continue;
+      int nb = select_meeting(&Q->gb, A->box + i, sb);
       for (int u = 0; u < na; u++)
         for (int v = 0; v < nb; v++) {
           const gathered *ga = &Q->ga, *gb = &Q->gb;

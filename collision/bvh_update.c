@@ -33,6 +33,7 @@
 #include <string.h>
 
 #include "tb_bvh.h"
+#include "tb_threads.h"
 
 void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t) {
   if (!b || b->nnodes == 0) return;
@@ -99,17 +100,26 @@ static inline tb_vec3 vmax(tb_vec3 a, tb_vec3 b) {
   return tb_v3(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
 
-/* 1 when every vertex of every triangle is finite. */
+/* 1 when every vertex of every triangle is finite: v * 0 is 0 for finite v
+ * and NaN for an infinity or a NaN (no branch, no library call). */
 static int all_finite(const tb_bvh *b, const tb_vec3 *x) {
-  int bad = 0, n = 3 * b->ntri;
-#pragma omp parallel for schedule(static) reduction(+ : bad) if (n >= REFIT_PAR_MIN)
-  for (int k = 0; k < n; k++) bad += !tb_isfinite3(x[b->tri[k]]);
+  int bad = 0, n = 3 * b->ntri; /* a count: no chain of dependent additions */
+#pragma omp parallel for schedule(static) reduction(+ : bad) if (n >= REFIT_PAR_MIN && \
+                                                                    tb_threads() > 1)
+  for (int k = 0; k < n; k++) {
+    tb_vec3 p = x[b->tri[k]];
+    bad += p.x * 0.0 + p.y * 0.0 + p.z * 0.0 != 0.0;
+  }
   return bad == 0;
 }
 
 /* Node k's new volumes from the vertices (a leaf) or its children (refit
  * before it); returns 1 when a volume changed. */
-static int refit_node(tb_bvh *b, const tb_vec3 *x, double delta, int k) {
+#ifdef __GNUC__
+__attribute__((always_inline)) /* its loop is the whole refit */
+#endif
+static inline int
+refit_node(tb_bvh *b, const tb_vec3 *x, double delta, int k) {
   int c = b->child[k];
   tb_aabb nb, old = b->box[k];
   if (c < 0) {
@@ -152,10 +162,15 @@ int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta) {
   if (!(delta > 0)) delta = 0; /* negative or NaN: exact */
   int nchanged = 0;
   const int *node = b->level_node, *start = b->level_start;
-#pragma omp parallel if (b->nnodes >= REFIT_PAR_MIN)
-  for (int d = b->depth; d >= 0; d--) {
+  if (b->nnodes < REFIT_PAR_MIN || tb_threads() == 1) {
+    /* children come after their parent: the same volumes, in memory order */
+    for (int k = b->nnodes - 1; k >= 0; k--) nchanged += refit_node(b, x, delta, k);
+  } else {
+#pragma omp parallel
+    for (int d = b->depth; d >= 0; d--) {
 #pragma omp for schedule(static) reduction(+ : nchanged)
-    for (int k = start[d]; k < start[d + 1]; k++) nchanged += refit_node(b, x, delta, node[k]);
+      for (int k = start[d]; k < start[d + 1]; k++) nchanged += refit_node(b, x, delta, node[k]);
+    }
   }
   for (int k = 0; k < b->nnodes; k++) b->kind[k] &= (unsigned char)~CHANGED;
   memcpy(b->box0, b->box, (size_t)b->nnodes * sizeof *b->box);
