@@ -30,6 +30,7 @@
  * output has no duplicates. Counters: bv_tests counts node volume tests,
  * tri_tests calls of the triangle test (triangle box checks are not
  * counted). Large queries run on threads (below: the same output). */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -229,11 +230,11 @@ static HOT int descend(query *Q, int i0, int j0, int check, long *bv, long budge
   const tb_bvh *a = Q->A, *b = Q->B;
   int local[2 * 256], cap = 256, sp = 0, rc = 0;
   int *stack = local;
-  long tests = 0;
+  long tests = 0, stop = budget > 0 ? budget : LONG_MAX;
   if (left) *left = 0;
   stack[0] = i0, stack[1] = j0, sp = 1;
   while (sp > 0) {
-    if (budget > 0 && tests >= budget && sp <= FRONT) {
+    if (tests >= stop && sp <= FRONT) {
       for (int k = 0; k < sp; k++)
         front[2 * k] = stack[2 * (sp - 1 - k)], front[2 * k + 1] = stack[2 * (sp - 1 - k) + 1];
       *left = sp;
