@@ -57,7 +57,7 @@ void tb_bvh_free(tb_bvh *b) {
   if (!b) return;
   free(b->box), free(b->sph), free(b->child), free(b->first), free(b->count);
   free(b->kind), free(b->tri_index), free(b->box0), free(b->sph0);
-  free(b->level_node), free(b->level_start);
+  free(b->sub_end);
   memset(b, 0, sizeof *b);
 }
 
@@ -288,22 +288,16 @@ static int alloc_all(tb_bvh *b, builder *B, int ntri) {
          b->tri_index && B->cen && B->tbox && B->key && B->tmp && B->kt;
 }
 
-/* The breadth-first order of the nodes and where each level starts (for
- * the level-by-level refit on threads). */
-static int levels(tb_bvh *b) {
-  b->level_node = malloc((size_t)b->nnodes * sizeof(int));
-  b->level_start = malloc((size_t)(b->depth + 2) * sizeof(int));
-  if (!b->level_node || !b->level_start) return -1;
-  int n = 1, d = 0;
-  b->level_node[0] = 0, b->level_start[0] = 0;
-  for (int k0 = 0, k1 = 1; k0 < k1; k0 = k1, k1 = n) { /* level d is [k0, k1) */
-    b->level_start[d++] = k0;
-    for (int k = k0; k < k1; k++) {
-      int c = b->child[b->level_node[k]];
-      if (c >= 0) b->level_node[n++] = c, b->level_node[n++] = c + 1;
-    }
+/* sub_end: children come after their parent, so one pass from the last
+ * node back gives each node's end from its children's. */
+static int subtree_ends(tb_bvh *b) {
+  b->sub_end = malloc((size_t)b->nnodes * sizeof(int));
+  if (!b->sub_end) return -1;
+  for (int k = b->nnodes - 1; k >= 0; k--) {
+    int c = b->child[k], e = k + 1;
+    if (c >= 0) e = b->sub_end[c] > b->sub_end[c + 1] ? b->sub_end[c] : b->sub_end[c + 1];
+    b->sub_end[k] = e;
   }
-  b->level_start[d] = n; /* d == depth + 1 */
   return 0;
 }
 
@@ -364,7 +358,7 @@ int tb_bvh_build(tb_bvh *b, const tb_vec3 *x, const int *tri, int ntri, const tb
   }
   memcpy(b->box0, b->box, (size_t)b->nnodes * sizeof *b->box);
   memcpy(b->sph0, b->sph, (size_t)b->nnodes * sizeof *b->sph);
-  if (levels(b)) rc = tb_error_set(err, "bvh", 0, "out of memory for %d triangles", ntri);
+  if (subtree_ends(b)) rc = tb_error_set(err, "bvh", 0, "out of memory for %d triangles", ntri);
 done:
   free(stack), free(B.cen), free(B.tbox), free(B.key), free(B.tmp), free(B.kt);
   if (rc) tb_bvh_free(b);

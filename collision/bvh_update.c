@@ -24,10 +24,8 @@
  * when the box changed, or when it no longer contains it (after a rigid
  * motion the moved sphere is tighter than the moved box).
  *
- * Threads (tb_threads.h): the refit runs level by level, deepest first,
- * the nodes of a level in parallel (a node reads only its children, one
- * level down, and writes only itself; the change count is an integer
- * sum), so the volumes are the same for any thread count. */
+ * Threads (tb_threads.h): whole subtrees per task, then the nodes above
+ * them (see tb_bvh_refit below): the same volumes for any thread count. */
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
@@ -88,8 +86,8 @@ static int same_box(tb_aabb a, tb_aabb b) {
 
 #define CHANGED 0x80 /* scratch bit in kind[] during a refit */
 /* Refits of hierarchies with fewer nodes (and finiteness checks of fewer
- * vertex references) stay on the calling thread: a level's barrier costs
- * more than its nodes. */
+ * vertex references) stay on the calling thread: starting the threads
+ * costs more than such a refit. */
 #define REFIT_PAR_MIN 4096
 
 /* Plain comparisons: fmin/fmax are library calls here (NaN rules). */
@@ -104,8 +102,6 @@ static inline tb_vec3 vmax(tb_vec3 a, tb_vec3 b) {
  * and NaN for an infinity or a NaN (no branch, no library call). */
 static int all_finite(const tb_bvh *b, const tb_vec3 *x) {
   int bad = 0, n = 3 * b->ntri; /* a count: no chain of dependent additions */
-#pragma omp parallel for schedule(static) reduction(+ : bad) if (n >= REFIT_PAR_MIN && \
-                                                                    tb_threads() > 1)
   for (int k = 0; k < n; k++) {
     tb_vec3 p = x[b->tri[k]];
     bad += p.x * 0.0 + p.y * 0.0 + p.z * 0.0 != 0.0;
@@ -153,24 +149,71 @@ refit_node(tb_bvh *b, const tb_vec3 *x, double delta, int k) {
   return 0;
 }
 
-/* Deepest level first, so a node's children are done before it; the nodes
- * of one level depend on the level below only, so they run in parallel
- * (each writes its own node): the same volumes for any thread count. */
+/* Fixed tasks for the threads, whatever their count: the top of the tree
+ * is cut breadth first into at least TASKS subtrees (or all leaves above);
+ * a task refits its subtree's descendants from the last back (children
+ * come after their parent), then its root; the nodes above the cut follow
+ * on the calling thread. A node reads only its children and writes only
+ * itself, so the volumes are those of the serial refit; the change count
+ * is an integer sum. */
+#define TASKS 64
+enum { TASK_CAP = 4 * TASKS };
+
+/* The cut: roots of the tasks in cut[] (returns how many) and the nodes
+ * above it in top[] (*ntop). */
+static int cut_tree(const tb_bvh *b, int *cut, int *top, int *ntop) {
+  int n = 1, m = 0;
+  cut[0] = 0, *ntop = 0;
+  while (n < TASKS) {
+    int next[TASK_CAP], k2 = 0, grew = 0;
+    for (int k = 0; k < n; k++) {
+      int c = b->child[cut[k]];
+      if (c < 0) {
+        next[k2++] = cut[k];
+        continue;
+      }
+      top[m++] = cut[k];
+      next[k2++] = c, next[k2++] = c + 1, grew = 1;
+    }
+    memcpy(cut, next, (size_t)k2 * sizeof *cut);
+    n = k2;
+    if (!grew) break;
+  }
+  *ntop = m;
+  return n;
+}
+
 int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta) {
   if (!b || b->nnodes == 0) return 0;
-  if (!x || !all_finite(b, x)) return -1;
+  if (!x) return -1;
   if (!(delta > 0)) delta = 0; /* negative or NaN: exact */
   int nchanged = 0;
-  const int *node = b->level_node, *start = b->level_start;
   if (b->nnodes < REFIT_PAR_MIN || tb_threads() == 1) {
+    if (!all_finite(b, x)) return -1;
     /* children come after their parent: the same volumes, in memory order */
     for (int k = b->nnodes - 1; k >= 0; k--) nchanged += refit_node(b, x, delta, k);
-  } else {
+  } else { /* one parallel region: the finiteness check, then the tasks */
+    int cut[TASK_CAP], top[TASK_CAP], ntop, n = cut_tree(b, cut, top, &ntop), bad = 0;
+    const int nref = 3 * b->ntri;
 #pragma omp parallel
-    for (int d = b->depth; d >= 0; d--) {
-#pragma omp for schedule(static) reduction(+ : nchanged)
-      for (int k = start[d]; k < start[d + 1]; k++) nchanged += refit_node(b, x, delta, node[k]);
+    {
+#pragma omp for schedule(static) reduction(+ : bad)
+      for (int k = 0; k < nref; k++) {
+        tb_vec3 p = x[b->tri[k]];
+        bad += p.x * 0.0 + p.y * 0.0 + p.z * 0.0 != 0.0;
+      }
+      if (!bad) { /* the reduced count, the same on every thread */
+#pragma omp for schedule(dynamic, 1) reduction(+ : nchanged)
+        for (int t = 0; t < n; t++) {
+          int r = cut[t], c = b->child[r];
+          if (c >= 0)
+            for (int k = b->sub_end[r] - 1; k >= c; k--) nchanged += refit_node(b, x, delta, k);
+          nchanged += refit_node(b, x, delta, r);
+        }
+      }
     }
+    if (bad) return -1;
+    for (int k = ntop - 1; k >= 0; k--) nchanged += refit_node(b, x, delta, top[k]);
   }
   for (int k = 0; k < b->nnodes; k++) b->kind[k] &= (unsigned char)~CHANGED;
   memcpy(b->box0, b->box, (size_t)b->nnodes * sizeof *b->box);

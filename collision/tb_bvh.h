@@ -78,9 +78,9 @@ typedef struct tb_bvh {
    * refit for; tb_bvh_transform maps them, never the moved ones */
   tb_aabb *box0;
   tb_sphere *sph0;
-  /* the nodes level by level (breadth first): level d is
-   * level_node[level_start[d] .. level_start[d + 1]), d = 0 .. depth */
-  int *level_node, *level_start;
+  /* one past the last descendant: node k's descendants are the nodes
+   * child[k] .. sub_end[k] - 1 (the build allocates depth first) */
+  int *sub_end;
   /* per triangle */
   int *tri_index; /* triangle numbers in leaf order */
   const int *tri; /* the mesh's triangles (3 per), not owned */
@@ -103,9 +103,9 @@ void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t);
  * exact boxes); a kept box is grown to contain the new one (so it stays
  * within delta of the exact box and queries stay exact). The refit volumes
  * become the rest volumes. Returns the number of nodes whose volume
- * changed, -1 for non-finite vertices. Runs level by level on the threads
- * of tb_threads.h (large hierarchies only): the same volumes for any
- * thread count. */
+ * changed, -1 for non-finite vertices. Large hierarchies are refit on the
+ * threads of tb_threads.h (whole subtrees per task): the same volumes for
+ * any thread count. */
 int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta);
 
 /* ---- queries ---- */

@@ -958,7 +958,7 @@ static void fcl_env_rob(void) {
  * a deformed, shifted copy of itself: 1 and 2 threads give the same refit
  * volumes (bit for bit), the same change counts, the same pair list in the
  * same order and the same counters, for the composite and AABB kinds and
- * delta 0 and > 0. */
+ * delta 0 and > 0; a non-finite vertex is refused on threads too. */
 static void threads_identical(void) {
   tb_mesh m;
   if (geosphere(40962, 1.0, &m)) return;
@@ -998,6 +998,12 @@ static void threads_identical(void) {
       differ += st[0].bv_tests != st[1].bv_tests || st[0].tri_tests != st[1].tri_tests;
       most = p[0].n > most ? p[0].n : most;
       TB_CHECK_MSG(changed[0][0] > 0, "%s: the refit changed nothing", kinds[kd]);
+      /* a non-finite vertex: refused on threads too, the volumes untouched */
+      tb_threads_set(2);
+      deform(m.x, m.nv, 2.0, 0.05, ya); /* another frame: a refit would change boxes */
+      ya[m.tri[3 * (m.ntri / 2)]].y = NAN;
+      TB_CHECK(tb_bvh_refit(&A[1], ya, 0) == -1);
+      TB_CHECK(!memcmp(A[0].box, A[1].box, nb * sizeof *A[0].box));
       for (int t = 0; t < 2; t++) tb_bvh_free(&A[t]), tb_bvh_free(&B[t]), tb_pairlist_free(&p[t]);
     }
   tb_threads_set(was);
