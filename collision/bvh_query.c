@@ -14,8 +14,8 @@
  * thickness and meet the liver's spheres whenever the instrument is
  * anywhere near: on SOFA's liver-smooth against dental_instrument,
  * separated by 0.5-1 along x, the thesis's rule alone took 83-109 node
- * tests per query where the boxes need 11 (0.29-0.38 us against FCL
- * OBBRSS's 0.065 us). The layers, their kinds and each pair's fig. 4.4
+ * tests per query where the boxes need 11 (0.30-0.39 us against FCL
+ * OBBRSS's 0.08-0.09 us). The layers, their kinds and each pair's fig. 4.4
  * test are unchanged -- the composite is still the thesis's Sphere /
  * Sphere+AABB / AABB hierarchy; every node already keeps its box up to
  * date (build, refit and the rotated-AABB update compute both), so the
