@@ -204,7 +204,7 @@ static int leaf_pair(query *Q, int i, int j) {
  * the serial ones too. Fewer than PAR_MIN cut pairs are walked on the
  * calling thread. Each task writes its own run; the runs are copied to the
  * output in cut order. */
-#define BUDGET 4096
+#define BUDGET 16384
 #define FRONT 64
 #define PAR_MIN 16
 enum { FRONT_CAP = 4 * FRONT };

@@ -88,7 +88,7 @@ static int same_box(tb_aabb a, tb_aabb b) {
 /* Refits of hierarchies with fewer nodes (and finiteness checks of fewer
  * vertex references) stay on the calling thread: starting the threads
  * costs more than such a refit. */
-#define REFIT_PAR_MIN 4096
+#define REFIT_PAR_MIN 16384
 
 /* Plain comparisons: fmin/fmax are library calls here (NaN rules). */
 static inline tb_vec3 vmin(tb_vec3 a, tb_vec3 b) {
