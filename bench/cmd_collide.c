@@ -116,7 +116,7 @@ int tb_cmd_collide(int argc, char **argv) {
       for (int i = 0; i < pl.n; i++) printf("%d %d\n", pl.ij[2 * i], pl.ij[2 * i + 1]);
     fprintf(
         stderr,
-        "%s: %d pairs, %ld volume tests, %ld triangle tests (%s), build %.3f ms, query %.4f ms%s\n",
+        "%s: %d pairs, %ld volume tests, %ld triangle tests (%s), build %.3f ms, query %.6f ms%s\n",
         method, pl.n, st.bv_tests, st.tri_tests,
         tb_collider_is_ours(method) || !strcmp(method, "brute") ? tm->name : "the library's",
         build_ms, tb_stats_of(ms, (int)repeat).median, repeat > 1 ? " (median)" : "");

@@ -30,6 +30,7 @@ tb_bvh_def tb_bvh_default_def(void) {
   d.max_leaf = 10;
   d.sphere_layers = 0;
   d.both_layers = 0;
+  d.box_check = 0;
   return d;
 }
 
@@ -45,6 +46,7 @@ tb_bvh_def tb_bvh_kind_def(const char *kind) {
   }
   if (kind && !strcmp(kind, "composite")) {
     d.sphere_layers = 3, d.both_layers = 3; /* the thesis's liver: 3/3/5 */
+    d.box_check = 1;
     return d;
   }
   memset(&d, 0, sizeof d);
@@ -55,6 +57,7 @@ void tb_bvh_free(tb_bvh *b) {
   if (!b) return;
   free(b->box), free(b->sph), free(b->child), free(b->first), free(b->count);
   free(b->kind), free(b->tri_index), free(b->box0), free(b->sph0);
+  free(b->sub_end);
   memset(b, 0, sizeof *b);
 }
 
@@ -266,6 +269,8 @@ static int check_def(const tb_bvh_def *d, tb_error *err) {
   if (d->sphere_layers < 0 || d->both_layers < 0)
     return tb_error_set(err, "bvh", 0, "layer depths must not be negative (%d, %d)",
                         d->sphere_layers, d->both_layers);
+  if (d->box_check != 0 && d->box_check != 1)
+    return tb_error_set(err, "bvh", 0, "box_check must be 0 or 1, not %d", d->box_check);
   return 0;
 }
 
@@ -283,6 +288,19 @@ static int alloc_all(tb_bvh *b, builder *B, int ntri) {
          b->tri_index && B->cen && B->tbox && B->key && B->tmp && B->kt;
 }
 
+/* sub_end: children come after their parent, so one pass from the last
+ * node back gives each node's end from its children's. */
+static int subtree_ends(tb_bvh *b) {
+  b->sub_end = malloc((size_t)b->nnodes * sizeof(int));
+  if (!b->sub_end) return -1;
+  for (int k = b->nnodes - 1; k >= 0; k--) {
+    int c = b->child[k], e = k + 1;
+    if (c >= 0) e = b->sub_end[c] > b->sub_end[c + 1] ? b->sub_end[c] : b->sub_end[c + 1];
+    b->sub_end[k] = e;
+  }
+  return 0;
+}
+
 int tb_bvh_build(tb_bvh *b, const tb_vec3 *x, const int *tri, int ntri, const tb_bvh_def *def,
                  tb_error *err) {
   if (!b) return tb_error_set(err, "bvh", 0, "no hierarchy to build");
@@ -291,7 +309,7 @@ int tb_bvh_build(tb_bvh *b, const tb_vec3 *x, const int *tri, int ntri, const tb
   if (ntri < 0 || ntri > (1 << 29))
     return tb_error_set(err, "bvh", 0, "triangle count %d out of range", ntri);
   if (ntri > 0 && (!x || !tri)) return tb_error_set(err, "bvh", 0, "no vertices or triangles");
-  b->tri = tri, b->ntri = ntri;
+  b->tri = tri, b->ntri = ntri, b->box_check = def->box_check;
   if (ntri == 0) return 0;
   builder B = {def, NULL, NULL, NULL, NULL, NULL, NULL};
   int rc = 0;
@@ -340,6 +358,7 @@ int tb_bvh_build(tb_bvh *b, const tb_vec3 *x, const int *tri, int ntri, const tb
   }
   memcpy(b->box0, b->box, (size_t)b->nnodes * sizeof *b->box);
   memcpy(b->sph0, b->sph, (size_t)b->nnodes * sizeof *b->sph);
+  if (subtree_ends(b)) rc = tb_error_set(err, "bvh", 0, "out of memory for %d triangles", ntri);
 done:
   free(stack), free(B.cen), free(B.tbox), free(B.key), free(B.tmp), free(B.kt);
   if (rc) tb_bvh_free(b);

@@ -22,12 +22,16 @@
  * equals B whenever B already contains B' -- the thesis's "no update". With
  * delta = 0 every box is exact. A node's sphere is recomputed from its box
  * when the box changed, or when it no longer contains it (after a rigid
- * motion the moved sphere is tighter than the moved box). */
+ * motion the moved sphere is tighter than the moved box).
+ *
+ * Threads (tb_threads.h): whole subtrees per task, then the nodes above
+ * them (see tb_bvh_refit below): the same volumes for any thread count. */
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "tb_bvh.h"
+#include "tb_threads.h"
 
 void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t) {
   if (!b || b->nnodes == 0) return;
@@ -81,6 +85,10 @@ static int same_box(tb_aabb a, tb_aabb b) {
 }
 
 #define CHANGED 0x80 /* scratch bit in kind[] during a refit */
+/* Refits of hierarchies with fewer nodes (and finiteness checks of fewer
+ * vertex references) stay on the calling thread: starting the threads
+ * costs more than such a refit. */
+#define REFIT_PAR_MIN 16384
 
 /* Plain comparisons: fmin/fmax are library calls here (NaN rules). */
 static inline tb_vec3 vmin(tb_vec3 a, tb_vec3 b) {
@@ -91,51 +99,121 @@ static inline tb_vec3 vmax(tb_vec3 a, tb_vec3 b) {
 }
 
 /* 1 when every vertex of every triangle is finite: v * 0 is 0 for finite v
- * and NaN for an infinity or a NaN. */
+ * and NaN for an infinity or a NaN (no branch, no library call). */
 static int all_finite(const tb_bvh *b, const tb_vec3 *x) {
-  double z = 0.0;
-  for (int k = 0; k < 3 * b->ntri; k++) {
+  int bad = 0, n = 3 * b->ntri; /* a count: no chain of dependent additions */
+  for (int k = 0; k < n; k++) {
     tb_vec3 p = x[b->tri[k]];
-    z += p.x * 0.0 + p.y * 0.0 + p.z * 0.0;
+    bad += p.x * 0.0 + p.y * 0.0 + p.z * 0.0 != 0.0;
   }
-  return z == 0.0;
+  return bad == 0;
+}
+
+/* Node k's new volumes from the vertices (a leaf) or its children (refit
+ * before it); returns 1 when a volume changed. */
+#ifdef __GNUC__
+__attribute__((always_inline)) /* its loop is the whole refit */
+#endif
+static inline int
+refit_node(tb_bvh *b, const tb_vec3 *x, double delta, int k) {
+  int c = b->child[k];
+  tb_aabb nb, old = b->box[k];
+  if (c < 0) {
+    const int *ord = b->tri_index + b->first[k], *tri = b->tri;
+    nb.lo = nb.hi = x[tri[3 * ord[0]]];
+    for (int m = 0; m < b->count[k]; m++) {
+      const int *f = tri + 3 * ord[m];
+      tb_vec3 p = x[f[0]], q = x[f[1]], r = x[f[2]];
+      nb.lo = vmin(nb.lo, vmin(p, vmin(q, r))), nb.hi = vmax(nb.hi, vmax(p, vmax(q, r)));
+    }
+  } else if ((b->kind[c] | b->kind[c + 1]) & CHANGED) {
+    nb.lo = vmin(b->box[c].lo, b->box[c + 1].lo);
+    nb.hi = vmax(b->box[c].hi, b->box[c + 1].hi);
+  } else {
+    nb = old;
+  }
+  if (!same_box(nb, old) && delta > 0) {
+    double d = tb_dist(nb.lo, old.lo) + tb_dist(nb.hi, old.hi);
+    if (!(d > delta)) nb.lo = vmin(nb.lo, old.lo), nb.hi = vmax(nb.hi, old.hi);
+  }
+  if (!same_box(nb, old)) {
+    b->box[k] = nb;
+    b->sph[k] = tb_aabb_sphere(nb);
+    b->kind[k] |= CHANGED;
+    return 1;
+  }
+  if (!sphere_holds_box(b->sph[k], nb)) {
+    b->sph[k] = tb_aabb_sphere(nb);
+    return 1;
+  }
+  return 0;
+}
+
+/* Fixed tasks for the threads, whatever their count: the top of the tree
+ * is cut breadth first into at least TASKS subtrees (or all leaves above);
+ * a task refits its subtree's descendants from the last back (children
+ * come after their parent), then its root; the nodes above the cut follow
+ * on the calling thread. A node reads only its children and writes only
+ * itself, so the volumes are those of the serial refit; the change count
+ * is an integer sum. */
+#define TASKS 64
+enum { TASK_CAP = 4 * TASKS };
+
+/* The cut: roots of the tasks in cut[] (returns how many) and the nodes
+ * above it in top[] (*ntop). */
+static int cut_tree(const tb_bvh *b, int *cut, int *top, int *ntop) {
+  int n = 1, m = 0;
+  cut[0] = 0, *ntop = 0;
+  while (n < TASKS) {
+    int next[TASK_CAP], k2 = 0, grew = 0;
+    for (int k = 0; k < n; k++) {
+      int c = b->child[cut[k]];
+      if (c < 0) {
+        next[k2++] = cut[k];
+        continue;
+      }
+      top[m++] = cut[k];
+      next[k2++] = c, next[k2++] = c + 1, grew = 1;
+    }
+    memcpy(cut, next, (size_t)k2 * sizeof *cut);
+    n = k2;
+    if (!grew) break;
+  }
+  *ntop = m;
+  return n;
 }
 
 int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta) {
   if (!b || b->nnodes == 0) return 0;
-  if (!x || !all_finite(b, x)) return -1;
+  if (!x) return -1;
   if (!(delta > 0)) delta = 0; /* negative or NaN: exact */
   int nchanged = 0;
-  for (int k = b->nnodes - 1; k >= 0; k--) {
-    int c = b->child[k];
-    tb_aabb nb, old = b->box[k];
-    if (c < 0) {
-      const int *ord = b->tri_index + b->first[k], *tri = b->tri;
-      nb.lo = nb.hi = x[tri[3 * ord[0]]];
-      for (int m = 0; m < b->count[k]; m++) {
-        const int *f = tri + 3 * ord[m];
-        tb_vec3 p = x[f[0]], q = x[f[1]], r = x[f[2]];
-        nb.lo = vmin(nb.lo, vmin(p, vmin(q, r))), nb.hi = vmax(nb.hi, vmax(p, vmax(q, r)));
+  if (b->nnodes < REFIT_PAR_MIN || tb_threads() == 1) {
+    if (!all_finite(b, x)) return -1;
+    /* children come after their parent: the same volumes, in memory order */
+    for (int k = b->nnodes - 1; k >= 0; k--) nchanged += refit_node(b, x, delta, k);
+  } else { /* one parallel region: the finiteness check, then the tasks */
+    int cut[TASK_CAP], top[TASK_CAP], ntop, n = cut_tree(b, cut, top, &ntop), bad = 0;
+    const int nref = 3 * b->ntri;
+#pragma omp parallel
+    {
+#pragma omp for schedule(static) reduction(+ : bad)
+      for (int k = 0; k < nref; k++) {
+        tb_vec3 p = x[b->tri[k]];
+        bad += p.x * 0.0 + p.y * 0.0 + p.z * 0.0 != 0.0;
       }
-    } else if ((b->kind[c] | b->kind[c + 1]) & CHANGED) {
-      nb.lo = vmin(b->box[c].lo, b->box[c + 1].lo);
-      nb.hi = vmax(b->box[c].hi, b->box[c + 1].hi);
-    } else {
-      nb = old;
+      if (!bad) { /* the reduced count, the same on every thread */
+#pragma omp for schedule(dynamic, 1) reduction(+ : nchanged)
+        for (int t = 0; t < n; t++) {
+          int r = cut[t], c = b->child[r];
+          if (c >= 0)
+            for (int k = b->sub_end[r] - 1; k >= c; k--) nchanged += refit_node(b, x, delta, k);
+          nchanged += refit_node(b, x, delta, r);
+        }
+      }
     }
-    if (!same_box(nb, old) && delta > 0) {
-      double d = tb_dist(nb.lo, old.lo) + tb_dist(nb.hi, old.hi);
-      if (!(d > delta)) nb.lo = vmin(nb.lo, old.lo), nb.hi = vmax(nb.hi, old.hi);
-    }
-    if (!same_box(nb, old)) {
-      b->box[k] = nb;
-      b->sph[k] = tb_aabb_sphere(nb);
-      b->kind[k] |= CHANGED;
-      nchanged++;
-    } else if (!sphere_holds_box(b->sph[k], nb)) {
-      b->sph[k] = tb_aabb_sphere(nb);
-      nchanged++;
-    }
+    if (bad) return -1;
+    for (int k = ntop - 1; k >= 0; k--) nchanged += refit_node(b, x, delta, top[k]);
   }
   for (int k = 0; k < b->nnodes; k++) b->kind[k] &= (unsigned char)~CHANGED;
   memcpy(b->box0, b->box, (size_t)b->nnodes * sizeof *b->box);

@@ -1,7 +1,8 @@
 /* Bounding volume hierarchies over triangle meshes (thesis §4.3): Sphere,
  * AABB and the composite Sphere-AABB hierarchy (top layers Sphere, middle
  * layers Sphere+AABB with the sphere circumscribing the box, bottom layers
- * AABB; test rules of fig. 4.4), built top-down; all intersecting triangle
+ * AABB; test rules of fig. 4.4, by default confirmed box against box,
+ * see box_check), built top-down; all intersecting triangle
  * pairs between two meshes; rigid motion by the rotated-AABB update and
  * refit after deformation with the thesis's threshold delta. Nodes live in
  * flat arrays (hot: boxes, spheres, children; cold: build bookkeeping). */
@@ -47,10 +48,18 @@ typedef struct tb_bvh_def {
   int max_leaf;      /* ...and a node with at most max_leaf triangles is a leaf */
   int sphere_layers; /* composite layer depths */
   int both_layers;
+  /* 1: a node pair whose fig.-4.4 test uses a sphere and passes is also
+   * tested box against box (every node keeps its box up to date whatever
+   * its kind), so the loose sphere levels only ever reject earlier, never
+   * let a pair through that the boxes separate; 0: the thesis's rule
+   * alone. Either way the pair sets are exact (both volumes hold the
+   * node's triangles); see bvh_query.c. Only "composite" turns it on. */
+  int box_check;
 } tb_bvh_def;
 /* AABB, longest, median, leaves <= 10, min_leaf 1, max_depth 40. */
 tb_bvh_def tb_bvh_default_def(void);
-/* The default with the layers of "sphere", "aabb" or "composite" (3/3);
+/* The default with the layers of "sphere", "aabb" or "composite" (3/3,
+ * with box_check);
  * any other name gives a zeroed def, which tb_bvh_build refuses. */
 tb_bvh_def tb_bvh_kind_def(const char *kind);
 
@@ -64,10 +73,14 @@ typedef struct tb_bvh {
   int *child;         /* first child (the second is child+1), -1 for a leaf */
   int *first, *count; /* range in tri_index (every node, children split it) */
   unsigned char *kind;
+  int box_check; /* from the definition */
   /* rest volumes: those of the positions the hierarchy was built or last
    * refit for; tb_bvh_transform maps them, never the moved ones */
   tb_aabb *box0;
   tb_sphere *sph0;
+  /* one past the last descendant: node k's descendants are the nodes
+   * child[k] .. sub_end[k] - 1 (the build allocates depth first) */
+  int *sub_end;
   /* per triangle */
   int *tri_index; /* triangle numbers in leaf order */
   const int *tri; /* the mesh's triangles (3 per), not owned */
@@ -90,7 +103,9 @@ void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t);
  * exact boxes); a kept box is grown to contain the new one (so it stays
  * within delta of the exact box and queries stay exact). The refit volumes
  * become the rest volumes. Returns the number of nodes whose volume
- * changed. */
+ * changed, -1 for non-finite vertices. Large hierarchies are refit on the
+ * threads of tb_threads.h (whole subtrees per task): the same volumes for
+ * any thread count. */
 int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta);
 
 /* ---- queries ---- */
@@ -111,10 +126,11 @@ typedef struct tb_collide_stats {
 
 /* Every intersecting pair (i of A, j of B): A's vertices xa, B's xb (world
  * space, the positions the hierarchies were built/refit/transformed for).
- * The pairs are appended to out unsorted, each once; returns 0 or -1 out of
- * memory. tri_tests counts calls of test (pairs whose triangle boxes
- * overlap, after each leaf's triangles were checked against the other
- * leaf's box). */
+ * The pairs are appended to out unsorted, each once, in the same order for
+ * any thread count (tb_threads.h; queries that reach deep run on threads,
+ * see bvh_query.c); returns 0 or -1 out of memory. tri_tests counts
+ * calls of test (pairs whose triangle boxes overlap, after each leaf's
+ * triangles were checked against the other leaf's box). */
 int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb_vec3 *xb,
                    tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats);
 /* Brute force over all ntri_a * ntri_b pairs; for a test the method table

@@ -17,6 +17,7 @@
 #include "tb_meshgen.h"
 #include "tb_rng.h"
 #include "tb_test.h"
+#include "tb_threads.h"
 
 /* ---- helpers ---- */
 static tb_mat3 random_rotation(tb_rng *r) {
@@ -56,12 +57,14 @@ static int same_pairs(const tb_pairlist *a, const tb_pairlist *b) {
   return a->n == b->n && (a->n == 0 || !memcmp(a->ij, b->ij, (size_t)a->n * 2 * sizeof(int)));
 }
 
-/* The 18 build options: kind x axis x point. */
+/* The 18 build options: kind x axis x point (composite with the variance
+ * axis: without box_check). */
 static const char *const KINDS[3] = {"sphere", "aabb", "composite"};
 static tb_bvh_def option(int k) {
   tb_bvh_def d = tb_bvh_kind_def(KINDS[k % 3]);
   d.axis = (tb_split_axis)(k / 3 % 3);
   d.point = k / 9 ? TB_SPLIT_MEAN : TB_SPLIT_MEDIAN;
+  if (k % 3 == 2 && k / 3 % 3 == 1) d.box_check = 0; /* the thesis's rule alone */
   return d;
 }
 #define NOPTIONS 18
@@ -610,6 +613,144 @@ static void collide_liver_instrument(void) {
   tb_mesh_free(&faces), tb_mesh_free(&surf), tb_mesh_free(&inst);
 }
 
+/* ---- near misses ---- */
+/* Pairs of A against B at rest moved by (R, o + s d), by the hierarchies
+ * (B0 built at rest, moved by the rotated-AABB update); y: scratch. */
+static int pairs_at(const tb_bvh *A, const tb_mesh *a, tb_bvh *B0, const tb_mesh *b, tb_mat3 R,
+                    tb_vec3 t, tb_vec3 *y, tb_collide_stats *st) {
+  move(b->x, b->nv, R, t, y);
+  tb_bvh_transform(B0, R, t);
+  tb_pairlist p = no_pairs();
+  int n = tb_bvh_collide(A, a->x, B0, y, tb_tritri_exact, &p, st) ? -1 : p.n;
+  tb_pairlist_free(&p);
+  return n;
+}
+
+/* B (at rest: b) rotated by a few rotations and slid from A's centre along
+ * a direction until the two just part (bisection on the AABB hierarchy's
+ * pair count), then placed clear by gap (relative to B's size) -- poses
+ * where every top volume meets and only the lower ones can separate the
+ * meshes. At each: brute force finds no pair, and neither does any of our
+ * hierarchies; the pose the bisection ended on just inside has pairs, and
+ * they agree with brute force; the composite with box_check never needs
+ * more node tests than the AABB hierarchy (it visits a subset of its node
+ * pairs) nor than the thesis's rule alone. */
+static void near_miss_case(const char *name, const tb_mesh *a, const tb_mesh *b) {
+  tb_error err;
+  tb_vec3 *y = malloc((size_t)b->nv * sizeof *y), alo, ahi, blo, bhi;
+  tb_bvh A[4], B0[4];
+  tb_bvh_def defs[4] = {tb_bvh_kind_def("aabb"), tb_bvh_kind_def("composite"),
+                        tb_bvh_kind_def("composite"), tb_bvh_kind_def("sphere")};
+  defs[2].box_check = 0;
+  int ok = y != NULL;
+  for (int k = 0; k < 4; k++)
+    ok &= tb_bvh_build(&A[k], a->x, a->tri, a->ntri, &defs[k], &err) == 0 &&
+          tb_bvh_build(&B0[k], b->x, b->tri, b->ntri, &defs[k], &err) == 0;
+  TB_CHECK_MSG(ok, "%s: build failed", name);
+  if (!ok) return;
+  tb_mesh_bbox(a, &alo, &ahi), tb_mesh_bbox(b, &blo, &bhi);
+  tb_vec3 ac = tb_scale(tb_add(alo, ahi), 0.5), bc = tb_scale(tb_add(blo, bhi), 0.5);
+  double size = tb_dist(alo, ahi) + tb_dist(blo, bhi);
+  static const double gaps[2] = {1e-3, 0.05};
+  int wrong = 0, fewer = 0, poses = 0, inside = 0;
+  for (int p = 0; p < 4; p++) {
+    tb_mat3 R = p == 0 ? tb_m3_identity() : tb_m3_rotation(tb_v3(1, 2 - p, p), 0.7 * p);
+    tb_vec3 d = tb_normalize(tb_v3(p == 2 ? -1 : 0.3 * p, 1, p == 3 ? 1 : 0.2));
+    /* o + s d with o placing B's centre at A's: s = size is clear of A */
+    tb_vec3 o = tb_sub(ac, tb_m3_mulv(R, bc));
+    double lo = 0, hi = size; /* hi: apart; lo: touching (if at all) */
+    if (pairs_at(&A[0], a, &B0[0], b, R, o, y, NULL) == 0 ||
+        pairs_at(&A[0], a, &B0[0], b, R, tb_add(o, tb_scale(d, hi)), y, NULL) != 0)
+      continue; /* not a pose that passes from touching to apart */
+    for (int it = 0; it < 40; it++) {
+      double mid = 0.5 * (lo + hi);
+      if (pairs_at(&A[0], a, &B0[0], b, R, tb_add(o, tb_scale(d, mid)), y, NULL))
+        lo = mid;
+      else
+        hi = mid;
+    }
+    /* just inside: pairs, equal to brute force for every kind */
+    tb_vec3 tin = tb_add(o, tb_scale(d, lo));
+    move(b->x, b->nv, R, tin, y);
+    tb_pairlist ref = no_pairs();
+    TB_CHECK(tb_collide_brute(a->x, a->tri, a->ntri, y, b->tri, b->ntri, tb_tritri_exact, &ref,
+                              NULL) == 0);
+    tb_pairlist_sort_unique(&ref);
+    inside += ref.n > 0;
+    for (int k = 0; k < 4; k++) {
+      tb_bvh_transform(&B0[k], R, tin);
+      wrong += !query_equals(&A[k], a->x, &B0[k], y, &ref);
+    }
+    tb_pairlist_free(&ref);
+    for (int g = 0; g < 2; g++) {
+      tb_vec3 t = tb_add(o, tb_scale(d, hi + gaps[g] * size));
+      long tests[4];
+      for (int k = 0; k < 4; k++) {
+        tb_collide_stats st;
+        int n = pairs_at(&A[k], a, &B0[k], b, R, t, y, &st);
+        wrong += n != 0;
+        tests[k] = st.bv_tests;
+      }
+      tb_pairlist bf = no_pairs();
+      TB_CHECK(tb_collide_brute(a->x, a->tri, a->ntri, y, b->tri, b->ntri, tb_tritri_exact, &bf,
+                                NULL) == 0);
+      wrong += bf.n != 0;
+      tb_pairlist_free(&bf);
+      fewer += tests[1] <= tests[0] && tests[1] <= tests[2];
+      poses++;
+      if (tests[1] > tests[0] || tests[1] > tests[2])
+        fprintf(stderr, "  %s pose %d gap %g: node tests aabb %ld composite %ld thesis rule %ld\n",
+                name, p, gaps[g], tests[0], tests[1], tests[2]);
+    }
+  }
+  TB_CHECK_MSG(poses >= 6, "%s: only %d near-miss poses found", name, poses);
+  TB_CHECK_MSG(inside == poses / 2, "%s: %d of %d contact poses have pairs", name, inside,
+               poses / 2);
+  TB_CHECK_MSG(!wrong, "%s: %d near-miss queries differ from brute force", name, wrong);
+  TB_CHECK_MSG(fewer == poses, "%s: composite needs more node tests at %d of %d poses", name,
+               poses - fewer, poses);
+  for (int k = 0; k < 4; k++) tb_bvh_free(&A[k]), tb_bvh_free(&B0[k]);
+  free(y);
+}
+
+static void near_miss(void) {
+  tb_mesh faces, surf, inst;
+  if (liver_faces(&faces, &surf)) return;
+  if (instrument(&inst)) {
+    tb_mesh_free(&faces), tb_mesh_free(&surf);
+    return;
+  }
+  near_miss_case("liver faces/instrument", &faces, &inst);
+  tb_mesh_free(&faces), tb_mesh_free(&surf), tb_mesh_free(&inst);
+}
+
+/* SOFA's liver-smooth against its dental instrument (long and thin: the
+ * case where the top spheres are loosest). */
+static void near_miss_sofa(void) {
+  char pl[1024], pi[1024];
+  snprintf(pl, sizeof pl, "%s/../shared/data/sofa/liver-smooth.obj", tb_test_source_root());
+  snprintf(pi, sizeof pi, "%s/../shared/data/sofa/dental_instrument.obj", tb_test_source_root());
+  FILE *probe = fopen(pl, "r");
+  if (!probe) {
+    tb_test_skip("%s absent (../shared/data not present)", pl);
+    return;
+  }
+  fclose(probe);
+  tb_mesh liver, inst;
+  tb_error err;
+  if (tb_mesh_read(pl, &liver, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  if (tb_mesh_read(pi, &inst, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    tb_mesh_free(&liver);
+    return;
+  }
+  near_miss_case("SOFA liver-smooth/dental_instrument", &liver, &inst);
+  tb_mesh_free(&liver), tb_mesh_free(&inst);
+}
+
 /* ---- motion and deformation ---- */
 static void transform_rules(void) {
   tb_mesh m;
@@ -811,6 +952,67 @@ static void fcl_env_rob(void) {
   tb_mesh_free(&env), tb_mesh_free(&rob);
 }
 
+/* ---- threads ---- */
+/* A large sphere (tens of thousands of triangles, above the thresholds of
+ * the refit's and the query's threads) deformed, refit and queried against
+ * a deformed, shifted copy of itself: 1 and 2 threads give the same refit
+ * volumes (bit for bit), the same change counts, the same pair list in the
+ * same order and the same counters, for the composite and AABB kinds and
+ * delta 0 and > 0; a non-finite vertex is refused on threads too. */
+static void threads_identical(void) {
+  tb_mesh m;
+  if (geosphere(40962, 1.0, &m)) return;
+  int was = tb_threads();
+  tb_vec3 *ya = malloc((size_t)m.nv * sizeof *ya), *yb = malloc((size_t)m.nv * sizeof *yb);
+  TB_CHECK(ya && yb);
+  static const char *const kinds[2] = {"composite", "aabb"};
+  int differ = 0;
+  long most = 0;
+  for (int kd = 0; kd < 2 && ya && yb; kd++)
+    for (int dl = 0; dl < 2; dl++) {
+      tb_bvh_def d = tb_bvh_kind_def(kinds[kd]);
+      tb_bvh A[2], B[2];
+      tb_pairlist p[2] = {no_pairs(), no_pairs()};
+      tb_collide_stats st[2];
+      int changed[2][2];
+      tb_error err;
+      for (int t = 0; t < 2; t++) {
+        tb_threads_set(t + 1);
+        TB_CHECK(tb_bvh_build(&A[t], m.x, m.tri, m.ntri, &d, &err) == 0);
+        TB_CHECK(tb_bvh_build(&B[t], m.x, m.tri, m.ntri, &d, &err) == 0);
+        deform(m.x, m.nv, 0.3, 0.05, ya);
+        deform(m.x, m.nv, 1.1, 0.05, yb);
+        for (int v = 0; v < m.nv; v++) yb[v] = tb_add(yb[v], tb_v3(0.3, 0.2, 0.1));
+        changed[t][0] = tb_bvh_refit(&A[t], ya, dl ? 0.02 : 0);
+        changed[t][1] = tb_bvh_refit(&B[t], yb, dl ? 0.02 : 0);
+        TB_CHECK(tb_bvh_collide(&A[t], ya, &B[t], yb, tb_tritri_exact, &p[t], &st[t]) == 0);
+      }
+      size_t nb = (size_t)A[0].nnodes;
+      TB_CHECK_MSG(A[0].nnodes > 16384 && A[1].nnodes == A[0].nnodes, "%d nodes", A[0].nnodes);
+      differ += changed[0][0] != changed[1][0] || changed[0][1] != changed[1][1];
+      differ += memcmp(A[0].box, A[1].box, nb * sizeof *A[0].box) != 0;
+      differ += memcmp(A[0].sph, A[1].sph, nb * sizeof *A[0].sph) != 0;
+      differ += memcmp(B[0].box, B[1].box, nb * sizeof *B[0].box) != 0;
+      differ += memcmp(B[0].sph, B[1].sph, nb * sizeof *B[0].sph) != 0;
+      differ += p[0].n != p[1].n || !same_pairs(&p[0], &p[1]);
+      differ += st[0].bv_tests != st[1].bv_tests || st[0].tri_tests != st[1].tri_tests;
+      most = p[0].n > most ? p[0].n : most;
+      TB_CHECK_MSG(changed[0][0] > 0, "%s: the refit changed nothing", kinds[kd]);
+      /* a non-finite vertex: refused on threads too, the volumes untouched */
+      tb_threads_set(2);
+      deform(m.x, m.nv, 2.0, 0.05, ya); /* another frame: a refit would change boxes */
+      ya[m.tri[3 * (m.ntri / 2)]].y = NAN;
+      TB_CHECK(tb_bvh_refit(&A[1], ya, 0) == -1);
+      TB_CHECK(!memcmp(A[0].box, A[1].box, nb * sizeof *A[0].box));
+      for (int t = 0; t < 2; t++) tb_bvh_free(&A[t]), tb_bvh_free(&B[t]), tb_pairlist_free(&p[t]);
+    }
+  tb_threads_set(was);
+  TB_CHECK_MSG(!differ, "%d results differ between 1 and 2 threads", differ);
+  TB_CHECK_MSG(most > 1000, "only %ld pairs: too few for the query's threads", most);
+  free(ya), free(yb);
+  tb_mesh_free(&m);
+}
+
 /* A chain: triangles near the planes x = 200^k 1e-300, so every mean split
  * peels off the farthest one (the mean of m + 1 of them exceeds all but the
  * last) and the hierarchy is N - 1 deep; a self-query then needs a
@@ -899,9 +1101,12 @@ const tb_test_case tb_tests_bvh[] = {{"volumes_hand", volumes_hand},
                                      {"thesis_layers", thesis_layers},
                                      {"collide_generated", collide_generated},
                                      {"collide_liver_instrument", collide_liver_instrument},
+                                     {"near_miss", near_miss},
+                                     {"near_miss_sofa", near_miss_sofa},
                                      {"transform_rules", transform_rules},
                                      {"refit_vs_brute", refit_vs_brute},
                                      {"fcl_env_rob", fcl_env_rob},
                                      {"deep_chain", deep_chain},
+                                     {"threads_identical", threads_identical},
                                      {"errors_and_edges", errors_and_edges},
                                      {0, 0}};
