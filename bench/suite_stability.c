@@ -42,6 +42,7 @@
 #include "stability_priv.h"
 #include "tb_rng.h"
 #include "tb_sim.h"
+#include "tb_threads.h"
 #include "tb_timer.h"
 
 /* ---- the models and their stiffness axes ---- */
@@ -630,8 +631,14 @@ int tb_suite_stability(const tb_suite_opts *o) {
       gp.nk, gp.ndt, gp.dt[0], gp.dt[gp.ndt - 1], gp.duration, MIN_STEPS);
   int deform = 0, vvs = !only || !strcmp(only, TB_STAB_VVS);
   for (int m = 0; m < NMAPS; m++) deform |= tb_stab_deform_runs(&maps[m], only);
+  /* the runs are small beams and a sphere: one thread, so that a busy machine's
+   * barriers do not stall them (a parallel model's barrier per colour waits a time
+   * slice when the cores are shared); the answers do not depend on it */
+  int threads = tb_threads();
+  tb_threads_set(1);
   int failed = maps_part(s, o, only, &err) || (deform && tb_stab_deform(s, o, only, &err)) ||
                (vvs && tb_stab_vvs(s, o, &err));
+  tb_threads_set(threads);
   if (failed) fprintf(stderr, "stability: %s\n", err.msg);
   if (tb_suite_end(s, &err)) fprintf(stderr, "stability: %s\n", err.msg), failed = 1;
   return failed;
