@@ -76,8 +76,13 @@ typedef struct tb_fem {
    * per-element loops add into nodes and blocks in parallel, in an order
    * fixed by the colouring (bit-identical for any thread count) */
   int ncolours, *col_order, *col_start;
-  tb_mat3 *rot; /* per tet: the rotation of the current step (fem-corot) */
-  double *vol;  /* per tet: rest volume */
+  tb_mat3 *rot;       /* per tet: the rotation of the current step (fem-corot) */
+  double *tf, *th;    /* per tet (12 each): node forces, h_a = R g_a (fem_corot.c) */
+  int *nl_start, *nl; /* per node: its (tet, corner) pairs 4 t + a, t ascending */
+  int *bl_start, *bl; /* per block (n, m >= n): its (t, a, b) as 16 t + 4 a + b, t ascending */
+  int *blk_tr;        /* per block (n, m): the block (m, n) */
+  double *quat;       /* per tet: that rotation as a unit quaternion (4), the next step's start */
+  double *vol;        /* per tet: rest volume */
   double lambda, mu;
 
   /* fem-corot's solvers (fem_solve.c); solver TB_FEM_EXACT for fem */
