@@ -218,7 +218,7 @@ static int build_gather(tb_fem *f, tb_error *err) {
   f->bl = malloc(sizeof(int) * 16 * (size_t)nt);
   f->blk_tr = malloc(sizeof(int) * (size_t)nb);
   f->tf = malloc(sizeof(double) * 12 * (size_t)nt);
-  f->th = malloc(sizeof(double) * 12 * (size_t)nt);
+  f->th = malloc(sizeof(double) * 24 * (size_t)nt);
   int *fill = malloc(sizeof(int) * ((size_t)nv > (size_t)nb ? (size_t)nv : (size_t)nb));
   if (!f->nl_start || !f->nl || !f->bl_start || !f->bl || !f->blk_tr || !f->tf || !f->th || !fill) {
     free(fill);
@@ -312,7 +312,7 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
   tb_lame(def->E, def->nu, &lambda, &mu);
   f->lambda = lambda, f->mu = mu;
   f->rot = malloc(sizeof(tb_mat3) * nt);
-  f->quat = calloc(4 * nt, sizeof(double));
+  f->quat = calloc(4 * (nt + nv), sizeof(double)); /* tets', then nodes' */
   f->vol = malloc(sizeof(double) * nt);
   f->b0 = calloc(3 * nv, sizeof(double));
   f->cg_p = calloc(3 * nv, sizeof(double));
@@ -327,7 +327,8 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
     tb_error_set(err, name, 0, "out of memory");
     goto fail;
   }
-  for (size_t t = 0; t < nt; t++) f->rot[t] = tb_m3_identity(), f->quat[4 * t] = 1;
+  for (size_t t = 0; t < nt; t++) f->rot[t] = tb_m3_identity();
+  for (size_t k = 0; k < nt + nv; k++) f->quat[4 * k] = 1;
   if (tb_tet_colours(mesh, &f->ncolours, &f->col_order, &f->col_start, err)) goto fail;
   for (int t = 0; t < f->ntet; t++) {
     const int *e = f->tet + 4 * t;

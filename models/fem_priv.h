@@ -77,11 +77,11 @@ typedef struct tb_fem {
    * fixed by the colouring (bit-identical for any thread count) */
   int ncolours, *col_order, *col_start;
   tb_mat3 *rot;       /* per tet: the rotation of the current step (fem-corot) */
-  double *tf, *th;    /* per tet (12 each): node forces, h_a = R g_a (fem_corot.c) */
+  double *tf, *th;    /* per tet: node forces (12); h_a = R g_a (12), then V h_a (12) */
   int *nl_start, *nl; /* per node: its (tet, corner) pairs 4 t + a, t ascending */
   int *bl_start, *bl; /* per block (n, m >= n): its (t, a, b) as 16 t + 4 a + b, t ascending */
   int *blk_tr;        /* per block (n, m): the block (m, n) */
-  double *quat;       /* per tet: that rotation as a unit quaternion (4), the next step's start */
+  double *quat;       /* per tet, then per node (pcg): the last rotation as a unit quaternion (4) */
   double *vol;        /* per tet: rest volume */
   double lambda, mu;
 

@@ -39,6 +39,7 @@
 #include <string.h>
 
 #include "fem_priv.h"
+#include "tb_fem.h"
 
 /* out = A y: alpha M + beta K_R over the node blocks, identity on the
  * prescribed dofs and no coupling to them (A's elimination). */
@@ -139,7 +140,8 @@ static void prescribe(tb_fem *f, double *y, const double *b) {
 }
 
 /* Node rotations R_n: the polar rotation of the volume-weighted sum of its
- * tets' rotations (accumulated in f->nrot by the element loop); then
+ * tets' rotations (accumulated in f->nrot by the element loop; warm
+ * started from the node's last, as the tets' are); then
  * T_n = R_n Q_n^T, Q_n the node rotations when the preconditioner's factor
  * was made. For a rigid rotation R of the whole body A = R A_k R^T, so the
  * preconditioner T A_k^-1 T^T is exact; T is orthogonal per node, so it
@@ -147,7 +149,7 @@ static void prescribe(tb_fem *f, double *y, const double *b) {
 static void node_rotations(tb_fem *f) {
 #pragma omp parallel for schedule(static)
   for (int n = 0; n < f->nv; n++) {
-    f->nrot[n] = tb_m3_polar_newton(f->nrot[n]);
+    f->nrot[n] = tb_fem_polar_warm(f->nrot[n], f->quat + 4 * ((size_t)f->ntet + n));
     f->ntr[n] = tb_m3_mul(f->nrot[n], tb_m3_transpose(f->nq[n]));
   }
 }
