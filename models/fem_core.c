@@ -318,12 +318,13 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
   f->cg_p = calloc(3 * nv, sizeof(double));
   f->cg_q = calloc(3 * nv, sizeof(double));
   f->yprev = calloc(3 * nv, sizeof(double));
+  f->yprev2 = calloc(3 * nv, sizeof(double));
   f->cg_r = calloc(3 * nv, sizeof(double));
   f->nrot = calloc(nv, sizeof(tb_mat3));
   f->nq = calloc(nv, sizeof(tb_mat3));
   f->ntr = calloc(nv, sizeof(tb_mat3));
-  if (!f->rot || !f->quat || !f->vol || !f->b0 || !f->cg_p || !f->cg_q || !f->yprev || !f->cg_r ||
-      !f->nrot || !f->nq || !f->ntr) {
+  if (!f->rot || !f->quat || !f->vol || !f->b0 || !f->cg_p || !f->cg_q || !f->yprev || !f->yprev2 ||
+      !f->cg_r || !f->nrot || !f->nq || !f->ntr) {
     tb_error_set(err, name, 0, "out of memory");
     goto fail;
   }
@@ -403,7 +404,7 @@ void tb_fem_destroy(tb_fem *f) {
   free(f->col_order), free(f->col_start), free(f->rot), free(f->quat), free(f->tf), free(f->th),
       free(f->nl_start), free(f->nl), free(f->bl_start), free(f->bl), free(f->blk_tr), free(f->vol),
       free(f->lb);
-  free(f->b0), free(f->cg_p), free(f->cg_q), free(f->yprev), free(f->cg_r);
+  free(f->b0), free(f->cg_p), free(f->cg_q), free(f->yprev), free(f->yprev2), free(f->cg_r);
   free(f->nrot), free(f->nq), free(f->ntr);
   free(f->x), free(f->v), free(f->X), free(f->fel), free(f->yc), free(f->fixed);
   free(f->fixed_list), free(f->tet), free(f->dm_inv), free(f->ke), free(f->tet_blk);

@@ -92,7 +92,7 @@ typedef struct tb_fem {
   int lag, refine, pd_iters; /* lagged: refactor every lag steps, refinements; pd iterations */
   double *lb;                /* per block: the Laplacian sum V g_a.g_b (pd's constant matrix) */
   double *b0, *cg_p, *cg_q;  /* n3 each */
-  double *yprev;             /* n3: pcg's solution before last (warm start) */
+  double *yprev, *yprev2;    /* n3 each: pcg's solutions 2 and 3 steps back (warm start) */
   double *cg_r;              /* n3: pcg's residual */
   int cg_rotate;             /* pcg: preconditioner rotated per node */
   tb_mat3 *nrot, *nq, *ntr;  /* nv each: node rotations now, at the factor, T = R Q^T */
