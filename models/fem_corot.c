@@ -40,7 +40,7 @@ typedef struct corot_settings {
   tb_fem_settings fem; /* first: TB_FEM_SETTINGS's offsets hold */
   int solver;
   double cg_tol;
-  int cg_max, cg_rotate, lag, refine, pd_iters;
+  int cg_max, cg_refactor, cg_rotate, lag, refine, pd_iters;
 } corot_settings;
 
 static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
@@ -48,8 +48,8 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   tb_fem *f = tb_fem_create(mesh, &def->fem, 1, "fem-corot", err);
   if (!f) return NULL;
   f->solver = def->solver, f->cg_tol = def->cg_tol, f->cg_max = def->cg_max;
-  f->cg_rotate = def->cg_rotate, f->lag = def->lag, f->refine = def->refine,
-  f->pd_iters = def->pd_iters;
+  f->cg_refactor = def->cg_refactor, f->cg_rotate = def->cg_rotate, f->lag = def->lag,
+  f->refine = def->refine, f->pd_iters = def->pd_iters;
   return f;
 }
 
@@ -317,6 +317,9 @@ static const tb_setting settings[] = {
                  "pcg: relative residual ||b - A y|| / ||b|| to stop at"),
     TB_SETTING_I(corot_settings, cg_max, 8, 1, 1000,
                  "pcg: CG iterations after which the preconditioner is refactored"),
+    TB_SETTING_I(corot_settings, cg_refactor, 40, 1, 1000000,
+                 "pcg: refactor once CG took this many iterations beyond 1 per step since the "
+                 "last factorisation"),
     TB_SETTING_I(corot_settings, cg_rotate, 1, 0, 1,
                  "pcg: 1 rotates the preconditioner per node (R_n Q_n^T A_k^-1 Q_n R_n^T)"),
     TB_SETTING_I(corot_settings, lag, 10, 1, 1000000, "lagged: refactor every lag steps"),

@@ -89,6 +89,8 @@ typedef struct tb_fem {
   int solver;
   double cg_tol;             /* pcg: relative residual */
   int cg_max;                /* pcg: iterations before the preconditioner is refactored */
+  int cg_refactor;           /* pcg: extra iterations since the factor that make a refactor */
+  long cg_excess;            /* pcg: those extra iterations so far */
   int lag, refine, pd_iters; /* lagged: refactor every lag steps, refinements; pd iterations */
   double *lb;                /* per block: the Laplacian sum V g_a.g_b (pd's constant matrix) */
   double *b0, *cg_p, *cg_q;  /* n3 each */

@@ -13,7 +13,10 @@
  *    of the body). When CG needs more than cg_max iterations the current A
  *    is factored and CG restarts from where it is (it then converges in one
  *    or two iterations). Stops at ||b - A y|| <= cg_tol ||b||: exact to
- *    the tolerance.
+ *    the tolerance. Also refactored at the start of a step once CG has
+ *    taken cg_refactor iterations beyond one per step since the factor
+ *    (with a fresh factor CG needs one): rent or buy, a factorisation costs
+ *    some tens of solves on the liver.
  *  - lagged: the factor of A is redone every lag steps; the step is a direct
  *    solve with the stale factor plus `refine` iterative refinements
  *    y += P^-1 (b - A y); when a refinement does not halve the residual
@@ -222,6 +225,8 @@ static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
     it++;
   }
   f->last_iters = it, f->iters += it;
+  /* iterations beyond the one a fresh factor needs, since the last factor */
+  f->cg_excess = refactored ? 0 : f->cg_excess + (it > 1 ? it - 1 : 0);
   f->last_res = nb > 0 ? rr / nb : rr;
   return 0;
 }
@@ -276,6 +281,10 @@ int tb_fem_iterate(tb_fem *f, const tb_step *in, tb_error *err) {
   int need = tb_fem_begin(f, in, &alpha, &beta, err), s = f->solver;
   if (need < 0) return -1;
   if (s == TB_FEM_PCG && f->cg_rotate) node_rotations(f);
+  /* pcg: refactor once the stale factor has cost cg_refactor extra iterations
+   * since the last one (rent or buy: a factorisation costs about as many
+   * solves) */
+  if (s == TB_FEM_PCG && f->cg_excess >= f->cg_refactor) need = 1, f->cg_excess = 0;
   if (need && tb_fem_refactor(f, alpha, beta, s == TB_FEM_PD, err)) return -1;
   if (need && s == TB_FEM_PCG && f->cg_rotate) rotations_factored(f);
   tb_fem_rhs(f, in, 0, alpha, beta, s == TB_FEM_PD);
