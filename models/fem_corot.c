@@ -28,9 +28,6 @@
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include "tb_timer.h"
 
 #include "fem_priv.h"
 #include "tb_fem.h"
@@ -275,17 +272,7 @@ static void assemble(tb_fem *f, int kb) {
 
 static int step(void *self, const tb_step *in, tb_error *err) {
   tb_fem *f = self;
-  uint64_t t0 = tb_time_ns();
   assemble(f, f->solver != TB_FEM_PD);
-  {
-    static double mn = 1e9, tot = 0;
-    static long cnt = 0;
-    double d = (tb_time_ns() - t0) * 1e-6;
-    tot += d;
-    if (d < mn) mn = d;
-    if (++cnt % 300 == 0 && getenv("TB_PROF"))
-      fprintf(stderr, "assemble min %.3f mean %.3f ms\n", mn, tot / cnt);
-  }
   if (f->solver == TB_FEM_EXACT) return tb_fem_advance(f, in, 0, 1, err);
   return tb_fem_iterate(f, in, err);
 }
