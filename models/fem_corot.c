@@ -70,7 +70,7 @@ static tb_mat3 element_rotation(const tb_fem *f, int t, const tb_vec3 *x, double
 }
 
 /* R of a unit quaternion q = (w, x, y, z). */
-static tb_mat3 quat_rot(const double *q) {
+static inline tb_mat3 quat_rot(const double *q) {
   double w = q[0], x = q[1], y = q[2], z = q[3];
   return (tb_mat3){{{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
                     {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
@@ -119,9 +119,8 @@ tb_mat3 tb_fem_polar_warm(tb_mat3 F, double *q) {
        * positive definite; else (a saddle, far start) the cold iteration */
       if (!(a00 > 0) || !(a00 * a11 - a01 * a01 > 0) || !(det > 0)) break;
       double c11 = a00 * a22 - a02 * a02, c12 = a01 * a02 - a00 * a12, c22 = a00 * a11 - a01 * a01;
-      double o0 = (c00 * w0 + c01 * w1 + c02 * w2) / det,
-             o1 = (c01 * w0 + c11 * w1 + c12 * w2) / det,
-             o2 = (c02 * w0 + c12 * w1 + c22 * w2) / det;
+      double id = 1 / det, o0 = (c00 * w0 + c01 * w1 + c02 * w2) * id,
+             o1 = (c01 * w0 + c11 * w1 + c12 * w2) * id, o2 = (c02 * w0 + c12 * w1 + c22 * w2) * id;
       double oo = o0 * o0 + o1 * o1 + o2 * o2;
       /* q <- q (1, w/2), normalised (Newton's step along the rotation) */
       double h0 = 0.5 * o0, h1 = 0.5 * o1, h2 = 0.5 * o2;
@@ -201,7 +200,7 @@ static void element(tb_fem *f, int t, int kb) {
 }
 
 /* Node n's sums over its tets in ascending order (f->nl): the force fel,
- * with rot the volume-weighted rotation sum nrot, and with kb its blocks
+ * with rot its rotation nrot (and ntr), and with kb its blocks
  * (n, m >= n) of sum R K_e R^T = mu lb I + sum V (lambda h_a h_b^T +
  * mu h_b h_a^T) (f->bl). */
 static void gather(tb_fem *f, int n, int kb, int rot) {
@@ -216,7 +215,16 @@ static void gather(tb_fem *f, int n, int kb, int rot) {
         for (int j = 0; j < 3; j++) nr.m[i][j] += f->vol[t] * f->rot[t].m[i][j];
   }
   f->fel[n] = s;
-  if (rot) f->nrot[n] = nr;
+  if (rot) {
+    /* pcg's node rotation R_n: the polar rotation of the volume-weighted
+     * sum of its tets' (warm started from its last); T_n = R_n Q_n^T, Q_n
+     * the node rotations when the preconditioner's factor was made. For a
+     * rigid rotation R of the whole body A = R A_k R^T, so the
+     * preconditioner T A_k^-1 T^T (fem_solve.c) is exact; T is orthogonal
+     * per node, so it stays symmetric positive definite. */
+    f->nrot[n] = tb_fem_polar_warm(nr, f->quat + 4 * ((size_t)f->ntet + n));
+    f->ntr[n] = tb_m3_mul(f->nrot[n], tb_m3_transpose(f->nq[n]));
+  }
   if (!kb) return;
   double lam = f->lambda, mu = f->mu;
   for (int p = f->diag[n]; p < f->row[n + 1]; p++) {

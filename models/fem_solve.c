@@ -33,16 +33,15 @@
  *    pd_iters iterations per step, warm-started. Approximate: its error
  *    falls with more iterations.
  * Threads (OpenMP) run pd's per-tet loop colour by colour (tets of one
- * colour share no node) and the node rotations; the vector loops over the
- * 3 nv dofs are too short to pay for a fork and stay serial, dot products
- * summed in one order: bit-identical results for any thread count. No
- * allocation in a step that does not refactor (cholmod_solve2 reuses R, Z,
- * Y, E). */
+ * colour share no node; pcg's node rotations come with the element loop,
+ * fem_corot.c); the vector loops over the 3 nv dofs are too short to pay
+ * for a fork and stay serial, dot products summed in one order:
+ * bit-identical results for any thread count. No allocation in a step that
+ * does not refactor (cholmod_solve2 reuses R, Z, Y, E). */
 #include <math.h>
 #include <string.h>
 
 #include "fem_priv.h"
-#include "tb_fem.h"
 
 /* out = A y: alpha M + beta K_R over the node blocks, identity on the
  * prescribed dofs and no coupling to them (A's elimination). */
@@ -139,21 +138,6 @@ static void prescribe(tb_fem *f, double *y, const double *b) {
   for (int k = 0; k < f->nfixed; k++) {
     int n = f->fixed_list[k];
     memcpy(y + 3 * n, b + 3 * n, 3 * sizeof(double));
-  }
-}
-
-/* Node rotations R_n: the polar rotation of the volume-weighted sum of its
- * tets' rotations (accumulated in f->nrot by the element loop; warm
- * started from the node's last, as the tets' are); then
- * T_n = R_n Q_n^T, Q_n the node rotations when the preconditioner's factor
- * was made. For a rigid rotation R of the whole body A = R A_k R^T, so the
- * preconditioner T A_k^-1 T^T is exact; T is orthogonal per node, so it
- * stays symmetric positive definite. */
-static void node_rotations(tb_fem *f) {
-#pragma omp parallel for schedule(static)
-  for (int n = 0; n < f->nv; n++) {
-    f->nrot[n] = tb_fem_polar_warm(f->nrot[n], f->quat + 4 * ((size_t)f->ntet + n));
-    f->ntr[n] = tb_m3_mul(f->nrot[n], tb_m3_transpose(f->nq[n]));
   }
 }
 
@@ -280,7 +264,6 @@ int tb_fem_iterate(tb_fem *f, const tb_step *in, tb_error *err) {
   double alpha, beta;
   int need = tb_fem_begin(f, in, &alpha, &beta, err), s = f->solver;
   if (need < 0) return -1;
-  if (s == TB_FEM_PCG && f->cg_rotate) node_rotations(f);
   /* pcg: refactor once the stale factor has cost cg_refactor extra iterations
    * since the last one (rent or buy: a factorisation costs about as many
    * solves) */
