@@ -198,7 +198,9 @@ static int build_matrix(tb_fem *f, tb_error *err) {
         for (int r = 0; r < 3; r++) {
           if (m == n && r > c) break;
           Ai[p] = 3 * m + r;
-          f->a_blk[p] = 9 * q + 3 * c + r; /* K(3m+r, 3n+c) = block(n,m)[c][r] */
+          /* K(3m+r, 3n+c) = block(n,m)[c][r] = block(m,n)[r][c] (fem-corot
+           * keeps the blocks (n, m >= n) only) */
+          f->a_blk[p] = f->corot ? 9 * f->blk_tr[q] + 3 * r + c : 9 * q + 3 * c + r;
           f->a_mass[p] = r == c ? q : -1;
           if (m == n && r == c) f->a_diag[3 * n + c] = p;
           p++;
@@ -551,6 +553,13 @@ void tb_fem_rhs(tb_fem *f, const tb_step *in, int lin, double alpha, double beta
         }
         if (f->fixed[j]) q = tb_madd(q, beta, f->yc[j]);
         const double *k = f->kb + 9 * p;
+        double kt[9];
+        if (f->corot && j < i) { /* fem-corot keeps the blocks (n, m >= n) only */
+          const double *u = f->kb + 9 * f->blk_tr[p];
+          for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) kt[3 * r + c] = u[3 * c + r];
+          k = kt;
+        }
         acc.x -= k[0] * q.x + k[1] * q.y + k[2] * q.z;
         acc.y -= k[3] * q.x + k[4] * q.y + k[5] * q.z;
         acc.z -= k[6] * q.x + k[7] * q.y + k[8] * q.z;

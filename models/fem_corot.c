@@ -23,7 +23,7 @@
  * Newton iteration does. The per-element loop (rotations, forces, h = R g)
  * runs on threads over all tets into per-tet buffers, then each node sums
  * its forces and its row's blocks of R K_e R^T from them in a fixed order
- * (3 barriers per step, not one per colour; bit-identical for any thread
+ * (2 barriers per step, not one per colour; bit-identical for any thread
  * count). */
 #include <math.h>
 #include <stddef.h>
@@ -250,19 +250,11 @@ static void gather(tb_fem *f, int n, int kb, int rot) {
   }
 }
 
-/* Node n's blocks (n, m < n): the transposes of (m, n). */
-static void mirror(tb_fem *f, int n) {
-  for (int p = f->row[n]; p < f->diag[n]; p++) {
-    const double *src = f->kb + 9 * f->blk_tr[p];
-    double *dst = f->kb + 9 * p;
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) dst[3 * i + j] = src[3 * j + i];
-  }
-}
-
-/* rot, fel <- -sum R K_e (R^T x_e - X_e) and, with kb, kb <- sum R K_e R^T:
- * per tet into per-tet buffers, then per node in a fixed order (three
- * phases: bit-identical for any thread count). */
+/* rot, fel <- -sum R K_e (R^T x_e - X_e) and, with kb, kb <- sum R K_e R^T
+ * on the blocks (n, m >= n) only (the rest is never read: fem_core.c's
+ * matrix and right-hand side and fem_solve.c's product take the
+ * transposes): per tet into per-tet buffers, then per node in a fixed
+ * order (two phases: bit-identical for any thread count). */
 static void assemble(tb_fem *f, int kb) {
   int rot = f->cg_rotate && f->solver == TB_FEM_PCG;
 #pragma omp parallel
@@ -271,10 +263,6 @@ static void assemble(tb_fem *f, int kb) {
     for (int t = 0; t < f->ntet; t++) element(f, t, kb);
 #pragma omp for schedule(static)
     for (int n = 0; n < f->nv; n++) gather(f, n, kb, rot);
-    if (kb) {
-#pragma omp for schedule(static)
-      for (int n = 0; n < f->nv; n++) mirror(f, n);
-    }
   }
 }
 

@@ -48,7 +48,7 @@ typedef struct tb_fem {
    * col[row[n] .. row[n+1]-1], ascending, itself included at diag[n] */
   int nblk;
   int *row, *col, *diag;
-  double *kb; /* 9 per block: K (fem) or R K_e R^T summed (fem-corot) */
+  double *kb; /* 9 per block: K (fem) or R K_e R^T summed (fem-corot: blocks (n, m >= n) only) */
   double *mb; /* 1 per block: the mass block is mb * I (lumped: diagonal only) */
 
   /* scratch, nv each */

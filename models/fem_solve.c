@@ -44,15 +44,17 @@
 #include "fem_priv.h"
 
 /* out = A y: alpha M + beta K_R over the node blocks, identity on the
- * prescribed dofs and no coupling to them (A's elimination). */
+ * prescribed dofs and no coupling to them (A's elimination). fem-corot
+ * keeps only the blocks (n, m >= n) of the symmetric K_R (fem_corot.c):
+ * each adds to row n and, transposed, to row m. */
 static void amul(const tb_fem *f, double alpha, double beta, const double *y, double *out) {
+  for (int i = 0; i < f->nv; i++)
+    for (int c = 0; c < 3; c++) out[3 * i + c] = f->fixed[i] ? y[3 * i + c] : 0.0;
   for (int i = 0; i < f->nv; i++) {
-    if (f->fixed[i]) {
-      out[3 * i] = y[3 * i], out[3 * i + 1] = y[3 * i + 1], out[3 * i + 2] = y[3 * i + 2];
-      continue;
-    }
-    double s0 = 0, s1 = 0, s2 = 0;
-    for (int p = f->row[i]; p < f->row[i + 1]; p++) {
+    if (f->fixed[i]) continue;
+    const double *v = y + 3 * i;
+    double s0 = out[3 * i], s1 = out[3 * i + 1], s2 = out[3 * i + 2];
+    for (int p = f->diag[i]; p < f->row[i + 1]; p++) {
       int j = f->col[p];
       if (f->fixed[j]) continue;
       const double *k = f->kb + 9 * p, *w = y + 3 * j;
@@ -60,6 +62,11 @@ static void amul(const tb_fem *f, double alpha, double beta, const double *y, do
       s0 += beta * (k[0] * w[0] + k[1] * w[1] + k[2] * w[2]) + m * w[0];
       s1 += beta * (k[3] * w[0] + k[4] * w[1] + k[5] * w[2]) + m * w[1];
       s2 += beta * (k[6] * w[0] + k[7] * w[1] + k[8] * w[2]) + m * w[2];
+      if (j == i) continue;
+      double *o = out + 3 * j;
+      o[0] += beta * (k[0] * v[0] + k[3] * v[1] + k[6] * v[2]) + m * v[0];
+      o[1] += beta * (k[1] * v[0] + k[4] * v[1] + k[7] * v[2]) + m * v[1];
+      o[2] += beta * (k[2] * v[0] + k[5] * v[1] + k[8] * v[2]) + m * v[2];
     }
     out[3 * i] = s0, out[3 * i + 1] = s1, out[3 * i + 2] = s2;
   }
