@@ -301,8 +301,8 @@ static const tb_setting settings[] = {
     TB_SETTING_I(corot_settings, cg_max, 8, 1, 1000,
                  "pcg: CG iterations after which the preconditioner is refactored"),
     TB_SETTING_I(corot_settings, cg_refactor, 40, 1, 1000000,
-                 "pcg: refactor once CG took this many iterations beyond 1 per step since the "
-                 "last factorisation"),
+                 "pcg, dynamic steps: refactor once CG took this many iterations beyond 1 per "
+                 "step since the last factorisation"),
     TB_SETTING_I(corot_settings, cg_rotate, 1, 0, 1,
                  "pcg: 1 rotates the preconditioner per node (R_n Q_n^T A_k^-1 Q_n R_n^T)"),
     TB_SETTING_I(corot_settings, lag, 10, 1, 1000000, "lagged: refactor every lag steps"),
