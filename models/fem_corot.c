@@ -205,23 +205,24 @@ static void element(tb_fem *f, int t, int kb) {
  * mu h_b h_a^T) (f->bl). */
 static void gather(tb_fem *f, int n, int kb, int rot) {
   tb_vec3 s = tb_v3(0, 0, 0);
+  tb_mat3 nr = {{{0}}};
   for (int k = f->nl_start[n]; k < f->nl_start[n + 1]; k++) {
     int t = f->nl[k] >> 2, a = f->nl[k] & 3;
     const double *tf = f->tf + 12 * (size_t)t + 3 * a;
     s.x += tf[0], s.y += tf[1], s.z += tf[2];
+    if (rot)
+      for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) nr.m[i][j] += f->vol[t] * f->rot[t].m[i][j];
   }
   f->fel[n] = s;
   if (rot) {
-    /* pcg's node rotation R_n: the rotation of the node's first tet (a
-     * volume-weighted polar average took 2.88 rather than 2.98 CG
-     * iterations per step on the liver's 60 steps but cost more than the
-     * 0.1 solve it saved); T_n = R_n Q_n^T, Q_n the node rotations when the
-     * preconditioner's factor was made. For a rigid rotation R of the whole
-     * body A = R A_k R^T, so the preconditioner T A_k^-1 T^T (fem_solve.c)
-     * is exact; T is orthogonal per node, so it stays symmetric positive
-     * definite. */
-    int k0 = f->nl_start[n];
-    f->nrot[n] = k0 < f->nl_start[n + 1] ? f->rot[f->nl[k0] >> 2] : tb_m3_identity();
+    /* pcg's node rotation R_n: the polar rotation of the volume-weighted
+     * sum of its tets' (warm started from its last); T_n = R_n Q_n^T, Q_n
+     * the node rotations when the preconditioner's factor was made. For a
+     * rigid rotation R of the whole body A = R A_k R^T, so the
+     * preconditioner T A_k^-1 T^T (fem_solve.c) is exact; T is orthogonal
+     * per node, so it stays symmetric positive definite. */
+    f->nrot[n] = tb_fem_polar_warm(nr, f->quat + 4 * ((size_t)f->ntet + n));
     f->ntr[n] = tb_m3_mul(f->nrot[n], tb_m3_transpose(f->nq[n]));
   }
   if (!kb) return;

@@ -81,7 +81,7 @@ typedef struct tb_fem {
   int *nl_start, *nl; /* per node: its (tet, corner) pairs 4 t + a, t ascending */
   int *bl_start, *bl; /* per block (n, m >= n): its (t, a, b) as 16 t + 4 a + b, t ascending */
   int *blk_tr;        /* per block (n, m): the block (m, n) */
-  double *quat;       /* per tet: its last rotation as a unit quaternion (4), the next start */
+  double *quat;       /* per tet, then per node (pcg): the last rotation as a unit quaternion (4) */
   double *vol;        /* per tet: rest volume */
   double lambda, mu;
 
