@@ -245,7 +245,7 @@ int tb_table35_corot(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver)
       su,
       "fem-corot solvers (models/fem_solve.c): the same implicit step (warped stiffness, "
       "rotations from the step's start) solved by refactoring every step (exact, the "
-      "reference), by CG warm-started from the last two solutions and preconditioned with a "
+      "reference), by CG warm-started from the last three solutions and preconditioned with a "
       "stale CHOLMOD factor, rotated per node, refactored when CG needs more than cg_max (8) "
       "iterations, stopping at the relative residual cg_tol (pcg), by a factor redone every lag "
       "steps plus refinements "

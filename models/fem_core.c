@@ -198,7 +198,9 @@ static int build_matrix(tb_fem *f, tb_error *err) {
         for (int r = 0; r < 3; r++) {
           if (m == n && r > c) break;
           Ai[p] = 3 * m + r;
-          f->a_blk[p] = 9 * q + 3 * c + r; /* K(3m+r, 3n+c) = block(n,m)[c][r] */
+          /* K(3m+r, 3n+c) = block(n,m)[c][r] = block(m,n)[r][c] (fem-corot
+           * keeps the blocks (n, m >= n) only) */
+          f->a_blk[p] = f->corot ? 9 * f->blk_tr[q] + 3 * r + c : 9 * q + 3 * c + r;
           f->a_mass[p] = r == c ? q : -1;
           if (m == n && r == c) f->a_diag[3 * n + c] = p;
           p++;
@@ -206,6 +208,43 @@ static int build_matrix(tb_fem *f, tb_error *err) {
       }
     }
   Ap[n3] = p;
+  return 0;
+}
+
+/* fem-corot's gather lists (f->nl, f->bl, f->blk_tr), t ascending. */
+static int build_gather(tb_fem *f, tb_error *err) {
+  int nv = f->nv, nt = f->ntet, nb = f->nblk;
+  f->nl_start = calloc((size_t)nv + 1, sizeof(int));
+  f->nl = malloc(sizeof(int) * 4 * (size_t)nt);
+  f->bl_start = calloc((size_t)nb + 1, sizeof(int));
+  f->bl = malloc(sizeof(int) * 16 * (size_t)nt);
+  f->blk_tr = malloc(sizeof(int) * (size_t)nb);
+  f->tf = malloc(sizeof(double) * 12 * (size_t)nt);
+  f->th = malloc(sizeof(double) * 24 * (size_t)nt);
+  int *fill = malloc(sizeof(int) * ((size_t)nv > (size_t)nb ? (size_t)nv : (size_t)nb));
+  if (!f->nl_start || !f->nl || !f->bl_start || !f->bl || !f->blk_tr || !f->tf || !f->th || !fill) {
+    free(fill);
+    return tb_error_set(err, f->name, 0, "out of memory");
+  }
+  for (int t = 0; t < nt; t++)
+    for (int a = 0; a < 4; a++) {
+      f->nl_start[f->tet[4 * t + a] + 1]++;
+      for (int b = 0; b < 4; b++)
+        if (f->tet[4 * t + a] <= f->tet[4 * t + b])
+          f->bl_start[f->tet_blk[16 * t + 4 * a + b] + 1]++;
+    }
+  for (int n = 0; n < nv; n++) f->nl_start[n + 1] += f->nl_start[n], fill[n] = f->nl_start[n];
+  for (int t = 0; t < nt; t++)
+    for (int a = 0; a < 4; a++) f->nl[fill[f->tet[4 * t + a]]++] = 4 * t + a;
+  for (int p = 0; p < nb; p++) f->bl_start[p + 1] += f->bl_start[p], fill[p] = f->bl_start[p];
+  for (int t = 0; t < nt; t++)
+    for (int a = 0; a < 4; a++)
+      for (int b = 0; b < 4; b++)
+        if (f->tet[4 * t + a] <= f->tet[4 * t + b])
+          f->bl[fill[f->tet_blk[16 * t + 4 * a + b]]++] = 16 * t + 4 * a + b;
+  for (int n = 0; n < nv; n++)
+    for (int p = f->row[n]; p < f->row[n + 1]; p++) f->blk_tr[p] = find_block(f, f->col[p], n);
+  free(fill);
   return 0;
 }
 
@@ -275,21 +314,24 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
   tb_lame(def->E, def->nu, &lambda, &mu);
   f->lambda = lambda, f->mu = mu;
   f->rot = malloc(sizeof(tb_mat3) * nt);
+  f->quat = calloc(4 * (nt + nv), sizeof(double)); /* tets', then nodes' */
   f->vol = malloc(sizeof(double) * nt);
   f->b0 = calloc(3 * nv, sizeof(double));
   f->cg_p = calloc(3 * nv, sizeof(double));
   f->cg_q = calloc(3 * nv, sizeof(double));
   f->yprev = calloc(3 * nv, sizeof(double));
+  f->yprev2 = calloc(3 * nv, sizeof(double));
   f->cg_r = calloc(3 * nv, sizeof(double));
   f->nrot = calloc(nv, sizeof(tb_mat3));
   f->nq = calloc(nv, sizeof(tb_mat3));
   f->ntr = calloc(nv, sizeof(tb_mat3));
-  if (!f->rot || !f->vol || !f->b0 || !f->cg_p || !f->cg_q || !f->yprev || !f->cg_r || !f->nrot ||
-      !f->nq || !f->ntr) {
+  if (!f->rot || !f->quat || !f->vol || !f->b0 || !f->cg_p || !f->cg_q || !f->yprev || !f->yprev2 ||
+      !f->cg_r || !f->nrot || !f->nq || !f->ntr) {
     tb_error_set(err, name, 0, "out of memory");
     goto fail;
   }
   for (size_t t = 0; t < nt; t++) f->rot[t] = tb_m3_identity();
+  for (size_t k = 0; k < nt + nv; k++) f->quat[4 * k] = 1;
   if (tb_tet_colours(mesh, &f->ncolours, &f->col_order, &f->col_start, err)) goto fail;
   for (int t = 0; t < f->ntet; t++) {
     const int *e = f->tet + 4 * t;
@@ -314,6 +356,7 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
     for (int a = 0; a < 4; a++)
       for (int b = 0; b < 4; b++)
         f->tet_blk[16 * t + 4 * a + b] = find_block(f, f->tet[4 * t + a], f->tet[4 * t + b]);
+  if (corot && build_gather(f, err)) goto fail;
   if (def->consistent_mass && !(def->node_mass > 0)) {
     for (int t = 0; t < f->ntet; t++) {
       const int *e = f->tet + 4 * t;
@@ -360,8 +403,10 @@ void tb_fem_destroy(tb_fem *f) {
   cholmod_free_dense(&f->R, &f->cc);
   cholmod_free_dense(&f->Z, &f->cc);
   cholmod_finish(&f->cc);
-  free(f->col_order), free(f->col_start), free(f->rot), free(f->vol), free(f->lb);
-  free(f->b0), free(f->cg_p), free(f->cg_q), free(f->yprev), free(f->cg_r);
+  free(f->col_order), free(f->col_start), free(f->rot), free(f->quat), free(f->tf), free(f->th),
+      free(f->nl_start), free(f->nl), free(f->bl_start), free(f->bl), free(f->blk_tr), free(f->vol),
+      free(f->lb);
+  free(f->b0), free(f->cg_p), free(f->cg_q), free(f->yprev), free(f->yprev2), free(f->cg_r);
   free(f->nrot), free(f->nq), free(f->ntr);
   free(f->x), free(f->v), free(f->X), free(f->fel), free(f->yc), free(f->fixed);
   free(f->fixed_list), free(f->tet), free(f->dm_inv), free(f->ke), free(f->tet_blk);
@@ -508,6 +553,13 @@ void tb_fem_rhs(tb_fem *f, const tb_step *in, int lin, double alpha, double beta
         }
         if (f->fixed[j]) q = tb_madd(q, beta, f->yc[j]);
         const double *k = f->kb + 9 * p;
+        double kt[9];
+        if (f->corot && j < i) { /* fem-corot keeps the blocks (n, m >= n) only */
+          const double *u = f->kb + 9 * f->blk_tr[p];
+          for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) kt[3 * r + c] = u[3 * c + r];
+          k = kt;
+        }
         acc.x -= k[0] * q.x + k[1] * q.y + k[2] * q.z;
         acc.y -= k[3] * q.x + k[4] * q.y + k[5] * q.z;
         acc.z -= k[6] * q.x + k[7] * q.y + k[8] * q.z;

@@ -16,21 +16,28 @@
  * iterations, exact to cg_tol),
  * lagged (refactor every lag steps, direct solve + refine refinements), pd
  * (projective-dynamics-style local/global iterations with one constant
- * factor; approximate). The per-element loop (rotations, forces,
- * R K_e R^T) runs on threads colour by colour (tet_colour.c): each node and
- * block sums its tets in the colouring's order, bit-identical for any
- * thread count. */
+ * factor; approximate).
+ * Each tet's rotation is found by Newton's method on the rotation itself
+ * (tb_fem_polar_warm), started from the tet's last one: the iterations
+ * depend on how far it turned in a step, not on its stretch as Higham's
+ * Newton iteration does. The per-element loop (rotations, forces, h = R g)
+ * runs on threads over all tets into per-tet buffers, then each node sums
+ * its forces and its row's blocks of R K_e R^T from them in a fixed order
+ * (2 barriers per step, not one per colour; bit-identical for any thread
+ * count). */
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
 #include "fem_priv.h"
+#include "tb_fem.h"
 
 /* fem's settings and the solver's. */
 typedef struct corot_settings {
   tb_fem_settings fem; /* first: TB_FEM_SETTINGS's offsets hold */
   int solver;
   double cg_tol;
-  int cg_max, cg_rotate, lag, refine, pd_iters;
+  int cg_max, cg_refactor, cg_rotate, lag, refine, pd_iters;
 } corot_settings;
 
 static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
@@ -38,8 +45,8 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   tb_fem *f = tb_fem_create(mesh, &def->fem, 1, "fem-corot", err);
   if (!f) return NULL;
   f->solver = def->solver, f->cg_tol = def->cg_tol, f->cg_max = def->cg_max;
-  f->cg_rotate = def->cg_rotate, f->lag = def->lag, f->refine = def->refine,
-  f->pd_iters = def->pd_iters;
+  f->cg_refactor = def->cg_refactor, f->cg_rotate = def->cg_rotate, f->lag = def->lag,
+  f->refine = def->refine, f->pd_iters = def->pd_iters;
   return f;
 }
 
@@ -62,6 +69,75 @@ static tb_mat3 element_rotation(const tb_fem *f, int t, const tb_vec3 *x, double
   return r;
 }
 
+/* R of a unit quaternion q = (w, x, y, z). */
+static inline tb_mat3 quat_rot(const double *q) {
+  double w = q[0], x = q[1], y = q[2], z = q[3];
+  return (tb_mat3){{{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                    {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                    {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}}};
+}
+
+/* The unit quaternion of a rotation matrix (Shepperd 1978: from its
+ * largest component). */
+static void rot_quat(tb_mat3 r, double *q) {
+  double(*m)[3] = r.m, t = m[0][0] + m[1][1] + m[2][2], n;
+  if (t >= m[0][0] && t >= m[1][1] && t >= m[2][2]) {
+    n = sqrt(1 + t) * 2;
+    q[0] = n / 4, q[1] = (m[2][1] - m[1][2]) / n, q[2] = (m[0][2] - m[2][0]) / n;
+    q[3] = (m[1][0] - m[0][1]) / n;
+  } else if (m[0][0] >= m[1][1] && m[0][0] >= m[2][2]) {
+    n = sqrt(1 + m[0][0] - m[1][1] - m[2][2]) * 2;
+    q[0] = (m[2][1] - m[1][2]) / n, q[1] = n / 4, q[2] = (m[0][1] + m[1][0]) / n;
+    q[3] = (m[0][2] + m[2][0]) / n;
+  } else if (m[1][1] >= m[2][2]) {
+    n = sqrt(1 - m[0][0] + m[1][1] - m[2][2]) * 2;
+    q[0] = (m[0][2] - m[2][0]) / n, q[1] = (m[0][1] + m[1][0]) / n, q[2] = n / 4;
+    q[3] = (m[1][2] + m[2][1]) / n;
+  } else {
+    n = sqrt(1 - m[0][0] - m[1][1] + m[2][2]) * 2;
+    q[0] = (m[1][0] - m[0][1]) / n, q[1] = (m[0][2] + m[2][0]) / n;
+    q[2] = (m[1][2] + m[2][1]) / n, q[3] = n / 4;
+  }
+}
+
+tb_mat3 tb_fem_polar_warm(tb_mat3 F, double *q) {
+  if (tb_m3_det(F) > 0)
+    for (int it = 0; it < 6; it++) {
+      tb_mat3 r = quat_rot(q);
+      double S[3][3];
+      for (int i = 0; i < 3; i++) /* S = R^T F */
+        for (int j = 0; j < 3; j++)
+          S[i][j] = r.m[0][i] * F.m[0][j] + r.m[1][i] * F.m[1][j] + r.m[2][i] * F.m[2][j];
+      /* R exp(w^) makes S symmetric to first order: (tr S I - sym S) w = axial(S - S^T) */
+      double w0 = S[2][1] - S[1][2], w1 = S[0][2] - S[2][0], w2 = S[1][0] - S[0][1];
+      double a00 = S[1][1] + S[2][2], a11 = S[0][0] + S[2][2], a22 = S[0][0] + S[1][1];
+      double a01 = -0.5 * (S[0][1] + S[1][0]), a02 = -0.5 * (S[0][2] + S[2][0]),
+             a12 = -0.5 * (S[1][2] + S[2][1]);
+      double c00 = a11 * a22 - a12 * a12, c01 = a02 * a12 - a01 * a22, c02 = a01 * a12 - a02 * a11;
+      double det = a00 * c00 + a01 * c01 + a02 * c02;
+      /* the maximum of tr(R^T F) (the polar rotation) has this Hessian
+       * positive definite; else (a saddle, far start) the cold iteration */
+      if (!(a00 > 0) || !(a00 * a11 - a01 * a01 > 0) || !(det > 0)) break;
+      double c11 = a00 * a22 - a02 * a02, c12 = a01 * a02 - a00 * a12, c22 = a00 * a11 - a01 * a01;
+      double id = 1 / det, o0 = (c00 * w0 + c01 * w1 + c02 * w2) * id,
+             o1 = (c01 * w0 + c11 * w1 + c12 * w2) * id, o2 = (c02 * w0 + c12 * w1 + c22 * w2) * id;
+      double oo = o0 * o0 + o1 * o1 + o2 * o2;
+      /* q <- q (1, w/2), normalised (Newton's step along the rotation) */
+      double h0 = 0.5 * o0, h1 = 0.5 * o1, h2 = 0.5 * o2;
+      double n0 = q[0] - q[1] * h0 - q[2] * h1 - q[3] * h2;
+      double n1 = q[1] + q[0] * h0 + q[2] * h2 - q[3] * h1;
+      double n2 = q[2] + q[0] * h1 + q[3] * h0 - q[1] * h2;
+      double n3 = q[3] + q[0] * h2 + q[1] * h1 - q[2] * h0;
+      double in = 1 / sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3);
+      q[0] = n0 * in, q[1] = n1 * in, q[2] = n2 * in, q[3] = n3 * in;
+      /* quadratic convergence: the rotation is now exact to about |w|^2 */
+      if (oo < 1e-16) return quat_rot(q);
+    }
+  tb_mat3 r = tb_m3_polar_newton(F);
+  rot_quat(r, q);
+  return r;
+}
+
 /* k d for the 12x12 element matrix in node blocks. */
 static void element_mul(const double *k, const double d[12], double out[12]) {
   for (int a = 0; a < 4; a++)
@@ -75,18 +151,18 @@ static void element_mul(const double *k, const double d[12], double out[12]) {
     }
 }
 
-/* Tet t: its rotation R (polar decomposition of F = D_s D_m^-1) into
- * f->rot, its forces added to fel and, with kb, R K_e R^T added to the
- * blocks. With g_a the shape-function gradients (g_0 = -g_1 - g_2 - g_3),
- * K_e's blocks are V (lambda g_a g_b^T + mu g_b g_a^T + mu g_a.g_b I)
- * (tb_fem_element_k), so
- *   R K_ab R^T = V (lambda h_a h_b^T + mu h_b h_a^T + mu g_a.g_b I), h = R g,
+/* Tet t: its rotation R (polar decomposition of F = D_s D_m^-1, warm
+ * started from the last step's) into f->rot, its node forces into f->tf
+ * (12) and, with kb, h_a = R g_a into f->th (12). With g_a the
+ * shape-function gradients (g_0 = -g_1 - g_2 - g_3), K_e's blocks are
+ * V (lambda g_a g_b^T + mu g_b g_a^T + mu g_a.g_b I) (tb_fem_element_k), so
+ *   R K_ab R^T = V (lambda h_a h_b^T + mu h_b h_a^T + mu g_a.g_b I),
  *   -R K_e (R^T x_e - X_e) at node a = -V R sigma g_a,
  *   sigma = 2 mu eps + lambda tr(eps) I, eps = sym(R^T F) - I
  * (R^T x_e - X_e has the gradient R^T F - I): a few 3x3 products per tet
  * instead of K_e's 144 entries. */
 static void element(tb_fem *f, int t, int kb) {
-  const int *e = f->tet + 4 * t, *blk = f->tet_blk + 16 * t;
+  const int *e = f->tet + 4 * t;
   const tb_mat3 *di = f->dm_inv + t;
   double g[4][3], vol = f->vol[t], lam = f->lambda, mu = f->mu;
   for (int a = 1; a < 4; a++)
@@ -98,11 +174,7 @@ static void element(tb_fem *f, int t, int kb) {
     ds.m[0][c] = s.x, ds.m[1][c] = s.y, ds.m[2][c] = s.z;
   }
   tb_mat3 F = tb_m3_mul(ds, *di);
-  tb_mat3 r = f->rot[t] = tb_m3_polar_newton(F);
-  if (f->cg_rotate && f->solver == TB_FEM_PCG) /* node rotations (fem_solve.c) */
-    for (int a = 0; a < 4; a++)
-      for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) f->nrot[e[a]].m[i][j] += vol * r.m[i][j];
+  tb_mat3 r = f->rot[t] = tb_fem_polar_warm(F, f->quat + 4 * t);
   double S[3][3], sig[3][3], P[3][3];
   for (int i = 0; i < 3; i++) /* S = R^T F */
     for (int j = 0; j < 3; j++)
@@ -114,50 +186,83 @@ static void element(tb_fem *f, int t, int kb) {
   for (int i = 0; i < 3; i++) /* P = V R sigma */
     for (int j = 0; j < 3; j++)
       P[i][j] = vol * (r.m[i][0] * sig[0][j] + r.m[i][1] * sig[1][j] + r.m[i][2] * sig[2][j]);
-  for (int a = 0; a < 4; a++) {
-    tb_vec3 fa = tb_v3(P[0][0] * g[a][0] + P[0][1] * g[a][1] + P[0][2] * g[a][2],
-                       P[1][0] * g[a][0] + P[1][1] * g[a][1] + P[1][2] * g[a][2],
-                       P[2][0] * g[a][0] + P[2][1] * g[a][1] + P[2][2] * g[a][2]);
-    f->fel[e[a]] = tb_sub(f->fel[e[a]], fa);
-  }
-  if (!kb) return;
-  double h[4][3];
+  double *tf = f->tf + 12 * (size_t)t;
   for (int a = 0; a < 4; a++)
     for (int i = 0; i < 3; i++)
-      h[a][i] = r.m[i][0] * g[a][0] + r.m[i][1] * g[a][1] + r.m[i][2] * g[a][2];
-  double vl = vol * lam, vm = vol * mu;
+      tf[3 * a + i] = -(P[i][0] * g[a][0] + P[i][1] * g[a][1] + P[i][2] * g[a][2]);
+  if (!kb) return;
+  double *th = f->th + 24 * (size_t)t; /* h_a, then V h_a */
   for (int a = 0; a < 4; a++)
-    for (int b = a; b < 4; b++) {
-      double d = vm * (g[a][0] * g[b][0] + g[a][1] * g[b][1] + g[a][2] * g[b][2]), rk[3][3];
-      for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-          rk[i][j] = vl * h[a][i] * h[b][j] + vm * h[b][i] * h[a][j] + (i == j ? d : 0.0);
-      double *dst = f->kb + 9 * blk[4 * a + b];
-      for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) dst[3 * i + j] += rk[i][j];
-      if (b != a) {
-        double *dt = f->kb + 9 * blk[4 * b + a];
-        for (int i = 0; i < 3; i++)
-          for (int j = 0; j < 3; j++) dt[3 * j + i] += rk[i][j];
-      }
+    for (int i = 0; i < 3; i++) {
+      double h = r.m[i][0] * g[a][0] + r.m[i][1] * g[a][1] + r.m[i][2] * g[a][2];
+      th[3 * a + i] = h, th[12 + 3 * a + i] = vol * h;
     }
 }
 
-/* rot, fel <- -sum R K_e (R^T x_e - X_e) and, with kb, kb <- sum R K_e R^T;
- * colour by colour (tets of one colour share no node, hence no block). */
+/* Node n's sums over its tets in ascending order (f->nl): the force fel,
+ * with rot its rotation nrot (and ntr), and with kb its blocks
+ * (n, m >= n) of sum R K_e R^T = mu lb I + sum V (lambda h_a h_b^T +
+ * mu h_b h_a^T) (f->bl). */
+static void gather(tb_fem *f, int n, int kb, int rot) {
+  tb_vec3 s = tb_v3(0, 0, 0);
+  tb_mat3 nr = {{{0}}};
+  for (int k = f->nl_start[n]; k < f->nl_start[n + 1]; k++) {
+    int t = f->nl[k] >> 2, a = f->nl[k] & 3;
+    const double *tf = f->tf + 12 * (size_t)t + 3 * a;
+    s.x += tf[0], s.y += tf[1], s.z += tf[2];
+    if (rot)
+      for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) nr.m[i][j] += f->vol[t] * f->rot[t].m[i][j];
+  }
+  f->fel[n] = s;
+  if (rot) {
+    /* pcg's node rotation R_n: the polar rotation of the volume-weighted
+     * sum of its tets' (warm started from its last); T_n = R_n Q_n^T, Q_n
+     * the node rotations when the preconditioner's factor was made. For a
+     * rigid rotation R of the whole body A = R A_k R^T, so the
+     * preconditioner T A_k^-1 T^T (fem_solve.c) is exact; T is orthogonal
+     * per node, so it stays symmetric positive definite. */
+    f->nrot[n] = tb_fem_polar_warm(nr, f->quat + 4 * ((size_t)f->ntet + n));
+    f->ntr[n] = tb_m3_mul(f->nrot[n], tb_m3_transpose(f->nq[n]));
+  }
+  if (!kb) return;
+  double lam = f->lambda, mu = f->mu;
+  for (int p = f->diag[n]; p < f->row[n + 1]; p++) {
+    /* M = sum V h_a h_b^T, N = sum V h_b h_a^T: the block is lambda M + mu N + mu lb I */
+    double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, m5 = 0, m6 = 0, m7 = 0, m8 = 0;
+    double n0 = 0, n1 = 0, n2 = 0, n3 = 0, n4 = 0, n5 = 0, n6 = 0, n7 = 0, n8 = 0;
+    for (int q = f->bl_start[p]; q < f->bl_start[p + 1]; q++) {
+      int c = f->bl[q];
+      const double *h = f->th + 24 * (size_t)(c >> 4);
+      const double *ha = h + 3 * ((c >> 2) & 3), *hb = h + 3 * (c & 3), *wa = ha + 12,
+                   *wb = hb + 12;
+      m0 += wa[0] * hb[0], m1 += wa[0] * hb[1], m2 += wa[0] * hb[2];
+      m3 += wa[1] * hb[0], m4 += wa[1] * hb[1], m5 += wa[1] * hb[2];
+      m6 += wa[2] * hb[0], m7 += wa[2] * hb[1], m8 += wa[2] * hb[2];
+      n0 += wb[0] * ha[0], n1 += wb[0] * ha[1], n2 += wb[0] * ha[2];
+      n3 += wb[1] * ha[0], n4 += wb[1] * ha[1], n5 += wb[1] * ha[2];
+      n6 += wb[2] * ha[0], n7 += wb[2] * ha[1], n8 += wb[2] * ha[2];
+    }
+    double d = mu * f->lb[p], *k = f->kb + 9 * p;
+    k[0] = lam * m0 + mu * n0 + d, k[1] = lam * m1 + mu * n1, k[2] = lam * m2 + mu * n2;
+    k[3] = lam * m3 + mu * n3, k[4] = lam * m4 + mu * n4 + d, k[5] = lam * m5 + mu * n5;
+    k[6] = lam * m6 + mu * n6, k[7] = lam * m7 + mu * n7, k[8] = lam * m8 + mu * n8 + d;
+  }
+}
+
+/* rot, fel <- -sum R K_e (R^T x_e - X_e) and, with kb, kb <- sum R K_e R^T
+ * on the blocks (n, m >= n) only (the rest is never read: fem_core.c's
+ * matrix and right-hand side and fem_solve.c's product take the
+ * transposes): per tet into per-tet buffers, then per node in a fixed
+ * order (two phases: bit-identical for any thread count). */
 static void assemble(tb_fem *f, int kb) {
+  int rot = f->cg_rotate && f->solver == TB_FEM_PCG;
 #pragma omp parallel
   {
-    if (kb) {
 #pragma omp for schedule(static)
-      for (int p = 0; p < 9 * f->nblk; p++) f->kb[p] = 0;
-    }
+    for (int t = 0; t < f->ntet; t++) element(f, t, kb);
 #pragma omp for schedule(static)
-    for (int i = 0; i < f->nv; i++) f->fel[i] = tb_v3(0, 0, 0), f->nrot[i] = (tb_mat3){{{0}}};
-    for (int c = 0; c < f->ncolours; c++) {
-#pragma omp for schedule(static)
-      for (int q = f->col_start[c]; q < f->col_start[c + 1]; q++) element(f, f->col_order[q], kb);
-    }
+    for (int n = 0; n < f->nv; n++) gather(f, n, kb, rot);
   }
 }
 
@@ -195,6 +300,9 @@ static const tb_setting settings[] = {
                  "pcg: relative residual ||b - A y|| / ||b|| to stop at"),
     TB_SETTING_I(corot_settings, cg_max, 8, 1, 1000,
                  "pcg: CG iterations after which the preconditioner is refactored"),
+    TB_SETTING_I(corot_settings, cg_refactor, 40, 1, 1000000,
+                 "pcg, dynamic steps: refactor once CG took this many iterations beyond 1 per "
+                 "step since the last factorisation"),
     TB_SETTING_I(corot_settings, cg_rotate, 1, 0, 1,
                  "pcg: 1 rotates the preconditioner per node (R_n Q_n^T A_k^-1 Q_n R_n^T)"),
     TB_SETTING_I(corot_settings, lag, 10, 1, 1000000, "lagged: refactor every lag steps"),

@@ -48,7 +48,7 @@ typedef struct tb_fem {
    * col[row[n] .. row[n+1]-1], ascending, itself included at diag[n] */
   int nblk;
   int *row, *col, *diag;
-  double *kb; /* 9 per block: K (fem) or R K_e R^T summed (fem-corot) */
+  double *kb; /* 9 per block: K (fem) or R K_e R^T summed (fem-corot: blocks (n, m >= n) only) */
   double *mb; /* 1 per block: the mass block is mb * I (lumped: diagonal only) */
 
   /* scratch, nv each */
@@ -76,18 +76,25 @@ typedef struct tb_fem {
    * per-element loops add into nodes and blocks in parallel, in an order
    * fixed by the colouring (bit-identical for any thread count) */
   int ncolours, *col_order, *col_start;
-  tb_mat3 *rot; /* per tet: the rotation of the current step (fem-corot) */
-  double *vol;  /* per tet: rest volume */
+  tb_mat3 *rot;       /* per tet: the rotation of the current step (fem-corot) */
+  double *tf, *th;    /* per tet: node forces (12); h_a = R g_a (12), then V h_a (12) */
+  int *nl_start, *nl; /* per node: its (tet, corner) pairs 4 t + a, t ascending */
+  int *bl_start, *bl; /* per block (n, m >= n): its (t, a, b) as 16 t + 4 a + b, t ascending */
+  int *blk_tr;        /* per block (n, m): the block (m, n) */
+  double *quat;       /* per tet, then per node (pcg): the last rotation as a unit quaternion (4) */
+  double *vol;        /* per tet: rest volume */
   double lambda, mu;
 
   /* fem-corot's solvers (fem_solve.c); solver TB_FEM_EXACT for fem */
   int solver;
   double cg_tol;             /* pcg: relative residual */
   int cg_max;                /* pcg: iterations before the preconditioner is refactored */
+  int cg_refactor;           /* pcg: extra iterations since the factor that make a refactor */
+  long cg_excess;            /* pcg: those extra iterations so far */
   int lag, refine, pd_iters; /* lagged: refactor every lag steps, refinements; pd iterations */
   double *lb;                /* per block: the Laplacian sum V g_a.g_b (pd's constant matrix) */
   double *b0, *cg_p, *cg_q;  /* n3 each */
-  double *yprev;             /* n3: pcg's solution before last (warm start) */
+  double *yprev, *yprev2;    /* n3 each: pcg's solutions 2 and 3 steps back (warm start) */
   double *cg_r;              /* n3: pcg's residual */
   int cg_rotate;             /* pcg: preconditioner rotated per node */
   tb_mat3 *nrot, *nq, *ntr;  /* nv each: node rotations now, at the factor, T = R Q^T */

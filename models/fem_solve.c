@@ -6,14 +6,17 @@
  * every step; these reuse a factor:
  *  - pcg: conjugate gradients (Hestenes & Stiefel 1952; Saad, "Iterative
  *    methods for sparse linear systems", alg. 9.1) on A, warm-started from
- *    the last two steps' solutions (linear extrapolation), preconditioned
+ *    the last three steps' solutions (quadratic extrapolation), preconditioned
  *    by the CHOLMOD factor of an earlier A_k ("lagged" preconditioner),
  *    rotated per node (cg_rotate): T A_k^-1 T^T with T_n = R_n Q_n^T, R_n
  *    the node's rotation now, Q_n at the factor (exact for a rigid rotation
  *    of the body). When CG needs more than cg_max iterations the current A
  *    is factored and CG restarts from where it is (it then converges in one
  *    or two iterations). Stops at ||b - A y|| <= cg_tol ||b||: exact to
- *    the tolerance.
+ *    the tolerance. Also refactored at the start of a dynamic step once CG has
+ *    taken cg_refactor iterations beyond one per step since the factor
+ *    (with a fresh factor CG needs one): rent or buy, a factorisation costs
+ *    some tens of solves on the liver.
  *  - lagged: the factor of A is redone every lag steps; the step is a direct
  *    solve with the stale factor plus `refine` iterative refinements
  *    y += P^-1 (b - A y); when a refinement does not halve the residual
@@ -30,26 +33,28 @@
  *    pd_iters iterations per step, warm-started. Approximate: its error
  *    falls with more iterations.
  * Threads (OpenMP) run pd's per-tet loop colour by colour (tets of one
- * colour share no node) and the node rotations; the vector loops over the
- * 3 nv dofs are too short to pay for a fork and stay serial, dot products
- * summed in one order: bit-identical results for any thread count. No
- * allocation in a step that does not refactor (cholmod_solve2 reuses R, Z,
- * Y, E). */
+ * colour share no node; pcg's node rotations come with the element loop,
+ * fem_corot.c); the vector loops over the 3 nv dofs are too short to pay
+ * for a fork and stay serial, dot products summed in one order:
+ * bit-identical results for any thread count. No allocation in a step that
+ * does not refactor (cholmod_solve2 reuses R, Z, Y, E). */
 #include <math.h>
 #include <string.h>
 
 #include "fem_priv.h"
 
 /* out = A y: alpha M + beta K_R over the node blocks, identity on the
- * prescribed dofs and no coupling to them (A's elimination). */
+ * prescribed dofs and no coupling to them (A's elimination). fem-corot
+ * keeps only the blocks (n, m >= n) of the symmetric K_R (fem_corot.c):
+ * each adds to row n and, transposed, to row m. */
 static void amul(const tb_fem *f, double alpha, double beta, const double *y, double *out) {
+  for (int i = 0; i < f->nv; i++)
+    for (int c = 0; c < 3; c++) out[3 * i + c] = f->fixed[i] ? y[3 * i + c] : 0.0;
   for (int i = 0; i < f->nv; i++) {
-    if (f->fixed[i]) {
-      out[3 * i] = y[3 * i], out[3 * i + 1] = y[3 * i + 1], out[3 * i + 2] = y[3 * i + 2];
-      continue;
-    }
-    double s0 = 0, s1 = 0, s2 = 0;
-    for (int p = f->row[i]; p < f->row[i + 1]; p++) {
+    if (f->fixed[i]) continue;
+    const double *v = y + 3 * i;
+    double s0 = out[3 * i], s1 = out[3 * i + 1], s2 = out[3 * i + 2];
+    for (int p = f->diag[i]; p < f->row[i + 1]; p++) {
       int j = f->col[p];
       if (f->fixed[j]) continue;
       const double *k = f->kb + 9 * p, *w = y + 3 * j;
@@ -57,6 +62,11 @@ static void amul(const tb_fem *f, double alpha, double beta, const double *y, do
       s0 += beta * (k[0] * w[0] + k[1] * w[1] + k[2] * w[2]) + m * w[0];
       s1 += beta * (k[3] * w[0] + k[4] * w[1] + k[5] * w[2]) + m * w[1];
       s2 += beta * (k[6] * w[0] + k[7] * w[1] + k[8] * w[2]) + m * w[2];
+      if (j == i) continue;
+      double *o = out + 3 * j;
+      o[0] += beta * (k[0] * v[0] + k[3] * v[1] + k[6] * v[2]) + m * v[0];
+      o[1] += beta * (k[1] * v[0] + k[4] * v[1] + k[7] * v[2]) + m * v[1];
+      o[2] += beta * (k[2] * v[0] + k[5] * v[1] + k[8] * v[2]) + m * v[2];
     }
     out[3 * i] = s0, out[3 * i + 1] = s1, out[3 * i + 2] = s2;
   }
@@ -138,20 +148,6 @@ static void prescribe(tb_fem *f, double *y, const double *b) {
   }
 }
 
-/* Node rotations R_n: the polar rotation of the volume-weighted sum of its
- * tets' rotations (accumulated in f->nrot by the element loop); then
- * T_n = R_n Q_n^T, Q_n the node rotations when the preconditioner's factor
- * was made. For a rigid rotation R of the whole body A = R A_k R^T, so the
- * preconditioner T A_k^-1 T^T is exact; T is orthogonal per node, so it
- * stays symmetric positive definite. */
-static void node_rotations(tb_fem *f) {
-#pragma omp parallel for schedule(static)
-  for (int n = 0; n < f->nv; n++) {
-    f->nrot[n] = tb_m3_polar_newton(f->nrot[n]);
-    f->ntr[n] = tb_m3_mul(f->nrot[n], tb_m3_transpose(f->nq[n]));
-  }
-}
-
 /* The factor is of the current A: Q = R, T = I. */
 static void rotations_factored(tb_fem *f) {
   memcpy(f->nq, f->nrot, sizeof(tb_mat3) * (size_t)f->nv);
@@ -181,12 +177,16 @@ static int precondition(tb_fem *f, const double *r, tb_error *err) {
 static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
   int n3 = 3 * f->nv, it = 0, fresh = 1, refactored = 0;
   double *b = f->B->x, *y = f->Xs->x, *r = f->cg_r, *p = f->cg_p, *q = f->cg_q;
-  /* warm start: y_n-1 + (y_n-1 - y_n-2) from the last two solutions */
-  double w = f->nsteps >= 2 ? 1.0 : 0.0;
+  /* warm start: the quadratic through the last three solutions,
+   * 3 y_n-1 - 3 y_n-2 + y_n-3 (the linear one from two at step 2, and
+   * always quasi-static, whose increments die out: there the quadratic
+   * took more iterations, 5.6 against 5.1 per step on the test's beam) */
+  double *y2 = f->yprev, *y3 = f->yprev2;
+  long k = f->quasistatic && f->nsteps > 2 ? 2 : f->nsteps;
   for (int i = 0; i < n3; i++) {
     double last = y[i];
-    y[i] += w * (last - f->yprev[i]);
-    f->yprev[i] = last;
+    y[i] = k >= 3 ? 3 * (last - y2[i]) + y3[i] : k == 2 ? 2 * last - y2[i] : last;
+    y3[i] = y2[i], y2[i] = last;
   }
   prescribe(f, y, b);
   amul(f, alpha, beta, y, q);
@@ -216,6 +216,8 @@ static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
     it++;
   }
   f->last_iters = it, f->iters += it;
+  /* iterations beyond the one a fresh factor needs, since the last factor */
+  f->cg_excess = refactored ? 0 : f->cg_excess + (it > 1 ? it - 1 : 0);
   f->last_res = nb > 0 ? rr / nb : rr;
   return 0;
 }
@@ -269,7 +271,15 @@ int tb_fem_iterate(tb_fem *f, const tb_step *in, tb_error *err) {
   double alpha, beta;
   int need = tb_fem_begin(f, in, &alpha, &beta, err), s = f->solver;
   if (need < 0) return -1;
-  if (s == TB_FEM_PCG && f->cg_rotate) node_rotations(f);
+  /* pcg, dynamic steps: refactor once the stale factor has cost cg_refactor
+   * extra iterations since the last one (rent or buy: a factorisation costs
+   * some tens of solves). Not quasi-static: there (no mass term) the
+   * liver's system is ill-conditioned while the patch is pulled, an error
+   * of 1e-7 in the residual moves the state by up to ~1e-5 depending on the
+   * preconditioner, and the extra factors moved table 3.5's static error
+   * at 60 steps from 6e-8 to 7e-6 */
+  if (s == TB_FEM_PCG && !f->quasistatic && f->cg_excess >= f->cg_refactor)
+    need = 1, f->cg_excess = 0;
   if (need && tb_fem_refactor(f, alpha, beta, s == TB_FEM_PD, err)) return -1;
   if (need && s == TB_FEM_PCG && f->cg_rotate) rotations_factored(f);
   tb_fem_rhs(f, in, 0, alpha, beta, s == TB_FEM_PD);

@@ -24,4 +24,11 @@ int tb_fem_get_stats(tb_model *m, tb_fem_stats *s, tb_error *err);
 /* Replaces positions and velocities (nv each; v may be NULL for zero). */
 int tb_fem_set_state(tb_model *m, const tb_vec3 *x, const tb_vec3 *v, tb_error *err);
 
+/* The rotation of the polar decomposition F = R S, det F > 0, by Newton's
+ * method on the rotation started from the unit quaternion q (the last
+ * step's; updated): quadratic convergence from a close start. Inverted F,
+ * or a start that does not converge in a few steps, go to
+ * tb_m3_polar_newton (q set from its result). */
+tb_mat3 tb_fem_polar_warm(tb_mat3 F, double *q);
+
 #endif

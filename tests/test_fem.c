@@ -239,14 +239,15 @@ static void test_factor_once(void) {
 
 /* fem-corot's pcg, lagged and pd: a step that does not refactor allocates
  * nothing in CHOLMOD (cholmod_solve2 reuses its workspaces); without a
- * reason to (cg_max not reached, lag not over, pd) none refactors. */
+ * reason to (cg_max and cg_refactor not reached, lag not over, pd) none
+ * refactors. */
 static void test_corot_no_alloc(void) {
   tb_mesh m = beam(4, 8, 2, 2);
   int idx[64];
   tb_vec3 pos[64];
   int nf = clamp_left(&m, 0, idx, pos);
   count_cholmod_allocations();
-  static const char *const kvs[] = {"solver=pcg cg_max=50", "solver=pd",
+  static const char *const kvs[] = {"solver=pcg cg_max=50 cg_refactor=1000000", "solver=pd",
                                     "solver=lagged lag=1000 refine=0", "solver=pcg"};
   for (int k = 0; k < 4; k++) {
     tb_settings d = tb_test_settings(kvs[k]);

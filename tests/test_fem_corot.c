@@ -248,7 +248,47 @@ static void test_threads(void) {
   twist_free(&w);
 }
 
+/* tb_fem_polar_warm gives tb_m3_polar_newton's rotation (to rounding) from
+ * starts near it (a step's turn), far from it (up to a half turn: a saddle
+ * falls back) and for inverted F (falls back), and leaves q at it. */
+static void test_polar_warm(void) {
+  srand(7);
+  double worst = 0, qworst = 0;
+  for (int k = 0; k < 3000; k++) {
+    tb_mat3 a;
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) a.m[i][j] = (i == j) + 0.8 * (rand() / (double)RAND_MAX - 0.5);
+    if (k % 10 == 0) a.m[0][0] = a.m[0][1] = a.m[0][2] = 0, a.m[0][k % 3] = -1; /* inverted */
+    tb_vec3 ax = tb_normalize(tb_v3(rand() % 7 - 3.1, rand() % 5 - 2.1, 1));
+    tb_mat3 f = tb_m3_mul(tb_m3_rotation(ax, 6.0 * rand() / (double)RAND_MAX), a);
+    tb_mat3 want = tb_m3_polar_newton(f);
+    double turn = k % 3 == 0 ? 1e-3 : k % 3 == 1 ? 0.1 : 3.1 * rand() / (double)RAND_MAX;
+    tb_mat3 start = tb_m3_mul(want, tb_m3_rotation(tb_normalize(tb_v3(1, -2, 3)), turn));
+    /* the start as a quaternion: from the axis-angle of start (w = cos(h)) */
+    double tr = start.m[0][0] + start.m[1][1] + start.m[2][2], q[4];
+    q[0] = 0.5 * sqrt(fmax(1 + tr, 1e-30));
+    q[1] = (start.m[2][1] - start.m[1][2]) / (4 * q[0]);
+    q[2] = (start.m[0][2] - start.m[2][0]) / (4 * q[0]);
+    q[3] = (start.m[1][0] - start.m[0][1]) / (4 * q[0]);
+    tb_mat3 got = tb_fem_polar_warm(f, q), back = tb_fem_polar_warm(f, q);
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) {
+        worst = fmax(worst, fabs(got.m[i][j] - want.m[i][j]));
+        qworst = fmax(qworst, fabs(back.m[i][j] - want.m[i][j]));
+      }
+  }
+  printf("  largest entry difference to tb_m3_polar_newton %.2g, restarted from its q %.2g\n",
+         worst, qworst);
+  TB_CHECK(worst < 1e-12);
+  TB_CHECK(qworst < 1e-12);
+}
+
 const tb_test_case tb_tests_fem_corot[] = {
-    {"pcg_exact", test_pcg_exact},       {"pd_error", test_pd_error}, {"counters", test_counters},
-    {"bad_settings", test_bad_settings}, {"threads", test_threads},   {0, 0},
+    {"polar_warm", test_polar_warm},
+    {"pcg_exact", test_pcg_exact},
+    {"pd_error", test_pd_error},
+    {"counters", test_counters},
+    {"bad_settings", test_bad_settings},
+    {"threads", test_threads},
+    {0, 0},
 };
