@@ -1,7 +1,9 @@
 /* Helpers the models share: lumped masses, the symmetric 3x3
  * eigen-decomposition (cyclic Jacobi), the polar decomposition's rotation
  * (through the eigenvectors of A^T A, det R = +1 even for inverted A, as in
- * Irving et al. 2004), the 3x3 inverse, and the blow-up detector. */
+ * Irving et al. 2004), the 3x3 inverse, the blow-up detector, and a
+ * spatial order of points (recursive coordinate bisection, Berger & Bokhari
+ * 1987). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -227,4 +229,49 @@ int tb_model_surface_triangles(const tb_mesh *mesh, const char *model, int **tri
   if (!*tri) return tb_error_set(err, model, 0, "out of memory");
   memcpy(*tri, mesh->tri, sizeof(int) * 3 * (size_t)mesh->ntri);
   return mesh->ntri;
+}
+
+/* ---- spatial order (recursive coordinate bisection) ---- */
+
+/* Points at or below this count stay in the order their parent gave them. */
+#define ORDER_LEAF 8
+
+typedef struct keyed {
+  double key;
+  int id;
+} keyed;
+
+static int keyed_cmp(const void *pa, const void *pb) {
+  const keyed *a = pa, *b = pb;
+  if (a->key != b->key) return a->key < b->key ? -1 : 1;
+  return (a->id > b->id) - (a->id < b->id);
+}
+
+/* Sorts ids[0..n) along the longest side of their box, then each half. */
+static void bisect(const tb_vec3 *x, int *ids, int n, keyed *tmp) {
+  while (n > ORDER_LEAF) {
+    tb_vec3 lo = x[ids[0]], hi = lo;
+    for (int k = 1; k < n; k++) {
+      const tb_vec3 p = x[ids[k]];
+      lo = tb_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+      hi = tb_v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+    }
+    const tb_vec3 d = tb_sub(hi, lo);
+    const int axis = d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
+    for (int k = 0; k < n; k++) tmp[k].key = tb_comp(x[ids[k]], axis), tmp[k].id = ids[k];
+    qsort(tmp, (size_t)n, sizeof *tmp, keyed_cmp);
+    for (int k = 0; k < n; k++) ids[k] = tmp[k].id;
+    const int h = n / 2;
+    bisect(x, ids, h, tmp);
+    ids += h, n -= h; /* the second half without recursion */
+  }
+}
+
+int tb_spatial_order(const tb_vec3 *x, int n, int *order) {
+  keyed *tmp = malloc(sizeof *tmp * (size_t)(n > 0 ? n : 1));
+  if (!tmp) return -1;
+  for (int k = 0; k < n; k++) order[k] = k;
+  bisect(x, order, n, tmp);
+  free(tmp);
+  return 0;
 }

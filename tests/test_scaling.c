@@ -2,7 +2,8 @@
  * bit-identical positions and velocities on 1 and 2 threads (every sm mode,
  * overlapping regions and per-node tet clusters) on a beam large enough
  * that both threads get work (the models stay on one thread below 4096
- * springs or cluster members); the `scaling` suite run tiny
+ * springs or cluster members), msm on 3 threads too; msm's spatial node
+ * order splits a beam into halves across its length; the `scaling` suite run tiny
  * (bench/suite_scaling.c, --scale 0.01: livers of 600, 1200 and 2500
  * tets) writes its tables with their columns, a finite slope, a 30 Hz
  * limit and a peak RSS per tet for every model of the table, finite
@@ -59,25 +60,66 @@ static int run(const char *model, const char *kvs, int threads, int steps, tb_ve
   return rc;
 }
 
-/* 1 and 2 threads: the same bits, and the beam moved (the steps did work). */
-static void identical(const char *model, const char *kvs) {
+/* 1 and nt threads: the same bits, and the beam moved (the steps did work). */
+static void identical_nt(const char *model, const char *kvs, int nt) {
   enum { NV = 31 * 9 * 9, STEPS = 40 };
   static tb_vec3 x1[NV], v1[NV], x2[NV], v2[NV];
   int n1 = 0, n2 = 0, threads = tb_threads();
-  int r1 = run(model, kvs, 1, STEPS, x1, v1, &n1), r2 = run(model, kvs, 2, STEPS, x2, v2, &n2);
+  int r1 = run(model, kvs, 1, STEPS, x1, v1, &n1), r2 = run(model, kvs, nt, STEPS, x2, v2, &n2);
   tb_threads_set(threads);
   if (r1 || r2) return;
   TB_CHECK(n1 == NV && n2 == NV);
   TB_CHECK_MSG(!memcmp(x1, x2, sizeof x1) && !memcmp(v1, v2, sizeof v1),
-               "%s %s: 1 and 2 threads differ", model, kvs);
+               "%s %s: 1 and %d threads differ", model, kvs, nt);
   double moved = 0;
   for (int i = 0; i < NV; i++) moved = fmax(moved, fabs(v1[i].z));
   TB_CHECK_MSG(moved > 1e-3 && isfinite(moved), "%s %s: fastest node %g", model, kvs, moved);
 }
 
+static void identical(const char *model, const char *kvs) { identical_nt(model, kvs, 2); }
+
+/* msm on 2 and on 3 threads (parts that do not fall on the halves of its
+ * spatial order). */
 static void msm_threads_identical(void) {
   identical("msm", "");
   identical("msm", "calibrated=1 node_mass=0 density=1000 E=3000 kd=0.01");
+  identical_nt("msm", "", 3);
+}
+
+/* tb_spatial_order (models/model_util.c, msm's internal node order) on the
+ * beam's nodes, shuffled: a permutation; its first half lies on one side of
+ * a plane across the beam's long axis (x), its first quarter within one
+ * half of that half's longest side. */
+static void spatial_order_halves(void) {
+  tb_mesh m;
+  tb_error err;
+  memset(&m, 0, sizeof m);
+  if (tb_beam(3, 0.8, 0.8, 30, 8, 8, &m, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  const int n = m.nv;
+  tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)n);
+  int *order = malloc(sizeof(int) * (size_t)n), *seen = calloc((size_t)n, sizeof(int));
+  for (int i = 0; i < n; i++) x[i] = m.x[(int)((long)i * 1237 % n)]; /* 1237 is prime to n */
+  TB_CHECK(tb_spatial_order(x, n, order) == 0);
+  int perm = 1;
+  for (int r = 0; r < n; r++) perm &= order[r] >= 0 && order[r] < n && !seen[order[r]]++;
+  TB_CHECK_MSG(perm, "not a permutation of %d points", n);
+  double lo_max = -HUGE_VAL, hi_min = HUGE_VAL, q_max = -HUGE_VAL, q_min = HUGE_VAL;
+  for (int r = 0; perm && r < n; r++) {
+    const tb_vec3 p = x[order[r]];
+    if (r < n / 2)
+      lo_max = fmax(lo_max, p.x);
+    else
+      hi_min = fmin(hi_min, p.x);
+  }
+  TB_CHECK_MSG(lo_max <= hi_min, "halves overlap along x: %g > %g", lo_max, hi_min);
+  for (int r = 0; perm && r < n / 4; r++)
+    q_max = fmax(q_max, x[order[r]].x), q_min = fmin(q_min, x[order[r]].x);
+  TB_CHECK_MSG(q_max - q_min <= 0.8 + 1e-9, "first quarter spans %g in x", q_max - q_min);
+  free(x), free(order), free(seen);
+  tb_mesh_free(&m);
 }
 
 static void sm_threads_identical(void) {
@@ -167,5 +209,6 @@ const tb_test_case tb_tests_scaling[] = {
     {"scaling_suite_smoke", scaling_suite_smoke},
     {"msm_threads_identical", msm_threads_identical},
     {"sm_threads_identical", sm_threads_identical},
+    {"spatial_order_halves", spatial_order_halves},
     {0, 0},
 };
