@@ -3,7 +3,8 @@
  * overlapping regions and per-node tet clusters) on a beam large enough
  * that both threads get work (the models stay on one thread below 4096
  * springs or cluster members), msm on 3 threads too; msm's spatial node
- * order splits a beam into halves across its length; the `scaling` suite run tiny
+ * order splits a beam into halves across its length; the blow-up check
+ * reports the same on 1 and 2 threads; the `scaling` suite run tiny
  * (bench/suite_scaling.c, --scale 0.01: livers of 600, 1200 and 2500
  * tets) writes its tables with their columns, a finite slope, a 30 Hz
  * limit and a peak RSS per tet for every model of the table, finite
@@ -130,6 +131,54 @@ static void sm_threads_identical(void) {
   for (int k = 0; k < 6; k++) identical("sm", kvs[k]);
 }
 
+/* tb_model_health on threads (models/model_util.c: 20 000 nodes or tets
+ * and up) on a 60 x 18 x 18 beam (22021 nodes, 116640 tets): the first bad
+ * node and the inverted tets' count and first, on 1 and 2 threads alike. */
+static void health_threads(void) {
+  tb_mesh m;
+  tb_error err;
+  memset(&m, 0, sizeof m);
+  if (tb_beam(6, 1.8, 1.8, 60, 18, 18, &m, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  const int nv = m.nv, threads = tb_threads();
+  TB_CHECK(nv >= 20000 && m.ntet >= 20000);
+  tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)nv), *v = calloc((size_t)nv, sizeof(tb_vec3));
+  char want[3][96];
+  snprintf(want[0], sizeof want[0], "NaN or inf (node %d)", nv / 3);
+  snprintf(want[1], sizeof want[1], "velocity 20 beyond bound 10 (node %d)", nv / 4);
+  tb_vec3 *xm = malloc(sizeof(tb_vec3) * (size_t)nv); /* the part x < 3 mirrored about x = 8 */
+  for (int i = 0; i < nv; i++)
+    xm[i] = m.x[i].x < 3 - 1e-9 ? tb_v3(16 - m.x[i].x, m.x[i].y, m.x[i].z) : m.x[i];
+  int cut = 0, first = -1; /* inverted tets, counted here one by one */
+  for (int t = 0; t < m.ntet; t++) {
+    const int *e = m.tet + 4 * t;
+    if (!(tb_tet_volume(xm[e[0]], xm[e[1]], xm[e[2]], xm[e[3]]) > 0) && !cut++) first = t;
+  }
+  TB_CHECK(cut > 1000 && first >= 0);
+  snprintf(want[2], sizeof want[2], "inverted elements (%d, first tet %d)", cut, first);
+  for (int nt = 1; nt <= 2; nt++) {
+    tb_threads_set(nt);
+    memcpy(x, m.x, sizeof(tb_vec3) * (size_t)nv);
+    TB_CHECK(tb_model_health(&m, x, v, 10, 1).ok);
+    x[nv / 3].y = NAN, x[nv - 5].z = INFINITY;
+    tb_health h = tb_model_health(&m, x, v, 10, 1);
+    TB_CHECK_MSG(!h.ok && !strcmp(h.reason, want[0]), "%d threads: %s", nt, h.reason);
+    memcpy(x, m.x, sizeof(tb_vec3) * (size_t)nv);
+    v[nv / 4] = v[nv - 3] = tb_v3(0, 20, 0);
+    h = tb_model_health(&m, x, v, 10, 1);
+    TB_CHECK_MSG(!h.ok && !strcmp(h.reason, want[1]), "%d threads: %s", nt, h.reason);
+    v[nv / 4] = v[nv - 3] = tb_v3(0, 0, 0);
+    h = tb_model_health(&m, xm, v, 10, 1);
+    TB_CHECK_MSG(!h.ok && !strcmp(h.reason, want[2]), "%d threads: %s, not %s", nt, h.reason,
+                 want[2]);
+  }
+  tb_threads_set(threads);
+  free(x), free(v), free(xm);
+  tb_mesh_free(&m);
+}
+
 /* The suite's CSV file into buf; 0 when read. */
 static int slurp(const char *file, char *buf, int cap) {
   char cmd[700];
@@ -210,5 +259,6 @@ const tb_test_case tb_tests_scaling[] = {
     {"msm_threads_identical", msm_threads_identical},
     {"sm_threads_identical", sm_threads_identical},
     {"spatial_order_halves", spatial_order_halves},
+    {"health_threads", health_threads},
     {0, 0},
 };
