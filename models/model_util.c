@@ -1,7 +1,9 @@
 /* Helpers the models share: lumped masses, the symmetric 3x3
  * eigen-decomposition (cyclic Jacobi), the polar decomposition's rotation
  * (through the eigenvectors of A^T A, det R = +1 even for inverted A, as in
- * Irving et al. 2004), the 3x3 inverse, and the blow-up detector. */
+ * Irving et al. 2004), the 3x3 inverse, the blow-up detector, and a
+ * spatial order of points (recursive coordinate bisection, Berger & Bokhari
+ * 1987). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -163,31 +165,45 @@ int tb_m3_inverse(tb_mat3 a, tb_mat3 *inv) {
   return 1;
 }
 
+/* Nodes (tets) below which the health check stays on one thread. */
+#define HEALTH_PARALLEL_MIN 20000
+
+/* The checks run on threads over fixed ranges; each keeps the first bad
+ * index (an integer minimum) and the tets count inverted ones (an integer
+ * sum), so the report is the serial one for any thread count. */
 tb_health tb_model_health(const tb_mesh *rest, const tb_vec3 *x, const tb_vec3 *v, double vmax,
                           int inversion) {
   tb_health h;
   h.ok = 1, h.reason[0] = 0;
-  for (int i = 0; i < rest->nv; i++)
-    if (!tb_isfinite3(x[i]) || (v && !tb_isfinite3(v[i]))) {
+  const int nv = rest->nv, ntet = inversion ? rest->ntet : 0;
+  int bad = nv, fast = nv, inverted = 0, first = ntet;
+#pragma omp parallel for schedule(static) reduction(min : bad) if (nv >= HEALTH_PARALLEL_MIN)
+  for (int i = 0; i < nv; i++)
+    if (i < bad && (!tb_isfinite3(x[i]) || (v && !tb_isfinite3(v[i])))) bad = i;
+  if (bad < nv) {
+    h.ok = 0;
+    snprintf(h.reason, sizeof h.reason, "NaN or inf (node %d)", bad);
+    return h;
+  }
+  if (v && vmax > 0) {
+#pragma omp parallel for schedule(static) reduction(min : fast) if (nv >= HEALTH_PARALLEL_MIN)
+    for (int i = 0; i < nv; i++)
+      if (i < fast && tb_len(v[i]) > vmax) fast = i;
+    if (fast < nv) {
       h.ok = 0;
-      snprintf(h.reason, sizeof h.reason, "NaN or inf (node %d)", i);
+      snprintf(h.reason, sizeof h.reason, "velocity %.3g beyond bound %.3g (node %d)",
+               tb_len(v[fast]), vmax, fast);
       return h;
     }
-  if (v && vmax > 0)
-    for (int i = 0; i < rest->nv; i++)
-      if (tb_len(v[i]) > vmax) {
-        h.ok = 0;
-        snprintf(h.reason, sizeof h.reason, "velocity %.3g beyond bound %.3g (node %d)",
-                 tb_len(v[i]), vmax, i);
-        return h;
-      }
-  int inverted = 0, first = -1;
-  for (int t = 0; inversion && t < rest->ntet; t++) {
+  }
+#pragma omp parallel for schedule(static) reduction(+ : inverted) reduction(min : first) \
+    if (ntet >= HEALTH_PARALLEL_MIN)
+  for (int t = 0; t < ntet; t++) {
     const int *e = rest->tet + 4 * t;
     double v0 = tb_tet_volume(rest->x[e[0]], rest->x[e[1]], rest->x[e[2]], rest->x[e[3]]);
     double v1 = tb_tet_volume(x[e[0]], x[e[1]], x[e[2]], x[e[3]]);
     if (v0 > 0 && !(v1 > 0)) {
-      if (first < 0) first = t;
+      if (t < first) first = t;
       inverted++;
     }
   }
@@ -227,4 +243,49 @@ int tb_model_surface_triangles(const tb_mesh *mesh, const char *model, int **tri
   if (!*tri) return tb_error_set(err, model, 0, "out of memory");
   memcpy(*tri, mesh->tri, sizeof(int) * 3 * (size_t)mesh->ntri);
   return mesh->ntri;
+}
+
+/* ---- spatial order (recursive coordinate bisection) ---- */
+
+/* Points at or below this count stay in the order their parent gave them. */
+#define ORDER_LEAF 8
+
+typedef struct keyed {
+  double key;
+  int id;
+} keyed;
+
+static int keyed_cmp(const void *pa, const void *pb) {
+  const keyed *a = pa, *b = pb;
+  if (a->key != b->key) return a->key < b->key ? -1 : 1;
+  return (a->id > b->id) - (a->id < b->id);
+}
+
+/* Sorts ids[0..n) along the longest side of their box, then each half. */
+static void bisect(const tb_vec3 *x, int *ids, int n, keyed *tmp) {
+  while (n > ORDER_LEAF) {
+    tb_vec3 lo = x[ids[0]], hi = lo;
+    for (int k = 1; k < n; k++) {
+      const tb_vec3 p = x[ids[k]];
+      lo = tb_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+      hi = tb_v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+    }
+    const tb_vec3 d = tb_sub(hi, lo);
+    const int axis = d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
+    for (int k = 0; k < n; k++) tmp[k].key = tb_comp(x[ids[k]], axis), tmp[k].id = ids[k];
+    qsort(tmp, (size_t)n, sizeof *tmp, keyed_cmp);
+    for (int k = 0; k < n; k++) ids[k] = tmp[k].id;
+    const int h = n / 2;
+    bisect(x, ids, h, tmp);
+    ids += h, n -= h; /* the second half without recursion */
+  }
+}
+
+int tb_spatial_order(const tb_vec3 *x, int n, int *order) {
+  keyed *tmp = malloc(sizeof *tmp * (size_t)(n > 0 ? n : 1));
+  if (!tmp) return -1;
+  for (int k = 0; k < n; k++) order[k] = k;
+  bisect(x, order, n, tmp);
+  free(tmp);
+  return 0;
 }

@@ -27,18 +27,27 @@
  * Hot data are flat arrays: x, v, f, 1/m per node; (i, j), l0, k per spring.
  * A step allocates nothing.
  *
- * Threads (core/tb_threads.h). Springs are sorted by (i, j), i < j, so the
- * serial scatter adds to node n, in ascending spring order, first its
- * springs (i, n) by ascending i, then its springs (n, j) by ascending j. The
- * nodes are split into nt contiguous parts [n0, n1) holding about ns / nt
- * springs each (by their first node). A spring with i in a part and j
- * beyond it ("crossing") is computed first into fs (all parts at once);
- * after one barrier each part, alone: starts every node's force with the
- * external force minus its crossing springs from earlier parts (i < n0:
- * the first of its (i, n)), then runs the serial scatter over its own
- * springs, taking a crossing spring's force from fs, then integrates its
- * nodes. Every node thus sums its springs in ascending spring order for any
- * part count: the same bits as the serial scatter, which one thread runs.
+ * Node order. The model numbers the nodes internally in a spatial order
+ * (tb_spatial_order: recursive coordinate bisection), fixed at create, and
+ * keeps the springs sorted by (i, j), i < j, in that numbering; the step
+ * reads the external forces and prescribed nodes through the permutation
+ * and ends by copying x and v back into the mesh's node order, which
+ * positions(), velocities(), correct() and masses() use. Every node sums,
+ * after its external force, its springs in ascending spring order: first
+ * its springs (i, n) by ascending i, then its springs (n, j) by ascending j.
+ *
+ * Threads (core/tb_threads.h). The nodes are split into nt contiguous parts
+ * [n0, n1) of the internal numbering holding about ns / nt springs each (by
+ * their first node): compact pieces of the body, so few springs cross
+ * between them. A spring with i in a part and j beyond it ("crossing") is
+ * computed first into fs (all parts at once); after one barrier each part,
+ * alone: starts every node's force with the external force minus its
+ * crossing springs from earlier parts (i < n0: the first of its (i, n)),
+ * then runs the serial scatter over its own springs, taking a crossing
+ * spring's force from fs, then integrates its nodes; after a second barrier
+ * the copy back is split by mesh node. Every node thus sums its springs in
+ * the same order for any part count: the same bits as the serial scatter,
+ * which one thread runs.
  */
 #include <math.h>
 #include <stddef.h>
@@ -62,22 +71,26 @@ typedef struct msm_settings {
 
 typedef struct msm {
   int nv, ns;
-  tb_vec3 *x, *v, *f; /* positions, velocities, force accumulator */
-  double *mass, *invm;
-  int *ij;        /* 2*ns node pairs, i < j */
-  double *l0, *k; /* rest lengths, stiffnesses */
+  /* internal node order (see the head): old[n] is the mesh node of internal
+   * node n, nw[m] the internal node of mesh node m */
+  int *old, *nw;
+  tb_vec3 *x, *v, *f; /* positions, velocities, force accumulator (internal) */
+  tb_vec3 *xo, *vo;   /* positions and velocities in the mesh's node order */
+  double *mass;       /* mesh order (masses()) */
+  double *invm;       /* internal order */
+  int *ij;            /* 2*ns internal node pairs, i < j, sorted */
+  double *l0, *k;     /* rest lengths, stiffnesses */
   double kd;
   /* threads (see the head): crossing springs' forces; first[n]: the springs
    * whose first node is below n; node n's springs (i, n) are
-   * in[in_start[n] .. in_start[n+1]), ascending, with their i in in_i;
-   * prescribed-node flags */
+   * in[in_start[n] .. in_start[n+1]), ascending, with their i in in_i */
   tb_vec3 *fs;
   int *first, *in_start, *in, *in_i;
   /* for the split into split_nt parts: part t is nodes [part[t], part[t+1]);
    * node n's springs first[n] .. cross[n] - 1 stay in its part, cross[n] ..
    * first[n+1] - 1 cross beyond it */
   int split_nt, part[MSM_MAX_PARTS + 1], *cross;
-  unsigned char *fixed;
+  int *fixedp; /* per step: 1 + the prescribed entry of internal node n, else 0 */
 } msm;
 
 static double edge_len(tb_vec3 a, tb_vec3 b) {
@@ -88,9 +101,10 @@ static double edge_len(tb_vec3 a, tb_vec3 b) {
 static void destroy(void *self) {
   msm *s = self;
   if (!s) return;
-  free(s->x), free(s->v), free(s->f), free(s->mass), free(s->invm);
+  free(s->old), free(s->nw), free(s->x), free(s->v), free(s->f), free(s->xo), free(s->vo);
+  free(s->mass), free(s->invm);
   free(s->ij), free(s->l0), free(s->k);
-  free(s->fs), free(s->first), free(s->in_start), free(s->in), free(s->in_i), free(s->fixed);
+  free(s->fs), free(s->first), free(s->in_start), free(s->in), free(s->in_i), free(s->fixedp);
   free(s->cross);
   free(s);
 }
@@ -138,9 +152,9 @@ static int node_springs(msm *s) {
   s->in_start = calloc(nv + 1, sizeof(int));
   s->in = malloc(sizeof(int) * (ns ? ns : 1));
   s->in_i = malloc(sizeof(int) * (ns ? ns : 1));
-  s->fixed = calloc(nv, 1);
+  s->fixedp = calloc(nv ? nv : 1, sizeof(int));
   s->cross = malloc(sizeof(int) * (nv ? nv : 1));
-  if (!s->fs || !s->first || !s->in_start || !s->in || !s->in_i || !s->fixed || !s->cross)
+  if (!s->fs || !s->first || !s->in_start || !s->in || !s->in_i || !s->fixedp || !s->cross)
     return -1;
   for (int e = 0; e < s->ns; e++) s->first[s->ij[2 * e] + 1]++, s->in_start[s->ij[2 * e + 1] + 1]++;
   for (int i = 0; i < s->nv; i++)
@@ -156,6 +170,43 @@ static int node_springs(msm *s) {
   return 0;
 }
 
+/* The internal node order (see the head): nodes in the spatial order,
+ * springs (mesh pairs, l0, k) renumbered and sorted by (i, j) again. */
+static int renumber(msm *s, const tb_mesh *mesh) {
+  const int nv = s->nv, ns = s->ns;
+  s->old = malloc(sizeof(int) * (size_t)(nv ? nv : 1));
+  s->nw = malloc(sizeof(int) * (size_t)(nv ? nv : 1));
+  int *start = calloc((size_t)nv + 2, sizeof(int)), *ij = malloc(sizeof(int) * 2 * (ns ? ns : 1));
+  double *l0 = malloc(sizeof(double) * (ns ? ns : 1)), *k = malloc(sizeof(double) * (ns ? ns : 1));
+  int ok = s->old && s->nw && start && ij && l0 && k && !tb_spatial_order(mesh->x, nv, s->old);
+  if (ok) {
+    for (int n = 0; n < nv; n++) s->nw[s->old[n]] = n;
+    for (int e = 0; e < ns; e++) {
+      int a = s->nw[s->ij[2 * e]], b = s->nw[s->ij[2 * e + 1]];
+      start[(a < b ? a : b) + 2]++;
+    }
+    for (int n = 0; n < nv; n++) start[n + 2] += start[n + 1];
+    for (int e = 0; e < ns; e++) { /* into rows by first node (start[a + 1]: the fill) */
+      int a = s->nw[s->ij[2 * e]], b = s->nw[s->ij[2 * e + 1]];
+      int q = start[(a < b ? a : b) + 1]++;
+      ij[2 * q] = a < b ? a : b, ij[2 * q + 1] = a < b ? b : a, l0[q] = s->l0[e], k[q] = s->k[e];
+    }
+    for (int n = 0; n < nv; n++) /* each row by second node (insertion: rows are short) */
+      for (int q = start[n] + 1; q < start[n + 1]; q++) {
+        int b = ij[2 * q + 1], r = q;
+        double lq = l0[q], kq = k[q];
+        for (; r > start[n] && ij[2 * (r - 1) + 1] > b; r--)
+          ij[2 * r + 1] = ij[2 * (r - 1) + 1], l0[r] = l0[r - 1], k[r] = k[r - 1];
+        ij[2 * r + 1] = b, l0[r] = lq, k[r] = kq;
+      }
+    free(s->ij), free(s->l0), free(s->k);
+    s->ij = ij, s->l0 = l0, s->k = k;
+    ij = NULL, l0 = k = NULL;
+  }
+  free(start), free(ij), free(l0), free(k);
+  return ok ? 0 : -1;
+}
+
 static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   const msm_settings *def = settings;
   if (tb_check_tets(mesh, err)) return NULL;
@@ -167,18 +218,19 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   s->nv = mesh->nv;
   s->kd = def->kd;
   size_t nv = (size_t)mesh->nv;
-  s->x = malloc(sizeof(tb_vec3) * nv);
-  s->v = calloc(nv, sizeof(tb_vec3));
-  s->f = calloc(nv, sizeof(tb_vec3));
-  s->mass = malloc(sizeof(double) * nv);
-  s->invm = malloc(sizeof(double) * nv);
-  if (!s->x || !s->v || !s->f || !s->mass || !s->invm) {
+  s->x = malloc(sizeof(tb_vec3) * (nv ? nv : 1));
+  s->v = calloc(nv ? nv : 1, sizeof(tb_vec3));
+  s->f = calloc(nv ? nv : 1, sizeof(tb_vec3));
+  s->xo = malloc(sizeof(tb_vec3) * (nv ? nv : 1));
+  s->vo = calloc(nv ? nv : 1, sizeof(tb_vec3));
+  s->mass = malloc(sizeof(double) * (nv ? nv : 1));
+  s->invm = malloc(sizeof(double) * (nv ? nv : 1));
+  if (!s->x || !s->v || !s->f || !s->xo || !s->vo || !s->mass || !s->invm) {
     tb_error_set(err, "msm", 0, "out of memory");
     goto fail;
   }
-  memcpy(s->x, mesh->x, sizeof(tb_vec3) * nv);
+  memcpy(s->xo, mesh->x, sizeof(tb_vec3) * nv);
   if (tb_lumped_masses(mesh, def->density, def->node_mass, s->mass, err)) goto fail;
-  for (int i = 0; i < s->nv; i++) s->invm[i] = 1.0 / s->mass[i];
 
   s->ns = tb_mesh_edges(mesh, &s->ij);
   if (s->ns < 0) {
@@ -208,6 +260,12 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
     s->k[e] = def->ks;
   }
   if (def->calibrated && calibrate(s, mesh, def->E, err)) goto fail;
+  if (renumber(s, mesh)) {
+    tb_error_set(err, "msm", 0, "out of memory");
+    goto fail;
+  }
+  for (int n = 0; n < s->nv; n++)
+    s->x[n] = mesh->x[s->old[n]], s->invm[n] = 1.0 / s->mass[s->old[n]];
   if (node_springs(s)) {
     tb_error_set(err, "msm", 0, "out of memory");
     goto fail;
@@ -248,13 +306,30 @@ static inline tb_vec3 spring_force(const msm *s, int e, const tb_vec3 *restrict 
                c * dz + s->kd * (v[j].z - v[i].z));
 }
 
-/* Symplectic Euler for free node i with force fi (eqs 3-4..3-6). */
-static inline void integrate(tb_vec3 *restrict x, tb_vec3 *restrict v, int i, tb_vec3 fi,
-                             double invm, tb_vec3 g, double dt) {
+/* Node i's step with force fi: symplectic Euler (eqs 3-4..3-6), or, when
+ * prescribed (fixedp[i] = p + 1), to fixed_x[p] with the velocity that
+ * moved it there. */
+static inline void advance(const msm *s, const tb_step *in, int i, tb_vec3 fi) {
+  tb_vec3 *restrict x = s->x, *restrict v = s->v;
+  const double dt = in->dt;
+  if (s->fixedp[i]) {
+    const tb_vec3 xe = in->fixed_x[s->fixedp[i] - 1];
+    v[i].x = (xe.x - x[i].x) / dt, v[i].y = (xe.y - x[i].y) / dt, v[i].z = (xe.z - x[i].z) / dt;
+    x[i] = xe;
+    return;
+  }
+  const double invm = s->invm[i];
+  const tb_vec3 g = in->gravity;
   v[i].x += dt * (g.x + fi.x * invm);
   v[i].y += dt * (g.y + fi.y * invm);
   v[i].z += dt * (g.z + fi.z * invm);
   x[i].x += dt * v[i].x, x[i].y += dt * v[i].y, x[i].z += dt * v[i].z;
+}
+
+/* Mesh nodes [m0, m1) of x and v copied into the mesh's order. */
+static void copy_back(msm *s, int m0, int m1) {
+  const int *restrict nw = s->nw;
+  for (int m = m0; m < m1; m++) s->xo[m] = s->x[nw[m]], s->vo[m] = s->v[nw[m]];
 }
 
 /* The first node of part t of nt: the smallest n with first[n] >= t ns / nt. */
@@ -300,13 +375,11 @@ static void part_step(msm *s, const tb_step *in, int n0, int n1) {
   const tb_vec3 *restrict fs = s->fs, *restrict ext = in->force;
   const int *restrict ij = s->ij, *restrict in_start = s->in_start, *restrict in_e = s->in,
                       *restrict in_i = s->in_i, *restrict first = s->first,
-                      *restrict cross = s->cross;
-  const double *restrict l0 = s->l0, *restrict k = s->k, *restrict invm = s->invm;
-  const unsigned char *restrict fixed = s->fixed;
-  const double kd = s->kd, dt = in->dt;
-  const tb_vec3 g = in->gravity;
+                      *restrict cross = s->cross, *restrict old = s->old;
+  const double *restrict l0 = s->l0, *restrict k = s->k;
+  const double kd = s->kd;
   for (int n = n0; n < n1; n++) { /* external force, crossing springs from below */
-    tb_vec3 fn = ext ? ext[n] : tb_v3(0, 0, 0);
+    tb_vec3 fn = ext ? ext[old[n]] : tb_v3(0, 0, 0);
     for (int q = in_start[n]; q < in_start[n + 1] && in_i[q] < n0; q++) {
       const tb_vec3 c = fs[in_e[q]];
       fn.x -= c.x, fn.y -= c.y, fn.z -= c.z;
@@ -328,8 +401,7 @@ static void part_step(msm *s, const tb_step *in, int n0, int n1) {
     for (int e = cross[i]; e < first[i + 1]; e++) /* its springs beyond the part: last */
       f[i].x += fs[e].x, f[i].y += fs[e].y, f[i].z += fs[e].z;
   }
-  for (int n = n0; n < n1; n++)
-    if (!fixed[n]) integrate(x, v, n, f[n], invm[n], g, dt);
+  for (int n = n0; n < n1; n++) advance(s, in, n, f[n]);
 }
 
 /* The threaded step's forces and integration in nt parts (see the head). */
@@ -341,6 +413,9 @@ static void step_threads(msm *s, const tb_step *in, int nt) {
     for (int t = 0; t < nt; t++) part_crossing(s, part[t], part[t + 1]);
 #pragma omp for schedule(static)
     for (int t = 0; t < nt; t++) part_step(s, in, part[t], part[t + 1]);
+#pragma omp for schedule(static)
+    for (int t = 0; t < nt; t++)
+      copy_back(s, (int)((long)s->nv * t / nt), (int)((long)s->nv * (t + 1) / nt));
   }
 }
 
@@ -354,52 +429,28 @@ static int step(void *self, const tb_step *in, tb_error *err) {
       return tb_error_set(err, "msm", 0,
                           "prescribed nodes must be strictly ascending in [0, %d): entry %d is %d",
                           nv, p, in->fixed[p]);
-  tb_vec3 *x = s->x, *v = s->v, *f = s->f;
-  const double *invm = s->invm, dt = in->dt;
-  const tb_vec3 g = in->gravity;
-
+  /* fixed_x may alias the positions (holding nodes where they are): it is
+   * read before the copy back */
+  for (int p = 0; p < nfixed; p++) s->fixedp[s->nw[in->fixed[p]]] = p + 1;
   const int nt = tb_threads() < MSM_MAX_PARTS ? tb_threads() : MSM_MAX_PARTS;
   if (nt > 1 && s->ns >= MSM_PARALLEL_MIN) {
     split(s, nt);
-    /* prescribed nodes after the free ones: the springs read their old x, v */
-    for (int p = 0; p < nfixed; p++) s->fixed[in->fixed[p]] = 1;
     step_threads(s, in, nt);
-    for (int p = 0; p < nfixed; p++) {
-      const int i = in->fixed[p];
-      const tb_vec3 xe = in->fixed_x[p];
-      v[i].x = (xe.x - x[i].x) / dt, v[i].y = (xe.y - x[i].y) / dt, v[i].z = (xe.z - x[i].z) / dt;
-      x[i] = xe;
-      s->fixed[i] = 0;
-    }
-    return 0;
+  } else {
+    tb_vec3 *f = s->f;
+    const int *old = s->old;
+    /* external forces (eq. 3-1); gravity is added as an acceleration */
+    for (int n = 0; n < nv; n++) f[n] = in->force ? in->force[old[n]] : tb_v3(0, 0, 0);
+    spring_forces(s->ns, s->ij, s->l0, s->k, s->kd, s->x, s->v, f);
+    for (int n = 0; n < nv; n++) advance(s, in, n, f[n]);
+    copy_back(s, 0, nv);
   }
-
-  /* external forces (eq. 3-1); gravity is added as an acceleration below */
-  if (in->force)
-    memcpy(f, in->force, sizeof(tb_vec3) * (size_t)nv);
-  else
-    memset(f, 0, sizeof(tb_vec3) * (size_t)nv);
-  spring_forces(s->ns, s->ij, s->l0, s->k, s->kd, x, v, f);
-
-  /* symplectic Euler (eqs 3-4..3-6), prescribed nodes merged in (ascending);
-   * fixed_x may alias the positions (holding nodes where they are) */
-  int p = 0, next = nfixed > 0 ? in->fixed[0] : nv;
-  for (int i = 0; i < nv; i++) {
-    if (i == next) {
-      const tb_vec3 xe = in->fixed_x[p];
-      v[i].x = (xe.x - x[i].x) / dt, v[i].y = (xe.y - x[i].y) / dt, v[i].z = (xe.z - x[i].z) / dt;
-      x[i] = xe;
-      p++;
-      next = p < nfixed ? in->fixed[p] : nv;
-      continue;
-    }
-    integrate(x, v, i, f[i], invm[i], g, dt);
-  }
+  for (int p = 0; p < nfixed; p++) s->fixedp[s->nw[in->fixed[p]]] = 0;
   return 0;
 }
 
-static const tb_vec3 *positions(const void *self) { return ((const msm *)self)->x; }
-static const tb_vec3 *velocities(const void *self) { return ((const msm *)self)->v; }
+static const tb_vec3 *positions(const void *self) { return ((const msm *)self)->xo; }
+static const tb_vec3 *velocities(const void *self) { return ((const msm *)self)->vo; }
 
 /* sum 1/2 k (|x_ij| - l_ij)^2 + sum 1/2 m |v|^2 (no gravity potential) */
 static double energy(const void *self) {
@@ -409,7 +460,7 @@ static double energy(const void *self) {
     double d = edge_len(s->x[s->ij[2 * e]], s->x[s->ij[2 * e + 1]]) - s->l0[e];
     w += 0.5 * s->k[e] * d * d;
   }
-  for (int i = 0; i < s->nv; i++) t += 0.5 * s->mass[i] * tb_dot(s->v[i], s->v[i]);
+  for (int i = 0; i < s->nv; i++) t += 0.5 * s->mass[i] * tb_dot(s->vo[i], s->vo[i]);
   return w + t;
 }
 
@@ -418,8 +469,8 @@ static const double *masses(const void *self) { return ((const msm *)self)->mass
 static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
   msm *s = self;
   for (int k = 0; k < n; k++) {
-    if (x) s->x[ids[k]] = x[k];
-    if (v) s->v[ids[k]] = v[k];
+    if (x) s->x[s->nw[ids[k]]] = s->xo[ids[k]] = x[k];
+    if (v) s->v[s->nw[ids[k]]] = s->vo[ids[k]] = v[k];
   }
 }
 

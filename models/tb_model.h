@@ -271,6 +271,12 @@ int tb_model_surface_triangles(const tb_mesh *mesh, const char *model, int **tri
  * are an error naming the tet. */
 int tb_lumped_masses(const tb_mesh *mesh, double density, double node_mass, double *mass,
                      tb_error *err);
+/* A spatially coherent order of n points (recursive coordinate bisection:
+ * halves at the median of the longest side of each half's box, down to
+ * leaves of a few points), so every contiguous run of the order is compact
+ * and its first half/second half split is a plane; order[r] is the point
+ * at rank r. Deterministic (ties by index). Returns 0, or -1 out of memory. */
+int tb_spatial_order(const tb_vec3 *x, int n, int *order);
 /* Rotation R closest to A (polar decomposition A = R S, det R = +1, also for
  * singular or inverted A: the smallest singular direction is flipped). */
 tb_mat3 tb_m3_polar(tb_mat3 a);

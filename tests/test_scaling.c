@@ -2,7 +2,9 @@
  * bit-identical positions and velocities on 1 and 2 threads (every sm mode,
  * overlapping regions and per-node tet clusters) on a beam large enough
  * that both threads get work (the models stay on one thread below 4096
- * springs or cluster members); the `scaling` suite run tiny
+ * springs or cluster members), msm on 3 threads too; msm's spatial node
+ * order splits a beam into halves across its length; the blow-up check
+ * reports the same on 1 and 2 threads; the `scaling` suite run tiny
  * (bench/suite_scaling.c, --scale 0.01: livers of 600, 1200 and 2500
  * tets) writes its tables with their columns, a finite slope, a 30 Hz
  * limit and a peak RSS per tet for every model of the table, finite
@@ -59,25 +61,66 @@ static int run(const char *model, const char *kvs, int threads, int steps, tb_ve
   return rc;
 }
 
-/* 1 and 2 threads: the same bits, and the beam moved (the steps did work). */
-static void identical(const char *model, const char *kvs) {
+/* 1 and nt threads: the same bits, and the beam moved (the steps did work). */
+static void identical_nt(const char *model, const char *kvs, int nt) {
   enum { NV = 31 * 9 * 9, STEPS = 40 };
   static tb_vec3 x1[NV], v1[NV], x2[NV], v2[NV];
   int n1 = 0, n2 = 0, threads = tb_threads();
-  int r1 = run(model, kvs, 1, STEPS, x1, v1, &n1), r2 = run(model, kvs, 2, STEPS, x2, v2, &n2);
+  int r1 = run(model, kvs, 1, STEPS, x1, v1, &n1), r2 = run(model, kvs, nt, STEPS, x2, v2, &n2);
   tb_threads_set(threads);
   if (r1 || r2) return;
   TB_CHECK(n1 == NV && n2 == NV);
   TB_CHECK_MSG(!memcmp(x1, x2, sizeof x1) && !memcmp(v1, v2, sizeof v1),
-               "%s %s: 1 and 2 threads differ", model, kvs);
+               "%s %s: 1 and %d threads differ", model, kvs, nt);
   double moved = 0;
   for (int i = 0; i < NV; i++) moved = fmax(moved, fabs(v1[i].z));
   TB_CHECK_MSG(moved > 1e-3 && isfinite(moved), "%s %s: fastest node %g", model, kvs, moved);
 }
 
+static void identical(const char *model, const char *kvs) { identical_nt(model, kvs, 2); }
+
+/* msm on 2 and on 3 threads (parts that do not fall on the halves of its
+ * spatial order). */
 static void msm_threads_identical(void) {
   identical("msm", "");
   identical("msm", "calibrated=1 node_mass=0 density=1000 E=3000 kd=0.01");
+  identical_nt("msm", "", 3);
+}
+
+/* tb_spatial_order (models/model_util.c, msm's internal node order) on the
+ * beam's nodes, shuffled: a permutation; its first half lies on one side of
+ * a plane across the beam's long axis (x), its first quarter within one
+ * half of that half's longest side. */
+static void spatial_order_halves(void) {
+  tb_mesh m;
+  tb_error err;
+  memset(&m, 0, sizeof m);
+  if (tb_beam(3, 0.8, 0.8, 30, 8, 8, &m, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  const int n = m.nv;
+  tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)n);
+  int *order = malloc(sizeof(int) * (size_t)n), *seen = calloc((size_t)n, sizeof(int));
+  for (int i = 0; i < n; i++) x[i] = m.x[(int)((long)i * 1237 % n)]; /* 1237 is prime to n */
+  TB_CHECK(tb_spatial_order(x, n, order) == 0);
+  int perm = 1;
+  for (int r = 0; r < n; r++) perm &= order[r] >= 0 && order[r] < n && !seen[order[r]]++;
+  TB_CHECK_MSG(perm, "not a permutation of %d points", n);
+  double lo_max = -HUGE_VAL, hi_min = HUGE_VAL, q_max = -HUGE_VAL, q_min = HUGE_VAL;
+  for (int r = 0; perm && r < n; r++) {
+    const tb_vec3 p = x[order[r]];
+    if (r < n / 2)
+      lo_max = fmax(lo_max, p.x);
+    else
+      hi_min = fmin(hi_min, p.x);
+  }
+  TB_CHECK_MSG(lo_max <= hi_min, "halves overlap along x: %g > %g", lo_max, hi_min);
+  for (int r = 0; perm && r < n / 4; r++)
+    q_max = fmax(q_max, x[order[r]].x), q_min = fmin(q_min, x[order[r]].x);
+  TB_CHECK_MSG(q_max - q_min <= 0.8 + 1e-9, "first quarter spans %g in x", q_max - q_min);
+  free(x), free(order), free(seen);
+  tb_mesh_free(&m);
 }
 
 static void sm_threads_identical(void) {
@@ -86,6 +129,54 @@ static void sm_threads_identical(void) {
       "sm_mode=quadratic clusters=12 radius=1.0", "sm_mode=rigid cluster_mode=tets",
       "sm_mode=linear cluster_mode=tets",         "sm_mode=quadratic cluster_mode=tets"};
   for (int k = 0; k < 6; k++) identical("sm", kvs[k]);
+}
+
+/* tb_model_health on threads (models/model_util.c: 20 000 nodes or tets
+ * and up) on a 60 x 18 x 18 beam (22021 nodes, 116640 tets): the first bad
+ * node and the inverted tets' count and first, on 1 and 2 threads alike. */
+static void health_threads(void) {
+  tb_mesh m;
+  tb_error err;
+  memset(&m, 0, sizeof m);
+  if (tb_beam(6, 1.8, 1.8, 60, 18, 18, &m, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  const int nv = m.nv, threads = tb_threads();
+  TB_CHECK(nv >= 20000 && m.ntet >= 20000);
+  tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)nv), *v = calloc((size_t)nv, sizeof(tb_vec3));
+  char want[3][96];
+  snprintf(want[0], sizeof want[0], "NaN or inf (node %d)", nv / 3);
+  snprintf(want[1], sizeof want[1], "velocity 20 beyond bound 10 (node %d)", nv / 4);
+  tb_vec3 *xm = malloc(sizeof(tb_vec3) * (size_t)nv); /* the part x < 3 mirrored about x = 8 */
+  for (int i = 0; i < nv; i++)
+    xm[i] = m.x[i].x < 3 - 1e-9 ? tb_v3(16 - m.x[i].x, m.x[i].y, m.x[i].z) : m.x[i];
+  int cut = 0, first = -1; /* inverted tets, counted here one by one */
+  for (int t = 0; t < m.ntet; t++) {
+    const int *e = m.tet + 4 * t;
+    if (!(tb_tet_volume(xm[e[0]], xm[e[1]], xm[e[2]], xm[e[3]]) > 0) && !cut++) first = t;
+  }
+  TB_CHECK(cut > 1000 && first >= 0);
+  snprintf(want[2], sizeof want[2], "inverted elements (%d, first tet %d)", cut, first);
+  for (int nt = 1; nt <= 2; nt++) {
+    tb_threads_set(nt);
+    memcpy(x, m.x, sizeof(tb_vec3) * (size_t)nv);
+    TB_CHECK(tb_model_health(&m, x, v, 10, 1).ok);
+    x[nv / 3].y = NAN, x[nv - 5].z = INFINITY;
+    tb_health h = tb_model_health(&m, x, v, 10, 1);
+    TB_CHECK_MSG(!h.ok && !strcmp(h.reason, want[0]), "%d threads: %s", nt, h.reason);
+    memcpy(x, m.x, sizeof(tb_vec3) * (size_t)nv);
+    v[nv / 4] = v[nv - 3] = tb_v3(0, 20, 0);
+    h = tb_model_health(&m, x, v, 10, 1);
+    TB_CHECK_MSG(!h.ok && !strcmp(h.reason, want[1]), "%d threads: %s", nt, h.reason);
+    v[nv / 4] = v[nv - 3] = tb_v3(0, 0, 0);
+    h = tb_model_health(&m, xm, v, 10, 1);
+    TB_CHECK_MSG(!h.ok && !strcmp(h.reason, want[2]), "%d threads: %s, not %s", nt, h.reason,
+                 want[2]);
+  }
+  tb_threads_set(threads);
+  free(x), free(v), free(xm);
+  tb_mesh_free(&m);
 }
 
 /* The suite's CSV file into buf; 0 when read. */
@@ -167,5 +258,7 @@ const tb_test_case tb_tests_scaling[] = {
     {"scaling_suite_smoke", scaling_suite_smoke},
     {"msm_threads_identical", msm_threads_identical},
     {"sm_threads_identical", sm_threads_identical},
+    {"spatial_order_halves", spatial_order_halves},
+    {"health_threads", health_threads},
     {0, 0},
 };
