@@ -134,6 +134,7 @@ static const tb_setting settings[] = {
 
 const tb_model_class tb_model_bullet_fem = {
     .name = "bullet-fem",
+    .peer = 1,
     .summary =
         "Bullet 3.24's deformable FEM: backward Euler (1 Newton step, CG, projections), "
         "neohookean|linear|corotated force",

@@ -120,6 +120,7 @@ static const tb_setting settings[] = {
 
 const tb_model_class tb_model_bullet_softbody = {
     .name = "bullet-softbody",
+    .peer = 1,
     .summary = "Bullet 3.24's classic btSoftBody: a link per tet edge, its position solver",
     .settings = settings,
     .nsettings = (int)(sizeof settings / sizeof settings[0]),

@@ -206,6 +206,8 @@ typedef struct tb_model_class {
   int (*cut)(void *self, const tb_cut_event *ev, tb_cut_stats *stats, tb_error *err);
   /* The model's spheres (NULL: it has none), for pictures. */
   tb_model_spheres (*spheres)(const void *self);
+  /* 1: another library's solver (Bullet), a peer in the tables, not ours */
+  int peer;
 } tb_model_class;
 
 /* The table of models (models/model.c). */
