@@ -40,16 +40,6 @@ static int create(tb_model *m, const char *name, const tb_mesh *mesh, const char
   return rc;
 }
 
-static int run(tb_model *m, const tb_step *s, int n) {
-  tb_error err;
-  for (int i = 0; i < n; i++)
-    if (tb_model_step(m, s, &err)) {
-      TB_CHECK_MSG(0, "%s step %d: %s", m->cls->name, i, err.msg);
-      return -1;
-    }
-  return 0;
-}
-
 /* The largest |z drop of a node - d| after n steps of dt from rest. */
 static double fall_error(const char *name, const char *kvs, const tb_mesh *mesh, double dt, int n,
                          double d) {
@@ -57,7 +47,7 @@ static double fall_error(const char *name, const char *kvs, const tb_mesh *mesh,
   if (create(&m, name, mesh, kvs)) return INFINITY;
   tb_step s = {.dt = dt, .gravity = tb_v3(0, 0, -9.81)};
   double worst = INFINITY;
-  if (!run(&m, &s, n)) {
+  if (!tb_test_steps(&m, &s, n)) {
     const tb_vec3 *x = tb_model_positions(&m);
     worst = 0;
     for (int i = 0; i < mesh->nv; i++) {
@@ -119,7 +109,7 @@ static void bullet_fixed_nodes(void) {
     if (create(&m, peers[p][0], &mesh, peers[p][1])) continue;
     tb_step s = {
         .dt = 0.01, .gravity = tb_v3(0, 0, -9.81), .nfixed = nf, .fixed = ids, .fixed_x = at};
-    if (!run(&m, &s, 30)) {
+    if (!tb_test_steps(&m, &s, 30)) {
       const tb_vec3 *x = tb_model_positions(&m), *v = tb_model_velocities(&m);
       int held = 1;
       for (int k = 0; k < nf; k++)
@@ -132,7 +122,7 @@ static void bullet_fixed_nodes(void) {
       tb_vec3 *up = malloc(sizeof(tb_vec3) * (size_t)nf);
       for (int k = 0; k < nf; k++) up[k] = tb_add(at[k], tb_v3(0, 0, 0.01));
       s.fixed_x = up;
-      if (!run(&m, &s, 1)) {
+      if (!tb_test_steps(&m, &s, 1)) {
         x = tb_model_positions(&m), v = tb_model_velocities(&m);
         int moved = 1;
         for (int k = 0; k < nf; k++)
@@ -246,7 +236,7 @@ static void bullet_beam_sag(void) {
     if (create(&m, name[k], &mesh, kvs[k])) continue;
     tb_step s = {
         .dt = 0.01, .gravity = tb_v3(0, 0, -9.81), .nfixed = nf, .fixed = ids, .fixed_x = at};
-    if (!run(&m, &s, steps[k])) {
+    if (!tb_test_steps(&m, &s, steps[k])) {
       const tb_vec3 *x = tb_model_positions(&m);
       double z = 0;
       int n = 0;

@@ -33,16 +33,6 @@ static int create(tb_model *m, const char *name, const tb_mesh *mesh, const tb_s
   return rc;
 }
 
-static int step(tb_model *m, const tb_step *s, int n) {
-  tb_error err;
-  for (int i = 0; i < n; i++)
-    if (tb_model_step(m, s, &err)) {
-      TB_CHECK_MSG(0, "%s step %d: %s", m->cls->name, i, err.msg);
-      return -1;
-    }
-  return 0;
-}
-
 static tb_fem_stats stats(tb_model *m) {
   tb_fem_stats s;
   tb_error err;
@@ -100,7 +90,7 @@ static void patch(const tb_mesh *m, const char *name) {
     tb_step s = plain(0.01, tb_v3(0, 0, 0));
     s.nfixed = nfix, s.fixed = idx, s.fixed_x = pos;
     for (int rep = 0; rep < 2; rep++) { /* corot: the second step re-linearises */
-      if (step(&mod, &s, 1)) break;
+      if (tb_test_steps(&mod, &s, 1)) break;
       const tb_vec3 *x = tb_model_positions(&mod);
       double worst = 0, umax = 0;
       for (int i = 0; i < m->nv; i++) {
@@ -150,7 +140,7 @@ static void test_residual(void) {
       tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
       s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
       for (int i = 0; i < 3; i++) {
-        if (step(&mod, &s, 1)) break;
+        if (tb_test_steps(&mod, &s, 1)) break;
         tb_fem_stats st = stats(&mod);
         TB_CHECK_MSG(st.residual < 1e-10, "%s qs=%d step %d: residual %.3g", models[k], qs, i,
                      st.residual);
@@ -192,25 +182,25 @@ static void test_factor_once(void) {
   if (create(&mod, "fem", &m, &d) == 0) {
     tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
     s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
-    step(&mod, &s, 1);
+    tb_test_steps(&mod, &s, 1);
     long before = nalloc;
-    step(&mod, &s, 99);
+    tb_test_steps(&mod, &s, 99);
     TB_CHECK_MSG(nalloc == before, "CHOLMOD allocated %ld times in 99 re-solves", nalloc - before);
     TB_CHECK(stats(&mod).factorizations == 1);
     TB_CHECK(stats(&mod).solves == 100);
     s.nfixed = nf - 1; /* a different set: one more */
-    step(&mod, &s, 10);
+    tb_test_steps(&mod, &s, 10);
     TB_CHECK(stats(&mod).factorizations == 2);
     s.nfixed = nf; /* back */
-    step(&mod, &s, 10);
+    tb_test_steps(&mod, &s, 10);
     TB_CHECK(stats(&mod).factorizations == 3);
     s.dt = 0.005; /* dt enters the matrix */
-    step(&mod, &s, 10);
+    tb_test_steps(&mod, &s, 10);
     TB_CHECK(stats(&mod).factorizations == 4);
     s.nfixed = 0; /* to the empty set and back */
-    step(&mod, &s, 3);
+    tb_test_steps(&mod, &s, 3);
     s.nfixed = nf;
-    step(&mod, &s, 3);
+    tb_test_steps(&mod, &s, 3);
     TB_CHECK(stats(&mod).factorizations == 6);
     tb_model_destroy(&mod);
   }
@@ -219,9 +209,9 @@ static void test_factor_once(void) {
   if (create(&mod, "fem", &m, &d) == 0) {
     tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
     s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
-    step(&mod, &s, 5);
+    tb_test_steps(&mod, &s, 5);
     s.dt = 0.02;
-    step(&mod, &s, 5);
+    tb_test_steps(&mod, &s, 5);
     TB_CHECK(stats(&mod).factorizations == 1);
     tb_model_destroy(&mod);
   }
@@ -230,7 +220,7 @@ static void test_factor_once(void) {
   if (create(&mod, "fem-corot", &m, &d) == 0) {
     tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
     s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
-    step(&mod, &s, 7);
+    tb_test_steps(&mod, &s, 7);
     TB_CHECK(stats(&mod).factorizations == 7);
     tb_model_destroy(&mod);
   }
@@ -255,10 +245,10 @@ static void test_corot_no_alloc(void) {
     if (create(&mod, "fem-corot", &m, &d)) continue;
     tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
     s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
-    step(&mod, &s, 2);
+    tb_test_steps(&mod, &s, 2);
     long before = nalloc;
     int factors = stats(&mod).factorizations;
-    step(&mod, &s, 50);
+    tb_test_steps(&mod, &s, 50);
     if (stats(&mod).factorizations == factors)
       TB_CHECK_MSG(nalloc == before, "%s: CHOLMOD allocated %ld times in 50 steps", kvs[k],
                    nalloc - before);
@@ -286,7 +276,7 @@ static void test_rigid_motion(void) {
     TB_CHECK_MSG(tb_fem_set_state(&mod, x, NULL, &err) == 0, "%s", err.msg);
     double e0 = tb_model_energy(&mod);
     tb_step s = plain(0.01, tb_v3(0, 0, 0));
-    if (step(&mod, &s, 1) == 0) {
+    if (tb_test_steps(&mod, &s, 1) == 0) {
       const tb_vec3 *v = tb_model_velocities(&mod);
       double vmax = 0;
       for (int i = 0; i < m.nv; i++) vmax = fmax(vmax, tb_len(v[i]));
@@ -391,7 +381,7 @@ static void test_free_fall(void) {
         tb_model mod;
         if (create(&mod, models[k], &m, &d)) continue;
         tb_step s = plain(dt, tb_v3(0, 0, g));
-        if (step(&mod, &s, n)) {
+        if (tb_test_steps(&mod, &s, n)) {
           tb_model_destroy(&mod);
           continue;
         }
@@ -442,8 +432,8 @@ static void test_forces_like_gravity(void) {
       tb_step sa = plain(0.01, g), sb = plain(0.01, tb_v3(0, 0, 0));
       sa.nfixed = sb.nfixed = nf, sa.fixed = sb.fixed = idx, sa.fixed_x = sb.fixed_x = pos;
       sb.force = force;
-      step(&a, &sa, 5);
-      step(&b, &sb, 5);
+      tb_test_steps(&a, &sa, 5);
+      tb_test_steps(&b, &sb, 5);
       double dmax = 0, umax = 0;
       for (int i = 0; i < m.nv; i++) {
         dmax = fmax(dmax, tb_dist(tb_model_positions(&a)[i], tb_model_positions(&b)[i]));
@@ -475,7 +465,7 @@ static void test_energy_decays(void) {
     TB_CHECK(e0 > 0);
     tb_step s = plain(0.002, tb_v3(0, 0, 0));
     for (int i = 0; i < 40; i++) {
-      if (step(&mod, &s, 1)) break;
+      if (tb_test_steps(&mod, &s, 1)) break;
       double en = tb_model_energy(&mod);
       if (k == 0)
         TB_CHECK_MSG(en <= e * (1 + 1e-12), "fem step %d: energy %.10g -> %.10g", i, e, en);
@@ -504,7 +494,7 @@ static void test_prescribed_motion(void) {
       for (int j = 0; j < nf; j++) goal[j] = tb_add(pos[j], tb_v3(0.01 * i, 0, 0.02 * i * i));
       tb_vec3 old[64];
       for (int j = 0; j < nf; j++) old[j] = tb_model_positions(&mod)[idx[j]];
-      if (step(&mod, &s, 1)) break;
+      if (tb_test_steps(&mod, &s, 1)) break;
       for (int j = 0; j < nf; j++) {
         tb_vec3 xj = tb_model_positions(&mod)[idx[j]], vj = tb_model_velocities(&mod)[idx[j]];
         TB_CHECK(xj.x == goal[j].x && xj.y == goal[j].y && xj.z == goal[j].z);
@@ -535,8 +525,8 @@ static void test_corot_small_strain(void) {
     tb_step s = plain(0.01, tb_v3(0, 0, -0.0981));
     s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
     int n = qs ? 10 : 30;
-    step(&lin, &s, n);
-    step(&cor, &s, n);
+    tb_test_steps(&lin, &s, n);
+    tb_test_steps(&cor, &s, n);
     double dmax = 0, umax = 0;
     for (int i = 0; i < m.nv; i++) {
       dmax = fmax(dmax, tb_dist(tb_model_positions(&lin)[i], tb_model_positions(&cor)[i]));
@@ -564,9 +554,9 @@ static void test_deterministic(void) {
       if (create(&mod, models[k], &m, &d)) continue;
       tb_step s = plain(0.01, tb_v3(0, 0, -9.81));
       s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
-      step(&mod, &s, 20);
+      tb_test_steps(&mod, &s, 20);
       s.nfixed = nf - 2;
-      step(&mod, &s, 5);
+      tb_test_steps(&mod, &s, 5);
       run[r] = malloc(sizeof(tb_vec3) * (size_t)m.nv);
       memcpy(run[r], tb_model_positions(&mod), sizeof(tb_vec3) * (size_t)m.nv);
       tb_model_destroy(&mod);
@@ -595,7 +585,7 @@ static void test_cantilever(void) {
     if (create(&mod, "fem", &m, &d) == 0) {
       tb_step s = plain(0.01, tb_v3(0, 0, -g));
       s.nfixed = nf, s.fixed = idx, s.fixed_x = pos;
-      if (step(&mod, &s, 1) == 0) {
+      if (tb_test_steps(&mod, &s, 1) == 0) {
         const tb_vec3 *x = tb_model_positions(&mod);
         int n = 0;
         for (int i = 0; i < m.nv; i++)

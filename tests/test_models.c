@@ -85,6 +85,16 @@ tb_settings tb_test_settings(const char *kvs) {
   return s;
 }
 
+int tb_test_steps(tb_model *m, const tb_step *in, int n) {
+  tb_error err;
+  for (int i = 0; i < n; i++)
+    if (tb_model_step(m, in, &err)) {
+      tb_test_fail(__FILE__, __LINE__, "%s step %d: %s", m->cls->name, i, err.msg);
+      return -1;
+    }
+  return 0;
+}
+
 /* tb_settings holds text: replaces, fills up, keeps %.17g exact. */
 static void settings_text(void) {
   tb_settings s;

@@ -72,16 +72,6 @@ static tb_step no_forces(double dt) {
   return s;
 }
 
-static int run(tb_model *m, const tb_step *s, int n) {
-  tb_error err;
-  for (int i = 0; i < n; i++)
-    if (tb_model_step(m, s, &err)) {
-      TB_CHECK_MSG(0, "step %d: %s", i, err.msg);
-      return -1;
-    }
-  return 0;
-}
-
 static tb_vec3 centroid(const tb_vec3 *x, int n) {
   tb_vec3 c = tb_v3(0, 0, 0);
   for (int i = 0; i < n; i++) c = tb_add(c, x[i]);
@@ -122,7 +112,7 @@ static void rigid_motion_invariance(void) {
       tb_vec3 *x = xs(&m);
       for (int i = 0; i < mesh.nv; i++) x[i] = tb_add(tb_m3_mulv(rot, mesh.x[i]), shift);
       tb_step s = no_forces(0.01);
-      run(&m, &s, 20);
+      tb_test_steps(&m, &s, 20);
       double dx = 0, vmax = 0;
       for (int i = 0; i < mesh.nv; i++) {
         dx = fmax(dx, tb_dist(x[i], tb_add(tb_m3_mulv(rot, mesh.x[i]), shift)));
@@ -151,7 +141,7 @@ static void alpha_one_is_rigid(void) {
     for (int j = i + 1; j < mesh.nv; j++)
       before = fmax(before, fabs(tb_dist(x[i], x[j]) - tb_dist(mesh.x[i], mesh.x[j])));
   tb_step s = no_forces(0.02);
-  run(&m, &s, 1);
+  tb_test_steps(&m, &s, 1);
   for (int i = 0; i < mesh.nv; i++)
     for (int j = i + 1; j < mesh.nv; j++)
       after = fmax(after, fabs(tb_dist(x[i], x[j]) - tb_dist(mesh.x[i], mesh.x[j])));
@@ -167,7 +157,7 @@ static double one_step_motion(const tb_mesh *mesh, const tb_settings *d, const t
   if (create(&m, mesh, d)) return INFINITY;
   memcpy(xs(&m), x, sizeof(tb_vec3) * (size_t)mesh->nv);
   tb_step s = no_forces(0.01);
-  run(&m, &s, 1);
+  tb_test_steps(&m, &s, 1);
   double dx = 0;
   for (int i = 0; i < mesh->nv; i++) dx = fmax(dx, tb_dist(tb_model_positions(&m)[i], x[i]));
   tb_model_destroy(&m);
@@ -246,7 +236,7 @@ static void unconditional_stability(void) {
       tb_step s = no_forces(1.0);
       int finite = 1;
       for (int k = 0; k < 1000 && finite; k++) {
-        if (run(&m, &s, 1)) break;
+        if (tb_test_steps(&m, &s, 1)) break;
         for (int i = 0; i < nv; i++) {
           finite &= tb_isfinite3(x[i]);
           rmax = fmax(rmax, tb_dist(x[i], c));
@@ -306,7 +296,7 @@ static void free_fall_momentum(void) {
       tb_step s = no_forces(0.01);
       s.gravity = tb_v3(0, -9.81, 0), s.force = force;
       int n = 100;
-      run(&m, &s, n);
+      tb_test_steps(&m, &s, n);
       momentum(&mesh, &m, &p, &c, &mt);
       tb_vec3 pe = tb_scale(tb_madd(v0, n * s.dt, a), mt);
       tb_vec3 ce = tb_madd(tb_madd(c0, n * s.dt, v0), s.dt * s.dt * n * (n + 1) / 2.0, a);
@@ -492,7 +482,7 @@ static void shake(tb_model *m, const tb_mesh *mesh, int n) {
   tb_vec3 fx[1] = {mesh->x[0]};
   tb_step s = no_forces(0.01);
   s.gravity = tb_v3(0, 0, -9.81), s.force = f, s.nfixed = 1, s.fixed = fixed, s.fixed_x = fx;
-  run(m, &s, n);
+  tb_test_steps(m, &s, n);
   free(f);
 }
 
@@ -529,7 +519,7 @@ static void determinism_and_point_clouds(void) {
       tb_vec3 *x = xs(&m);
       for (int i = 0; i < pc.nv; i++) x[i] = tb_add(tb_m3_mulv(rot, pc.x[i]), tb_v3(1, 2, 3));
       tb_step s = no_forces(0.01);
-      run(&m, &s, 10);
+      tb_test_steps(&m, &s, 10);
       double dx = 0;
       for (int i = 0; i < pc.nv; i++)
         dx = fmax(dx, tb_dist(x[i], tb_add(tb_m3_mulv(rot, pc.x[i]), tb_v3(1, 2, 3))));
