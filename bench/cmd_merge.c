@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "tb_parse.h"
 #include "tb_cli.h"
 #include "tb_results.h"
 
@@ -132,11 +133,7 @@ int tb_shard_info_read(const char *dir, tb_shard_info *s, tb_error *err) {
   if (!R.f)
     return tb_error_set(err, path, 0, "cannot open (%s): not a `reproduce --shard` folder",
                         strerror(errno));
-  ini_allow_multiline = 0;
-  ini_stop_on_first_error = 1;
-  ini_use_stack = 0;
-  ini_allow_realloc = 1;
-  ini_max_line = 4096;
+  tb_ini_setup();
   int rc = ini_parse_stream(read_line, &R, on_key, &R);
   fclose(R.f);
   if (R.failed) return -1;

@@ -1,5 +1,6 @@
 /* Strict parsing of command-line values (core/tb_parse.h). */
 #include <errno.h>
+#include <ini.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -17,4 +18,12 @@ int tb_parse_vec3(const char *s, tb_vec3 *out, const char **rest) {
   *out = tb_v3(c[0], c[1], c[2]);
   if (rest) *rest = end;
   return 0;
+}
+
+void tb_ini_setup(void) {
+  ini_allow_multiline = 0;
+  ini_stop_on_first_error = 1;
+  ini_use_stack = 0;
+  ini_allow_realloc = 1;
+  ini_max_line = 4096;
 }

@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "tb_parse.h"
 #include "results_priv.h"
 
 enum { MODE_NORMAL, MODE_SHARD, MODE_REPLAY };
@@ -316,11 +317,7 @@ int tb_shard_load(const char *path, const char *folder, int shard, tb_error *err
   FILE *f = fopen(path, "r");
   if (!f) return tb_error_set(err, path, 0, "cannot open: %s", strerror(errno));
   loader L = {path, folder, shard, 0, 0, -1, f, err};
-  ini_allow_multiline = 0;
-  ini_stop_on_first_error = 1;
-  ini_use_stack = 0;
-  ini_allow_realloc = 1;
-  ini_max_line = 4096;
+  tb_ini_setup();
   int rc = ini_parse_stream(reader, &L, handler, &L);
   fclose(f);
   if (L.failed) return -1;

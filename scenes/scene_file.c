@@ -10,6 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "tb_parse.h"
 #include "scene_priv.h"
 #include "tb_generators.h"
 #include "tb_model.h"
@@ -558,13 +559,7 @@ int tb_scene_desc_load(tb_scene_desc *d, const char *path, tb_error *err) {
     snprintf(p.dir, sizeof p.dir, ".");
   p.f = fopen(path, "r");
   if (!p.f) return tb_error_set(err, path, 0, "cannot open the scene file");
-  /* one behaviour for every file: no continuation lines, '#' and ';'
-   * comments, lines of any length */
-  ini_allow_multiline = 0;
-  ini_stop_on_first_error = 1;
-  ini_use_stack = 0;
-  ini_allow_realloc = 1;
-  ini_max_line = 4096;
+  tb_ini_setup();
   int rc = ini_parse_stream(reader, &p, handler, &p);
   fclose(p.f);
   if (p.failed) return tb_scene_desc_free(d), -1;
