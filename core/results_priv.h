@@ -62,11 +62,12 @@ struct tb_suite {
   tb_results_bench *benches;
   int nbenches, cap_benches;
   char err[400]; /* the first misuse, reported by tb_suite_end */
-  /* cases (shard mode: only they are written) */
+  /* cases (shard mode: the outcomes that ran here, for cases.ini) */
   tb_results_case *cases;
   int ncases, cap_cases;
-  int used_cases;         /* asked for a case in shard mode: the tables are partial */
-  const char *case_open; /* the key of the case running, NULL when none */
+  int used_cases; /* asked for a case in shard mode: the tables are partial */
+  int case_open;  /* 1 while the case case_key runs (until tb_suite_case_done) */
+  char case_key[TB_CASE_KEY];
 };
 
 /* core/results.c */
@@ -94,7 +95,9 @@ void tb_results_md_body(FILE *f, const tb_suite *s, const char *prefix, int leve
 /* core/results_shard.c: writes <dir>/cases.ini (shard mode). */
 int tb_results_shard_write(tb_suite *s, tb_error *err);
 /* 1 when s is a sharded suite's partial run: no tables, charts or files. */
-static inline int tb_results_partial(const tb_suite *s) { return tb_shard_active() && s->used_cases; }
+static inline int tb_results_partial(const tb_suite *s) {
+  return tb_shard_active() && s->used_cases;
+}
 
 /* core/results_report.c: hands a finished suite to the open report, if
  * any, when its folder lies inside the report's. */

@@ -134,7 +134,7 @@ static const book_entry *lookup(const char *folder, const char *key) {
 int tb_suite_case(tb_suite *s, const char *key, int every, tb_case *c) {
   memset(c, 0, sizeof *c);
   if (!s) return TB_CASE_SKIP;
-  s->case_open = NULL;
+  s->case_open = 0;
   char enc[TB_CASE_KEY];
   if (!*key || encode(key, enc, sizeof enc)) {
     tb_results_fail(s, "case \"%.60s\": a key needs 1 to %d plain characters", key,
@@ -155,34 +155,39 @@ int tb_suite_case(tb_suite *s, const char *key, int every, tb_case *c) {
     long i = every ? -1 : g.counter++;
     if (!every && i % g.n != g.k - 1) return TB_CASE_SKIP;
   }
-  tb_results_case *sv = tb_results_grow(s->cases, &s->cap_cases, s->ncases + 1, sizeof *sv);
-  if (!sv) {
-    tb_results_fail(s, "case \"%s\": out of memory", key);
-    return TB_CASE_SKIP;
+  if (g.mode == MODE_SHARD) { /* kept for cases.ini; a normal run keeps nothing */
+    tb_results_case *sv = tb_results_grow(s->cases, &s->cap_cases, s->ncases + 1, sizeof *sv);
+    if (!sv) {
+      tb_results_fail(s, "case \"%s\": out of memory", key);
+      return TB_CASE_SKIP;
+    }
+    s->cases = sv;
+    snprintf(sv[s->ncases].key, sizeof sv[s->ncases].key, "%s", key);
+    sv[s->ncases].every = every;
+    sv[s->ncases++].done = 0;
   }
-  s->cases = sv;
-  snprintf(sv[s->ncases].key, sizeof sv[s->ncases].key, "%s", key);
-  sv[s->ncases].every = every;
-  sv[s->ncases].done = 0;
-  s->case_open = &sv[s->ncases++].key[0];
+  snprintf(s->case_key, sizeof s->case_key, "%s", key);
+  s->case_open = 1;
   return TB_CASE_RUN;
 }
 
 void tb_suite_case_done(tb_suite *s, const tb_case *c) {
   if (!s) return;
-  if (!s->case_open || !s->ncases) {
+  if (!s->case_open) {
     if (g.mode != MODE_REPLAY) tb_results_fail(s, "tb_suite_case_done without a case that runs");
     return;
   }
+  s->case_open = 0;
   if (c->nv < 0 || c->nv > TB_CASE_VALUES || c->nt < 0 || c->nt > TB_CASE_TEXTS) {
-    tb_results_fail(s, "case \"%s\": %d values, %d texts (at most %d, %d)", s->case_open, c->nv,
+    tb_results_fail(s, "case \"%s\": %d values, %d texts (at most %d, %d)", s->case_key, c->nv,
                     c->nt, TB_CASE_VALUES, TB_CASE_TEXTS);
     return;
   }
-  tb_results_case *sv = &s->cases[s->ncases - 1];
-  sv->c = *c;
-  sv->done = 1;
-  s->case_open = NULL;
+  if (g.mode == MODE_SHARD) {
+    tb_results_case *sv = &s->cases[s->ncases - 1];
+    sv->c = *c;
+    sv->done = 1;
+  }
 }
 
 /* Writes <dir>/cases.ini: the outcomes of the cases that ran here. */
