@@ -181,13 +181,17 @@ static int copy_one(const char *path, const struct stat *sb, int type, struct FT
   return 0;
 }
 
+/* The folder of the file path relative to the walk's root (walk.from_len). */
+static void folder_of(const char *path, const struct FTW *ftw, char *out, size_t cap) {
+  snprintf(out, cap, "%.*s", (int)(ftw->base - walk.from_len - 2), path + walk.from_len + 1);
+}
+
 /* The cases.ini files of a shard's suite folder into the replay's book. */
 static int load_cases(const char *path, const struct stat *sb, int type, struct FTW *ftw) {
   (void)sb;
   if (type != FTW_F || strcmp(path + ftw->base, "cases.ini")) return 0;
   char folder[PATH_MAX];
-  snprintf(folder, sizeof folder, "%.*s", (int)(ftw->base - walk.from_len - 2),
-           path + walk.from_len + 1);
+  folder_of(path, ftw, folder, sizeof folder);
   return tb_shard_load(path, folder, walk.shard, walk.err) ? 1 : 0;
 }
 
@@ -196,8 +200,7 @@ static int place_sections(const char *path, const struct stat *sb, int type, str
   (void)sb;
   if (type != FTW_F || strcmp(path + ftw->base, TB_REPORT_SECTION)) return 0;
   char folder[PATH_MAX];
-  snprintf(folder, sizeof folder, "%.*s", (int)(ftw->base - walk.from_len - 2),
-           path + walk.from_len + 1);
+  folder_of(path, ftw, folder, sizeof folder);
   if (tb_report_section_file(walk.report, path, folder, walk.err)) return 1;
   unlink(path);
   return 0;
