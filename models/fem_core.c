@@ -319,14 +319,13 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
   f->b0 = calloc(3 * nv, sizeof(double));
   f->cg_p = calloc(3 * nv, sizeof(double));
   f->cg_q = calloc(3 * nv, sizeof(double));
-  f->yprev = calloc(3 * nv, sizeof(double));
-  f->yprev2 = calloc(3 * nv, sizeof(double));
+  f->warm = calloc(3 * nv * TB_FEM_WARM, sizeof(double));
   f->cg_r = calloc(3 * nv, sizeof(double));
   f->nrot = calloc(nv, sizeof(tb_mat3));
   f->nq = calloc(nv, sizeof(tb_mat3));
   f->ntr = calloc(nv, sizeof(tb_mat3));
-  if (!f->rot || !f->quat || !f->vol || !f->b0 || !f->cg_p || !f->cg_q || !f->yprev || !f->yprev2 ||
-      !f->cg_r || !f->nrot || !f->nq || !f->ntr) {
+  if (!f->rot || !f->quat || !f->vol || !f->b0 || !f->cg_p || !f->cg_q || !f->warm || !f->cg_r ||
+      !f->nrot || !f->nq || !f->ntr) {
     tb_error_set(err, name, 0, "out of memory");
     goto fail;
   }
@@ -406,7 +405,7 @@ void tb_fem_destroy(tb_fem *f) {
   free(f->col_order), free(f->col_start), free(f->rot), free(f->quat), free(f->tf), free(f->th),
       free(f->nl_start), free(f->nl), free(f->bl_start), free(f->bl), free(f->blk_tr), free(f->vol),
       free(f->lb);
-  free(f->b0), free(f->cg_p), free(f->cg_q), free(f->yprev), free(f->yprev2), free(f->cg_r);
+  free(f->b0), free(f->cg_p), free(f->cg_q), free(f->warm), free(f->cg_r);
   free(f->nrot), free(f->nq), free(f->ntr);
   free(f->x), free(f->v), free(f->X), free(f->fel), free(f->yc), free(f->fixed);
   free(f->fixed_list), free(f->tet), free(f->dm_inv), free(f->ke), free(f->tet_blk);
@@ -531,6 +530,7 @@ void tb_fem_rhs(tb_fem *f, const tb_step *in, int lin, double alpha, double beta
   /* right-hand side: M p - K q + s h, prescribed columns moved over */
   tb_vec3 g = in->gravity, gdt = tb_scale(g, dt);
   double *b = f->B->x, cpd = 2 * f->mu + 3 * f->lambda;
+#pragma omp parallel for schedule(static) if (f->nv >= TB_FEM_PAR_ROWS)
   for (int i = 0; i < f->nv; i++) {
     tb_vec3 acc;
     if (f->fixed[i]) {
@@ -551,6 +551,7 @@ void tb_fem_rhs(tb_fem *f, const tb_step *in, int lin, double alpha, double beta
           if (f->fixed[j]) acc = tb_madd(acc, -beta * cpd * f->lb[p], f->yc[j]);
           continue;
         }
+        if (!lin && !f->fixed[j]) continue; /* q = 0 */
         if (f->fixed[j]) q = tb_madd(q, beta, f->yc[j]);
         const double *k = f->kb + 9 * p;
         double kt[9];
@@ -630,7 +631,7 @@ int tb_fem_get_stats(tb_model *m, tb_fem_stats *s, tb_error *err) {
   s->nnz_factor = f->cc.lnz;
   s->dofs = 3 * f->nv;
   s->residual = NAN;
-  s->iterations = f->iters, s->last_iterations = f->last_iters;
+  s->iterations = f->iters, s->last_iterations = f->last_iters, s->warm_order = f->warm_order;
   if (f->solver != TB_FEM_EXACT) {
     s->residual = tb_fem_residual(f); /* A holds the preconditioner's matrix, not this step's */
   } else if (f->nsolve > 0) {

@@ -37,7 +37,7 @@ typedef struct corot_settings {
   tb_fem_settings fem; /* first: TB_FEM_SETTINGS's offsets hold */
   int solver;
   double cg_tol;
-  int cg_max, cg_refactor, cg_rotate, lag, refine, pd_iters;
+  int cg_max, cg_refactor, cg_rotate, cg_warm, lag, refine, pd_iters;
 } corot_settings;
 
 static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
@@ -45,8 +45,8 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   tb_fem *f = tb_fem_create(mesh, &def->fem, 1, "fem-corot", err);
   if (!f) return NULL;
   f->solver = def->solver, f->cg_tol = def->cg_tol, f->cg_max = def->cg_max;
-  f->cg_refactor = def->cg_refactor, f->cg_rotate = def->cg_rotate, f->lag = def->lag,
-  f->refine = def->refine, f->pd_iters = def->pd_iters;
+  f->cg_refactor = def->cg_refactor, f->cg_rotate = def->cg_rotate, f->cg_warm = def->cg_warm,
+  f->lag = def->lag, f->refine = def->refine, f->pd_iters = def->pd_iters;
   return f;
 }
 
@@ -228,25 +228,21 @@ static void gather(tb_fem *f, int n, int kb, int rot) {
   if (!kb) return;
   double lam = f->lambda, mu = f->mu;
   for (int p = f->diag[n]; p < f->row[n + 1]; p++) {
-    /* M = sum V h_a h_b^T, N = sum V h_b h_a^T: the block is lambda M + mu N + mu lb I */
+    /* M = sum V h_a h_b^T; sum V h_b h_a^T is M^T: the block is
+     * lambda M + mu M^T + mu lb I */
     double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, m5 = 0, m6 = 0, m7 = 0, m8 = 0;
-    double n0 = 0, n1 = 0, n2 = 0, n3 = 0, n4 = 0, n5 = 0, n6 = 0, n7 = 0, n8 = 0;
     for (int q = f->bl_start[p]; q < f->bl_start[p + 1]; q++) {
       int c = f->bl[q];
       const double *h = f->th + 24 * (size_t)(c >> 4);
-      const double *ha = h + 3 * ((c >> 2) & 3), *hb = h + 3 * (c & 3), *wa = ha + 12,
-                   *wb = hb + 12;
+      const double *wa = h + 12 + 3 * ((c >> 2) & 3), *hb = h + 3 * (c & 3);
       m0 += wa[0] * hb[0], m1 += wa[0] * hb[1], m2 += wa[0] * hb[2];
       m3 += wa[1] * hb[0], m4 += wa[1] * hb[1], m5 += wa[1] * hb[2];
       m6 += wa[2] * hb[0], m7 += wa[2] * hb[1], m8 += wa[2] * hb[2];
-      n0 += wb[0] * ha[0], n1 += wb[0] * ha[1], n2 += wb[0] * ha[2];
-      n3 += wb[1] * ha[0], n4 += wb[1] * ha[1], n5 += wb[1] * ha[2];
-      n6 += wb[2] * ha[0], n7 += wb[2] * ha[1], n8 += wb[2] * ha[2];
     }
     double d = mu * f->lb[p], *k = f->kb + 9 * p;
-    k[0] = lam * m0 + mu * n0 + d, k[1] = lam * m1 + mu * n1, k[2] = lam * m2 + mu * n2;
-    k[3] = lam * m3 + mu * n3, k[4] = lam * m4 + mu * n4 + d, k[5] = lam * m5 + mu * n5;
-    k[6] = lam * m6 + mu * n6, k[7] = lam * m7 + mu * n7, k[8] = lam * m8 + mu * n8 + d;
+    k[0] = lam * m0 + mu * m0 + d, k[1] = lam * m1 + mu * m3, k[2] = lam * m2 + mu * m6;
+    k[3] = lam * m3 + mu * m1, k[4] = lam * m4 + mu * m4 + d, k[5] = lam * m5 + mu * m7;
+    k[6] = lam * m6 + mu * m2, k[7] = lam * m7 + mu * m5, k[8] = lam * m8 + mu * m8 + d;
   }
 }
 
@@ -305,6 +301,9 @@ static const tb_setting settings[] = {
                  "step since the last factorisation"),
     TB_SETTING_I(corot_settings, cg_rotate, 1, 0, 1,
                  "pcg: 1 rotates the preconditioner per node (R_n Q_n^T A_k^-1 Q_n R_n^T)"),
+    TB_SETTING_I(corot_settings, cg_warm, TB_FEM_WARM, 1, TB_FEM_WARM,
+                 "pcg: highest order of the warm start (extrapolation through up to this many "
+                 "past solutions; 1 starts from the last)"),
     TB_SETTING_I(corot_settings, lag, 10, 1, 1000000, "lagged: refactor every lag steps"),
     TB_SETTING_I(corot_settings, refine, 2, 0, 1000,
                  "lagged: iterative refinements with the stale factor"),

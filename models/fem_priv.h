@@ -94,9 +94,11 @@ typedef struct tb_fem {
   int lag, refine, pd_iters; /* lagged: refactor every lag steps, refinements; pd iterations */
   double *lb;                /* per block: the Laplacian sum V g_a.g_b (pd's constant matrix) */
   double *b0, *cg_p, *cg_q;  /* n3 each */
-  double *yprev, *yprev2;    /* n3 each: pcg's solutions 2 and 3 steps back (warm start) */
+  double *warm;              /* TB_FEM_WARM n3: pcg's solutions before the last, a ring */
+  int warm_head, warm_order; /* the newest's slot; the last warm start's order */
   double *cg_r;              /* n3: pcg's residual */
   int cg_rotate;             /* pcg: preconditioner rotated per node */
+  int cg_warm;               /* pcg: highest warm-start order (1..TB_FEM_WARM) */
   tb_mat3 *nrot, *nq, *ntr;  /* nv each: node rotations now, at the factor, T = R Q^T */
   long nsteps;               /* steps through tb_fem_iterate */
   cholmod_dense *R, *Z;      /* preconditioner solve: residual in, correction out */
@@ -105,6 +107,14 @@ typedef struct tb_fem {
   int last_iters;
   double last_res; /* ||b - A y|| / ||b|| of the last iterative solve */
 } tb_fem;
+
+/* Row loops over at least this many nodes (the iterative solvers' matrix
+ * product, the right-hand side) run on threads; each row is summed by one
+ * thread in one order, so the result does not depend on the count. */
+#define TB_FEM_PAR_ROWS 256
+
+/* pcg's warm start extrapolates through at most this many solutions. */
+#define TB_FEM_WARM 6
 
 enum { TB_FEM_EXACT, TB_FEM_PCG, TB_FEM_LAGGED, TB_FEM_PD };
 

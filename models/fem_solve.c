@@ -5,8 +5,8 @@
  * prescribed dofs eliminated as in fem_core.c. The exact solver refactors A
  * every step; these reuse a factor:
  *  - pcg: conjugate gradients (Hestenes & Stiefel 1952; Saad, "Iterative
- *    methods for sparse linear systems", alg. 9.1) on A, warm-started from
- *    the last three steps' solutions (quadratic extrapolation), preconditioned
+ *    methods for sparse linear systems", alg. 9.1) on A, warm-started by
+ *    polynomial extrapolation of the last solutions (warm_start), preconditioned
  *    by the CHOLMOD factor of an earlier A_k ("lagged" preconditioner),
  *    rotated per node (cg_rotate): T A_k^-1 T^T with T_n = R_n Q_n^T, R_n
  *    the node's rotation now, Q_n at the factor (exact for a rigid rotation
@@ -34,8 +34,9 @@
  *    falls with more iterations.
  * Threads (OpenMP) run pd's per-tet loop colour by colour (tets of one
  * colour share no node; pcg's node rotations come with the element loop,
- * fem_corot.c); the vector loops over the 3 nv dofs are too short to pay
- * for a fork and stay serial, dot products summed in one order:
+ * fem_corot.c) and the matrix product row by row; the vector loops over
+ * the 3 nv dofs are too short to pay for a fork and stay serial, dot
+ * products summed in one order:
  * bit-identical results for any thread count. No allocation in a step that
  * does not refactor (cholmod_solve2 reuses R, Z, Y, E). */
 #include <math.h>
@@ -46,27 +47,31 @@
 /* out = A y: alpha M + beta K_R over the node blocks, identity on the
  * prescribed dofs and no coupling to them (A's elimination). fem-corot
  * keeps only the blocks (n, m >= n) of the symmetric K_R (fem_corot.c):
- * each adds to row n and, transposed, to row m. */
+ * row n reads the blocks left of its diagonal as the transposes of
+ * (m, n). Rows on threads, each summed in one order. */
 static void amul(const tb_fem *f, double alpha, double beta, const double *y, double *out) {
-  for (int i = 0; i < f->nv; i++)
-    for (int c = 0; c < 3; c++) out[3 * i + c] = f->fixed[i] ? y[3 * i + c] : 0.0;
+#pragma omp parallel for schedule(static) if (f->nv >= TB_FEM_PAR_ROWS)
   for (int i = 0; i < f->nv; i++) {
-    if (f->fixed[i]) continue;
-    const double *v = y + 3 * i;
-    double s0 = out[3 * i], s1 = out[3 * i + 1], s2 = out[3 * i + 2];
-    for (int p = f->diag[i]; p < f->row[i + 1]; p++) {
+    if (f->fixed[i]) {
+      out[3 * i] = y[3 * i], out[3 * i + 1] = y[3 * i + 1], out[3 * i + 2] = y[3 * i + 2];
+      continue;
+    }
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (int p = f->row[i]; p < f->row[i + 1]; p++) {
       int j = f->col[p];
       if (f->fixed[j]) continue;
-      const double *k = f->kb + 9 * p, *w = y + 3 * j;
-      double m = alpha * f->mb[p];
-      s0 += beta * (k[0] * w[0] + k[1] * w[1] + k[2] * w[2]) + m * w[0];
-      s1 += beta * (k[3] * w[0] + k[4] * w[1] + k[5] * w[2]) + m * w[1];
-      s2 += beta * (k[6] * w[0] + k[7] * w[1] + k[8] * w[2]) + m * w[2];
-      if (j == i) continue;
-      double *o = out + 3 * j;
-      o[0] += beta * (k[0] * v[0] + k[3] * v[1] + k[6] * v[2]) + m * v[0];
-      o[1] += beta * (k[1] * v[0] + k[4] * v[1] + k[7] * v[2]) + m * v[1];
-      o[2] += beta * (k[2] * v[0] + k[5] * v[1] + k[8] * v[2]) + m * v[2];
+      const double *w = y + 3 * j, m = alpha * f->mb[p];
+      if (p >= f->diag[i]) {
+        const double *k = f->kb + 9 * p;
+        s0 += beta * (k[0] * w[0] + k[1] * w[1] + k[2] * w[2]) + m * w[0];
+        s1 += beta * (k[3] * w[0] + k[4] * w[1] + k[5] * w[2]) + m * w[1];
+        s2 += beta * (k[6] * w[0] + k[7] * w[1] + k[8] * w[2]) + m * w[2];
+      } else {
+        const double *k = f->kb + 9 * f->blk_tr[p];
+        s0 += beta * (k[0] * w[0] + k[3] * w[1] + k[6] * w[2]) + m * w[0];
+        s1 += beta * (k[1] * w[0] + k[4] * w[1] + k[7] * w[2]) + m * w[1];
+        s2 += beta * (k[2] * w[0] + k[5] * w[1] + k[8] * w[2]) + m * w[2];
+      }
     }
     out[3 * i] = s0, out[3 * i + 1] = s1, out[3 * i + 2] = s2;
   }
@@ -174,20 +179,57 @@ static int precondition(tb_fem *f, const double *r, tb_error *err) {
   return 0;
 }
 
+/* binom[j][z - 1] = (-1)^(z+1) C(j, z): the polynomial of degree j - 1
+ * through the last j solutions s_1 (newest) .. s_j, at the next step, is
+ * sum_z binom[j][z - 1] s_z. */
+static const double binom[TB_FEM_WARM + 1][TB_FEM_WARM] = {
+    {0}, {1}, {2, -1}, {3, -3, 1}, {4, -6, 4, -1}, {5, -10, 10, -5, 1}, {6, -15, 20, -15, 6, -1}};
+
+/* y (the last step's solution y_1) <- the extrapolated guess for this step;
+ * y_1 then joins the ring. Dynamic steps take the order j (1..TB_FEM_WARM)
+ * whose polynomial through y_2 .. y_j+1 came closest to y_1: high orders
+ * while the motion is smooth (on table 3.5's liver stretch, 60 steps,
+ * 2.45 CG iterations per step where the quadratic alone took 3.02), low
+ * ones for a few steps after a jump (a release, a contact). Quasi-static
+ * steps, whose increments die out, take the line through the last two
+ * (the quadratic took more iterations there, 5.6 against 5.1 per step on
+ * the test's beam). */
+static void warm_start(tb_fem *f, double *y) {
+  int n3 = 3 * f->nv, have = f->nsteps - 1 < f->cg_warm ? (int)f->nsteps - 1 : f->cg_warm, j;
+  if (f->nsteps == 0) return;
+  const double *past[TB_FEM_WARM + 1]; /* past[z]: the solution z steps before y_1 */
+  for (int z = 1; z <= TB_FEM_WARM; z++)
+    past[z] = f->warm + (size_t)n3 * (size_t)((f->warm_head + z - 1) % TB_FEM_WARM);
+  if (f->quasistatic) {
+    j = f->nsteps >= 2 && f->cg_warm >= 2 ? 2 : 1;
+  } else {
+    double e[TB_FEM_WARM + 1] = {0};
+    for (int i = 0; i < n3; i++)
+      for (int o = 1; o <= have; o++) {
+        double d = -y[i];
+        for (int z = 1; z <= o; z++) d += binom[o][z - 1] * past[z][i];
+        e[o] += d * d;
+      }
+    j = 1;
+    for (int o = 2; o <= have; o++)
+      if (e[o] < e[j]) j = o;
+  }
+  f->warm_order = j;
+  /* y_1 goes into the slot of the oldest, which order j <= TB_FEM_WARM never reads */
+  int slot = (f->warm_head + TB_FEM_WARM - 1) % TB_FEM_WARM;
+  double *dst = f->warm + (size_t)n3 * (size_t)slot;
+  for (int i = 0; i < n3; i++) {
+    double s = binom[j][0] * y[i];
+    for (int z = 1; z < j; z++) s += binom[j][z] * past[z][i];
+    dst[i] = y[i], y[i] = s;
+  }
+  f->warm_head = slot;
+}
+
 static int pcg(tb_fem *f, double alpha, double beta, tb_error *err) {
   int n3 = 3 * f->nv, it = 0, fresh = 1, refactored = 0;
   double *b = f->B->x, *y = f->Xs->x, *r = f->cg_r, *p = f->cg_p, *q = f->cg_q;
-  /* warm start: the quadratic through the last three solutions,
-   * 3 y_n-1 - 3 y_n-2 + y_n-3 (the linear one from two at step 2, and
-   * always quasi-static, whose increments die out: there the quadratic
-   * took more iterations, 5.6 against 5.1 per step on the test's beam) */
-  double *y2 = f->yprev, *y3 = f->yprev2;
-  long k = f->quasistatic && f->nsteps > 2 ? 2 : f->nsteps;
-  for (int i = 0; i < n3; i++) {
-    double last = y[i];
-    y[i] = k >= 3 ? 3 * (last - y2[i]) + y3[i] : k == 2 ? 2 * last - y2[i] : last;
-    y3[i] = y2[i], y2[i] = last;
-  }
+  warm_start(f, y);
   prescribe(f, y, b);
   amul(f, alpha, beta, y, q);
   for (int i = 0; i < n3; i++) r[i] = b[i] - q[i];

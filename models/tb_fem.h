@@ -13,6 +13,7 @@ typedef struct tb_fem_stats {
                           fem-corot's iterative solvers: of the last step's system */
   long iterations;     /* fem-corot pcg: CG iterations; lagged: refinements; pd: iterations */
   int last_iterations; /* the same, of the last step */
+  int warm_order;      /* pcg: the last step's warm-start order (0 before the second step) */
   int supernodal;      /* 1: supernodal L L^T, 0: simplicial L D L^T */
   int ordering;        /* CHOLMOD_AMD, CHOLMOD_METIS, ... (cholmod.h) */
   double nnz_factor;   /* entries of L (CHOLMOD's lnz) */

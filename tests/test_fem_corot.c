@@ -101,7 +101,7 @@ static void test_pcg_exact(void) {
   int nv = w.mesh.nv;
   tb_vec3 *ref = malloc(sizeof(tb_vec3) * (size_t)nv), *x = malloc(sizeof(tb_vec3) * (size_t)nv);
   static const char *const dyn[] = {"solver=pcg", "solver=pcg cg_rotate=0",
-                                    "solver=pcg cg_max=2 cg_tol=1e-10"};
+                                    "solver=pcg cg_max=2 cg_tol=1e-10", "solver=pcg cg_warm=1"};
   for (int qs = 0; qs < 2; qs++) {
     char base[64];
     snprintf(base, sizeof base, "quasistatic=%d", qs);
@@ -110,7 +110,7 @@ static void test_pcg_exact(void) {
     double u = 0;
     for (int i = 0; i < nv; i++) u = fmax(u, tb_dist(ref[i], w.mesh.x[i]));
     TB_CHECK_MSG(u > 0.5, "the twist moves the beam by %g only", u);
-    for (int v = 0; v < 3; v++) {
+    for (int v = 0; v < (int)(sizeof dyn / sizeof dyn[0]); v++) {
       char kvs[128];
       snprintf(kvs, sizeof kvs, "%s %s", base, dyn[v]);
       tb_fem_stats st;
@@ -190,10 +190,45 @@ static void test_counters(void) {
   twist_free(&w);
 }
 
+/* pcg's warm start: while the end turns smoothly the extrapolation through
+ * up to 6 past solutions picks a high order and saves CG iterations
+ * against the line (2) and the last solution (1); once the end stops
+ * (a kink in the motion) it falls back to a low order for a few steps. */
+static void test_warm_start(void) {
+  twist w;
+  if (twist_make(&w)) return;
+  tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)w.mesh.nv);
+  tb_fem_stats st;
+  long it[7] = {0};
+  int order = 0;
+  for (int o = 1; o <= 6; o++) {
+    char kvs[64];
+    snprintf(kvs, sizeof kvs, "solver=pcg cg_rotate=0 cg_warm=%d", o);
+    if (run(&w, "fem-corot", kvs, 58, x, &st)) break;
+    it[o] = st.iterations;
+    if (o == 6) order = st.warm_order;
+    printf("  cg_warm=%d: %ld CG iterations in 58 steps, last order %d\n", o, it[o], st.warm_order);
+    TB_CHECK_MSG(st.warm_order >= 1 && st.warm_order <= o, "cg_warm=%d: order %d", o,
+                 st.warm_order);
+  }
+  TB_CHECK_MSG(it[6] < it[2] && it[2] < it[1], "iterations %ld (6), %ld (2), %ld (1)", it[6], it[2],
+               it[1]);
+  TB_CHECK_MSG(order >= 3, "smooth turn: order %d", order);
+  /* steps are 0-based: the end last moves in step 59, rests from step 60;
+   * step 62 is the first to choose its order by predictions across the
+   * stop (of step 61 from 60, 59, ...); step 70 is 8 steps later */
+  if (run(&w, "fem-corot", "solver=pcg cg_rotate=0", 62 + 1, x, &st) == 0)
+    TB_CHECK_MSG(st.warm_order <= 2, "just after the stop: order %d", st.warm_order);
+  if (run(&w, "fem-corot", "solver=pcg cg_rotate=0", 70 + 1, x, &st) == 0)
+    TB_CHECK_MSG(st.warm_order >= 3, "10 steps after the stop: order %d", st.warm_order);
+  free(x);
+  twist_free(&w);
+}
+
 static void test_bad_settings(void) {
-  static const char *const bad[] = {"solver=cg",  "solver=4",    "cg_tol=0", "cg_tol=1",
-                                    "cg_max=0",   "cg_rotate=2", "lag=0",    "refine=-1",
-                                    "pd_iters=0", "cg_tol=abc"};
+  static const char *const bad[] = {"solver=cg",  "solver=4",    "cg_tol=0",  "cg_tol=1",
+                                    "cg_max=0",   "cg_rotate=2", "lag=0",     "refine=-1",
+                                    "pd_iters=0", "cg_tol=abc",  "cg_warm=0", "cg_warm=7"};
   tb_mesh m;
   tb_error err;
   if (tb_beam(2, 1, 1, 2, 1, 1, &m, &err)) {
@@ -284,11 +319,8 @@ static void test_polar_warm(void) {
 }
 
 const tb_test_case tb_tests_fem_corot[] = {
-    {"polar_warm", test_polar_warm},
-    {"pcg_exact", test_pcg_exact},
-    {"pd_error", test_pd_error},
-    {"counters", test_counters},
-    {"bad_settings", test_bad_settings},
-    {"threads", test_threads},
-    {0, 0},
+    {"polar_warm", test_polar_warm}, {"pcg_exact", test_pcg_exact},
+    {"pd_error", test_pd_error},     {"counters", test_counters},
+    {"warm_start", test_warm_start}, {"bad_settings", test_bad_settings},
+    {"threads", test_threads},       {0, 0},
 };
