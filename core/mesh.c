@@ -2,6 +2,7 @@
  * of a tet mesh and its boundary, and the closed/manifold checks. */
 #include "tb_mesh.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,6 +53,19 @@ void tb_mesh_bbox(const tb_mesh *m, tb_vec3 *lo, tb_vec3 *hi) {
 static double tet_vol(const tb_mesh *m, int t) {
   const int *v = m->tet + 4 * t;
   return tb_tet_volume(m->x[v[0]], m->x[v[1]], m->x[v[2]], m->x[v[3]]);
+}
+
+int tb_coord_ok(tb_vec3 x) {
+  return fabs(x.x) <= TB_COORD_MAX && fabs(x.y) <= TB_COORD_MAX && fabs(x.z) <= TB_COORD_MAX;
+}
+
+int tb_mesh_check_coords(const tb_mesh *m, const char *what, tb_error *err) {
+  for (int i = 0; i < m->nv; i++)
+    if (!tb_coord_ok(m->x[i]))
+      return tb_error_set(err, what, 0,
+                          "vertex %d at (%g, %g, %g): coordinates must be finite and within +-%g",
+                          i, m->x[i].x, m->x[i].y, m->x[i].z, TB_COORD_MAX);
+  return 0;
 }
 
 double tb_mesh_volume(const tb_mesh *m) {

@@ -4,6 +4,7 @@
 #ifndef TB_MESH_H
 #define TB_MESH_H
 
+#include "tb_error.h"
 #include "tb_math.h"
 
 typedef struct tb_mesh {
@@ -37,6 +38,16 @@ int tb_mesh_copy(tb_mesh *dst, const tb_mesh *src);
 
 /* Byte-identical positions and indices. */
 int tb_mesh_equal(const tb_mesh *a, const tb_mesh *b);
+
+/* The largest coordinate magnitude a mesh may have: sums of products of
+ * three coordinates (volumes, the triangle tests' determinants) then stay
+ * finite for any mesh size. Readers and generators refuse beyond it. */
+#define TB_COORD_MAX 1e90
+/* 1 when x is finite and within +-TB_COORD_MAX in every coordinate. */
+int tb_coord_ok(tb_vec3 x);
+/* 0 when every vertex is tb_coord_ok, else -1 with err naming `what` and
+ * the first vertex that is not (0-based). */
+int tb_mesh_check_coords(const tb_mesh *m, const char *what, tb_error *err);
 
 void tb_mesh_bbox(const tb_mesh *m, tb_vec3 *lo, tb_vec3 *hi);
 /* Sum of signed tet volumes when the mesh has tets, else the volume the
