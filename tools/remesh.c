@@ -160,9 +160,8 @@ static int rm_can_collapse(const tb_mesh *m, const rm_fan *fan, const char *froz
       const int *t = m->tri + 3 * ti;
       tb_vec3 q[3], o[3];
       double lmax = 0.0;
+      for (int c = 0; c < 3; c++) o[c] = m->x[t[c]], q[c] = t[c] == v ? p : o[c];
       for (int c = 0; c < 3; c++) {
-        o[c] = m->x[t[c]];
-        q[c] = t[c] == v ? p : o[c];
         double l = tb_dist(q[c], q[(c + 1) % 3]);
         lmax = l > lmax ? l : lmax;
       }
