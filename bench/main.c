@@ -232,8 +232,14 @@ int main(int argc, char **argv) {
   if (argc < 2) return cmd_help(1, argv), TB_EXIT_INPUT;
   if (take_threads(&argc, argv)) return TB_EXIT_INPUT;
   const char *name = argv[1];
-  if (!strcmp(name, "--version") || !strcmp(name, "version"))
-    return argc > 2 ? tb_cli_bad_option(name, argv[2]) : print_version();
+  if (!strcmp(name, "--version") || !strcmp(name, "version")) {
+    if (argc > 2) {
+      fprintf(stderr, "tissuebench %s: unknown option '%s'\nusage: tissuebench --version\n", name,
+              argv[2]);
+      return TB_EXIT_INPUT;
+    }
+    return print_version();
+  }
   if (!strcmp(name, "--help") || !strcmp(name, "-h")) name = "help";
   for (int i = 0; i < ncommands; i++) {
     if (strcmp(name, commands[i].name)) continue;
