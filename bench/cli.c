@@ -56,9 +56,26 @@ int tb_cli_bad_option(const char *cmd, const char *arg) {
   return TB_EXIT_INPUT;
 }
 
+/* Is argv[i] "--set KEY=..." with a KEY an earlier --set gave? */
+static int set_key_again(int i, char **argv) {
+  if (strcmp(argv[i], "--set") || !argv[i + 1]) return 0;
+  size_t n = strcspn(argv[i + 1], "=");
+  for (int j = 1; j < i; j++)
+    if (!strcmp(argv[j], "--set") && !strncmp(argv[j + 1], argv[i + 1], n) &&
+        (argv[j + 1][n] == '=' || !argv[j + 1][n]))
+      return 1;
+  return 0;
+}
+
 int tb_cli_check_repeats(const char *cmd, int argc, char **argv) {
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
+    if (i + 1 < argc && set_key_again(i, argv)) {
+      fprintf(stderr, "tissuebench %s: --set %.*s given twice\n", cmd,
+              (int)strcspn(argv[i + 1], "="), argv[i + 1]);
+      print_usage(cmd);
+      return TB_EXIT_INPUT;
+    }
     if (strncmp(a, "--", 2) || !a[2] || !strcmp(a, "--set")) continue;
     for (int j = 1; j < i; j++)
       if (!strcmp(argv[j], a)) {

@@ -114,7 +114,8 @@ int tb_cli_parse_double(const char *what, const char *text, double *out);
  * usage; returns TB_EXIT_INPUT. */
 int tb_cli_bad_option(const char *cmd, const char *arg);
 /* TB_EXIT_INPUT (message naming the option, and the usage) when an option
- * "--NAME" appears twice among argv[1..argc-1] (--set may repeat), else 0.
+ * "--NAME" appears twice among argv[1..argc-1] (--set may repeat, with
+ * another KEY each time), else 0.
  * main.c runs it for every command. */
 int tb_cli_check_repeats(const char *cmd, int argc, char **argv);
 

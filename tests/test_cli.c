@@ -295,7 +295,9 @@ static void options_unknown_and_repeated(void) {
       {"merge a b --out c --out d", "--out"},
       {"mesh spheres a.obj --count 3 --count 4 --out x.sph", "--count"},
       {"mesh subdivide a.obj --levels 1 --levels 2 --out b.obj", "--levels"},
-      {"table 4.2 --results a --results b", "--results"}};
+      {"table 4.2 --results a --results b", "--results"},
+      {"mesh steak --set seed=1 --set verts=1266 --set seed=2 --stats", "--set seed"},
+      {"simulate --scene beam --model fem --set E=1 --set E=2", "--set E"}};
   for (int i = 0; i < (int)(sizeof twice / sizeof *twice); i++) {
     char want[64];
     snprintf(want, sizeof want, "%s given twice", twice[i][1]);
