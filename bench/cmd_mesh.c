@@ -71,6 +71,17 @@ static int mesh_info(int argc, char **argv) {
   return TB_EXIT_OK;
 }
 
+/* Does tb_mesh_write know out's extension (core/mesh_io.c's writers)? Checked before a
+ * generator runs, so a typo costs no generation and exits 2. */
+static int writable_ext(const char *out) {
+  static const char *const exts[] = {".obj", ".off", ".node", ".vtk"};
+  const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+  if (!dot || (slash && slash > dot)) return 0;
+  for (int i = 0; i < 4; i++)
+    if (!strcasecmp(dot, exts[i])) return 1;
+  return 0;
+}
+
 /* ---- mesh subdivide ---- */
 /* N levels of the modified butterfly scheme. A tet mesh is refused: the tet mesh's boundary
  * would leave the interior vertices unused, and the refined surface would no longer match
@@ -90,6 +101,11 @@ static int mesh_subdivide(int argc, char **argv) {
   }
   if (!in || !out || !levels) {
     fprintf(stderr, "usage: tissuebench mesh subdivide IN --levels N --out OUT\n");
+    return TB_EXIT_INPUT;
+  }
+  if (!writable_ext(out)) {
+    fprintf(stderr, "tissuebench mesh subdivide: %s: unknown extension (.obj .off .node .vtk)\n",
+            out);
     return TB_EXIT_INPUT;
   }
   char *end;
@@ -164,17 +180,6 @@ static int write_edges(const char *path, const tb_mesh *m, tb_error *err) {
   free(e);
   int bad = ferror(f);
   if (fclose(f) || bad) return tb_error_set(err, path, 0, "write failed");
-  return 0;
-}
-
-/* Does tb_mesh_write know out's extension (core/mesh_io.c's writers)? Checked before a
- * generator runs, so a typo costs no generation and exits 2. */
-static int writable_ext(const char *out) {
-  static const char *const exts[] = {".obj", ".off", ".node", ".vtk"};
-  const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
-  if (!dot || (slash && slash > dot)) return 0;
-  for (int i = 0; i < 4; i++)
-    if (!strcasecmp(dot, exts[i])) return 1;
   return 0;
 }
 

@@ -234,6 +234,17 @@ static void mesh_out_errors_no_leak(void) {
            tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_cli_run(args) == 1, "%s", tb_test_out);
   no_leak_report("unwritable faces");
+  const char *tet = tb_test_file("tet.obj",
+                                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                 "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
+                                 -1);
+  snprintf(args, sizeof args, "mesh subdivide %s --levels 1 --out %s/x.xyz", tet, tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "unknown extension"), "%s",
+               tb_test_out);
+  snprintf(args, sizeof args, "mesh subdivide %s --levels 1 --out %s/no/such/dir/x.obj", tet,
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 1, "%s", tb_test_out);
+  no_leak_report("subdivide unwritable");
   char out[600];
   snprintf(out, sizeof out, "%s/no/such/dir/y.vtk", tb_test_tmpdir());
   char *argv[] = {"mesh", "beam", "--set", "nx=2", "--out", out, NULL};
