@@ -222,7 +222,11 @@ static int mesh_generate(int argc, char **argv) {
     } else {
       int set = i + 1 < argc ? setting_option(g, a, argv[i + 1], p) : 0;
       if (set < 0) return TB_EXIT_INPUT;
-      if (set == 0) return tb_cli_bad_option("mesh NAME", a);
+      if (set == 0) {
+        char cmd[96];
+        snprintf(cmd, sizeof cmd, "mesh %s", name);
+        return tb_cli_bad_option(cmd, a);
+      }
       i++;
     }
   }

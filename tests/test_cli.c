@@ -410,6 +410,11 @@ static void nul_byte_in_lines(void) {
   tb_pairset set;
   TB_CHECK_MSG(tb_pairs_read_file(path, &set, &err) == -1 && strstr(err.msg, "nul.txt:3: NUL"),
                "%s", err.msg);
+  len = snprintf(text, sizeof text, "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 1\n0 1 1\n0 0 0");
+  memcpy(text + len, "\0 5\n", 4);
+  const char *jgt = tb_test_file("nul.jgt", text, len + 4);
+  TB_CHECK_MSG(tb_pairs_read_jgt(jgt, 1, &set, &err) == -1 && strstr(err.msg, "nul.jgt:7: NUL"),
+               "%s", err.msg);
   char args[1024];
   snprintf(args, sizeof args, "tritri --method exact --input %s", path);
   TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "nul.txt:3:"), "%s", tb_test_out);
