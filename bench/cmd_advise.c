@@ -34,8 +34,11 @@ int tb_point_format(const tb_point *p, char *buf, int cap) {
   clean(model, sizeof model, p->model);
   clean(params, sizeof params, p->params);
   clean(state, sizeof state, p->state);
-  const double vals[8] = {p->steps_per_s,   p->ms_step,      p->rms_err,     p->max_err,
-                          p->volume_change, p->reaction_err, p->settle_time, p->recovery_err};
+  /* a time of 0 is no measurement (tb_points_read refuses it): written as nan */
+  const double vals[8] = {p->steps_per_s,   p->ms_step > 0 ? p->ms_step : NAN,
+                          p->rms_err,       p->max_err,
+                          p->volume_change, p->reaction_err,
+                          p->settle_time,   p->recovery_err};
   for (int k = 0; k < 8; k++) num(v[k], 32, vals[k]);
   return snprintf(buf, (size_t)cap, "%s,%d,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s", model, p->resolution,
                   p->nodes, params, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], state);
@@ -76,9 +79,28 @@ static int parse_line(char *line, tb_point *p, const char *path, long ln, tb_err
   static const char *names[8] = {"steps/s",         "ms/step",       "rms error",
                                  "max error",       "volume change", "reaction error",
                                  "settle time (s)", "recovery error"};
-  for (int k = 0; k < 8; k++)
+  /* What each value may be besides nan (not measured): speeds and times > 0,
+   * errors and the settle time >= 0, the volume change any sign (an inverted
+   * mesh's is below -1); all finite. */
+  static const char *const why[8] = {"must be > 0",  "must be > 0",    "must be >= 0",
+                                     "must be >= 0", "must be finite", "must be >= 0",
+                                     "must be >= 0", "must be >= 0"};
+  for (int k = 0; k < 8; k++) {
     if (parse_num(f[4 + k], vals[k]))
       return tb_error_set(err, path, ln, "%s: '%s' is not a number", names[k], f[4 + k]);
+    double x = *vals[k];
+    if (isnan(x)) continue;
+    int ok = isfinite(x) && (k < 2 ? x > 0 : k == 4 || x >= 0);
+    if (!ok)
+      return tb_error_set(err, path, ln, "%s: '%s' %s (finite; nan when not measured)", names[k],
+                          f[4 + k], why[k]);
+  }
+  /* one measurement in two units: steps/s = 1000 / (ms/step), within 1% (3 digits);
+   * both nan when the run has no measured step */
+  if (isnan(p->steps_per_s) != isnan(p->ms_step) ||
+      (!isnan(p->ms_step) && fabs(p->steps_per_s * p->ms_step / 1e3 - 1) > 1e-2))
+    return tb_error_set(err, path, ln, "steps/s %s and ms/step %s disagree (steps/s = 1000 / ms)",
+                        f[4], f[5]);
   if (!*f[12]) return tb_error_set(err, path, ln, "empty state");
   snprintf(p->state, sizeof p->state, "%s", f[12]);
   return 0;
@@ -88,15 +110,21 @@ int tb_points_read(const char *path, tb_point **out, int *n, tb_error *err) {
   *out = NULL, *n = 0;
   FILE *fp = fopen(path, "r");
   if (!fp) return tb_error_set(err, path, 0, "cannot read: %s", strerror(errno));
-  char line[2048];
+  char *line = NULL;
+  size_t linecap = 0;
+  ssize_t got;
   long ln = 0;
   int cap = 0, rc = 0;
   tb_point *pts = NULL;
-  while (fgets(line, sizeof line, fp)) {
+  while ((got = getline(&line, &linecap, fp)) >= 0) {
     ln++;
-    size_t len = strlen(line);
-    if (len == sizeof line - 1 && line[len - 1] != '\n') {
-      rc = tb_error_set(err, path, ln, "line too long");
+    size_t len = (size_t)got;
+    if (memchr(line, 0, len)) {
+      rc = tb_error_set(err, path, ln, "NUL byte in the line (a binary file?)");
+      break;
+    }
+    if (len > 4096) {
+      rc = tb_error_set(err, path, ln, "line too long (over 4096 bytes)");
       break;
     }
     while (len && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = 0;
@@ -123,6 +151,7 @@ int tb_points_read(const char *path, tb_point **out, int *n, tb_error *err) {
   }
   if (!rc && ferror(fp)) rc = tb_error_set(err, path, ln, "read error");
   if (!rc && ln == 0) rc = tb_error_set(err, path, 0, "empty file (no header)");
+  free(line);
   fclose(fp);
   if (rc) {
     free(pts);

@@ -51,10 +51,8 @@ int tb_cmd_collide(int argc, char **argv) {
       }
     } else if (argv[i][0] != '-' && nfiles < 2)
       files[nfiles++] = argv[i];
-    else {
-      fprintf(stderr, "tissuebench collide: unknown or incomplete option '%s'\n", argv[i]);
-      return TB_EXIT_INPUT;
-    }
+    else
+      return tb_cli_bad_option("collide", argv[i]);
   }
   int nm, known = 0;
   const char *const *names = tb_collider_methods(&nm);

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "tb_butterfly.h"
 #include "tb_cli.h"
@@ -70,6 +71,17 @@ static int mesh_info(int argc, char **argv) {
   return TB_EXIT_OK;
 }
 
+/* Does tb_mesh_write know out's extension (core/mesh_io.c's writers)? Checked before a
+ * generator runs, so a typo costs no generation and exits 2. */
+static int writable_ext(const char *out) {
+  static const char *const exts[] = {".obj", ".off", ".node", ".vtk"};
+  const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+  if (!dot || (slash && slash > dot)) return 0;
+  for (int i = 0; i < 4; i++)
+    if (!strcasecmp(dot, exts[i])) return 1;
+  return 0;
+}
+
 /* ---- mesh subdivide ---- */
 /* N levels of the modified butterfly scheme. A tet mesh is refused: the tet mesh's boundary
  * would leave the interior vertices unused, and the refined surface would no longer match
@@ -84,12 +96,16 @@ static int mesh_subdivide(int argc, char **argv) {
     else if (argv[i][0] != '-' && !in)
       in = argv[i];
     else {
-      fprintf(stderr, "tissuebench mesh subdivide: unknown or incomplete option '%s'\n", argv[i]);
-      return TB_EXIT_INPUT;
+      return tb_cli_bad_option("mesh subdivide", argv[i]);
     }
   }
   if (!in || !out || !levels) {
     fprintf(stderr, "usage: tissuebench mesh subdivide IN --levels N --out OUT\n");
+    return TB_EXIT_INPUT;
+  }
+  if (!writable_ext(out)) {
+    fprintf(stderr, "tissuebench mesh subdivide: %s: unknown extension (.obj .off .node .vtk)\n",
+            out);
     return TB_EXIT_INPUT;
   }
   char *end;
@@ -207,8 +223,9 @@ static int mesh_generate(int argc, char **argv) {
       int set = i + 1 < argc ? setting_option(g, a, argv[i + 1], p) : 0;
       if (set < 0) return TB_EXIT_INPUT;
       if (set == 0) {
-        fprintf(stderr, "tissuebench mesh %s: unknown or incomplete option '%s'\n", name, a);
-        return TB_EXIT_INPUT;
+        char cmd[96];
+        snprintf(cmd, sizeof cmd, "mesh %s", name);
+        return tb_cli_bad_option(cmd, a);
       }
       i++;
     }
@@ -222,23 +239,41 @@ static int mesh_generate(int argc, char **argv) {
     fprintf(stderr, "tissuebench mesh %s: give --out FILE and/or --stats\n", name);
     return TB_EXIT_INPUT;
   }
+  if (out && which != TB_PART_EDGES && !writable_ext(out)) {
+    fprintf(stderr,
+            "tissuebench mesh %s: %s: unknown extension (.obj .off .node .vtk; .edges with "
+            "--part edges)\n",
+            name, out);
+    return TB_EXIT_INPUT;
+  }
   tb_gen_result r;
   tb_error err;
+  /* the generators are functions of their settings: a failure is the settings' fault */
   int bad = which == TB_PART_SURFACE ? tb_generator_run_surface(g, p, &r, &err)
                                      : tb_generator_run(g, p, &r, &err);
+  if (!bad && (tb_mesh_check_coords(&r.surface, name, &err) ||
+               tb_mesh_check_coords(&r.volume, name, &err))) {
+    tb_gen_result_free(&r);
+    bad = 1;
+  }
   if (bad) {
     fprintf(stderr, "tissuebench mesh %s: %s\n", name, err.msg);
-    return TB_EXIT_FAIL;
+    return TB_EXIT_INPUT;
   }
   int rc = TB_EXIT_OK;
   if (stats) tb_gen_result_print(stdout, g, p, &r);
   if (out) {
-    tb_mesh m;
-    int e = which == TB_PART_EDGES ? 0 : tb_gen_result_part(&r, which, &m, &err);
-    if (!e)
-      e = which == TB_PART_EDGES ? write_edges(out, r.volume.nv ? &r.volume : &r.surface, &err)
-                                 : tb_mesh_write(out, &m, &err);
-    if (which != TB_PART_EDGES && !e) tb_mesh_free(&m);
+    int e;
+    if (which == TB_PART_EDGES)
+      e = write_edges(out, r.volume.nv ? &r.volume : &r.surface, &err);
+    else {
+      tb_mesh m;
+      e = tb_gen_result_part(&r, which, &m, &err);
+      if (!e) {
+        e = tb_mesh_write(out, &m, &err);
+        tb_mesh_free(&m); /* written or not */
+      }
+    }
     if (e) {
       fprintf(stderr, "tissuebench mesh %s: %s\n", name, err.msg);
       rc = TB_EXIT_FAIL;
@@ -260,6 +295,7 @@ int tb_cmd_mesh(int argc, char **argv) {
   if (!strcmp(argv[1], "subdivide")) return mesh_subdivide(argc - 1, argv + 1);
   if (!strcmp(argv[1], "spheres")) return tb_cmd_mesh_spheres(argc - 1, argv + 1);
   if (!strcmp(argv[1], "list")) {
+    if (argc > 2) return tb_cli_bad_option("mesh list", argv[2]);
     tb_generator_list(stdout);
     return TB_EXIT_OK;
   }

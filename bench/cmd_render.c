@@ -186,7 +186,7 @@ int tb_cmd_render(int argc, char **argv) {
                       : &o.contacts) = 1;
       continue;
     }
-    if (!v) return bad("unknown or incomplete option '%s' (render --help)", a);
+    if (!v) return tb_cli_bad_option("render", a);
     i++;
     const char **slot = !strcmp(a, "--scene")    ? &scene
                         : !strcmp(a, "--mesh")   ? &mesh
@@ -215,7 +215,7 @@ int tb_cmd_render(int argc, char **argv) {
       if (rc == 1) rc = tb_settings_set(&set, v, &err);
       if (rc) return bad("%s", err.msg);
     } else
-      return bad("unknown option '%s' (render --help)", a);
+      return tb_cli_bad_option("render", a);
   }
   (void)ss_given;
   if (!o.out) return bad("%s", "--out is required (a .png for --mesh, a folder for --scene)");

@@ -193,15 +193,17 @@ int tb_cmd_reproduce(int argc, char **argv) {
         return TB_EXIT_INPUT;
       }
       o.seed = s;
-    } else {
-      fprintf(stderr, "tissuebench reproduce: unknown or incomplete option '%s'\n", a);
-      return TB_EXIT_INPUT;
-    }
+    } else
+      return tb_cli_bad_option("reproduce", a);
   }
-  if (only) { /* every listed name must be a suite */
-    for (const char *p = only; *p;) {
+  if (only) { /* every listed name must be a suite; no empty list or item */
+    for (const char *p = only;;) {
       const char *c = strchr(p, ',');
       size_t len = c ? (size_t)(c - p) : strlen(p);
+      if (!len) {
+        fprintf(stderr, "tissuebench reproduce: --only '%s': an empty suite name (--list)\n", only);
+        return TB_EXIT_INPUT;
+      }
       int found = 0;
       for (int s = 0; s < nsuites; s++)
         found |= strlen(suites[s].name) == len && !strncmp(suites[s].name, p, len);
@@ -209,7 +211,8 @@ int tb_cmd_reproduce(int argc, char **argv) {
         fprintf(stderr, "tissuebench reproduce: unknown suite '%.*s' (--list)\n", (int)len, p);
         return TB_EXIT_INPUT;
       }
-      p = c ? c + 1 : p + len;
+      if (!c) break;
+      p = c + 1;
     }
   }
   int failed = 0, status[sizeof suites / sizeof suites[0]];
@@ -281,7 +284,11 @@ static int run_alias(const char *kind, int argc, char **argv) {
     args[n++] = "reproduce";
     args[n++] = "--only";
     args[n++] = (char *)suites[s].name;
-    for (int i = 2; i < argc && n < 63; i++) args[n++] = argv[i];
+    for (int i = 2; i < argc; i++) {
+      if (!strcmp(argv[i], "--only") || n == 63) /* the alias is the --only */
+        return tb_cli_bad_option(kind, argv[i]);
+      args[n++] = argv[i];
+    }
     args[n] = NULL;
     return tb_cmd_reproduce(n, args);
   }

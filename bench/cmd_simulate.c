@@ -154,7 +154,7 @@ int tb_cmd_simulate(int argc, char **argv) {
       statik = 1;
       continue;
     }
-    if (!v) return bad("unknown or incomplete option '%s'", a);
+    if (!v) return tb_cli_bad_option("simulate", a);
     i++;
     const char **slot = !strcmp(a, "--model")     ? &model
                         : !strcmp(a, "--scene")   ? &scene
@@ -184,7 +184,7 @@ int tb_cmd_simulate(int argc, char **argv) {
       if (rc == 1) rc = tb_settings_set(&set, v, &err);
       if (rc) return bad("%s", err.msg);
     } else
-      return bad("unknown option '%s' (simulate --help)", a);
+      return tb_cli_bad_option("simulate", a);
   }
   if (!scene == !mesh)
     return bad("%s",

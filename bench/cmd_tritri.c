@@ -52,10 +52,8 @@ int tb_cmd_tritri(int argc, char **argv) {
         fprintf(stderr, "tissuebench tritri: --repeat needs a whole number in [1, 1e6]\n");
         return TB_EXIT_INPUT;
       }
-    } else {
-      fprintf(stderr, "tissuebench tritri: unknown or incomplete option '%s'\n", argv[i]);
-      return TB_EXIT_INPUT;
-    }
+    } else
+      return tb_cli_bad_option("tritri", argv[i]);
   }
   int nm;
   const tb_tritri_method *all = tb_tritri_methods(&nm);

@@ -226,10 +226,17 @@ int tb_generator_set(const tb_generator *g, double *p, const char *kv) {
       fprintf(stderr, ", not '%s'\n", eq + 1);
       return -1;
     }
-    if (end == eq + 1 || *end || errno == ERANGE || !isfinite(v) ||
-        (g->params[k].integer && (v != floor(v) || fabs(v) > 1e9))) {
+    int integer = g->params[k].integer;
+    if (end == eq + 1 || *end || isnan(v) || (integer && isfinite(v) && v != floor(v))) {
       fprintf(stderr, "tissuebench mesh %s: %s needs a %s, not '%s'\n", g->name, g->params[k].key,
-              g->params[k].integer ? "whole number" : "finite number", eq + 1);
+              integer ? "whole number" : "number", eq + 1);
+      return -1;
+    }
+    /* counts and seeds in [0, 1e9]; lengths and angles within the coordinates' bound */
+    double lo = integer ? 0 : -TB_COORD_MAX, hi = integer ? 1e9 : TB_COORD_MAX;
+    if (!(v >= lo && v <= hi)) {
+      fprintf(stderr, "tissuebench mesh %s: %s = %s is out of range [%g, %g]\n", g->name,
+              g->params[k].key, eq + 1, lo, hi);
       return -1;
     }
     p[k] = v;

@@ -159,7 +159,7 @@ static const tb_command commands[] = {
 static const int ncommands = (int)(sizeof commands / sizeof commands[0]);
 
 static int cmd_help(int argc, char **argv) {
-  (void)argc, (void)argv;
+  if (argc > 1) return tb_cli_bad_option("help", argv[1]);
   printf("usage: tissuebench COMMAND [options]   (COMMAND --help for its options)\n");
   printf("       tissuebench --version\n");
   printf(
@@ -185,24 +185,6 @@ static int cmd_test(int argc, char **argv) {
   execv(self, argv);
   fprintf(stderr, "tissuebench: cannot run %s: %s\n", self, strerror(errno));
   return TB_EXIT_FAIL;
-}
-
-int tb_cli_has_help(int argc, char **argv) {
-  for (int i = 1; i < argc; i++)
-    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
-  return 0;
-}
-
-int tb_cli_parse_double(const char *what, const char *text, double *out) {
-  char *end;
-  errno = 0;
-  double v = strtod(text, &end);
-  if (end == text || *end || errno == ERANGE || !isfinite(v)) {
-    fprintf(stderr, "tissuebench: %s: not a finite number: '%s'\n", what, text);
-    return -1;
-  }
-  *out = v;
-  return 0;
 }
 
 /* The meson project version and, when git knows it, the source's commit. */
@@ -246,10 +228,18 @@ static int take_threads(int *argc, char **argv) {
 }
 
 int main(int argc, char **argv) {
-  if (argc < 2) return cmd_help(argc, argv), TB_EXIT_INPUT;
+  tb_cli_set_commands(commands, ncommands);
+  if (argc < 2) return cmd_help(1, argv), TB_EXIT_INPUT;
   if (take_threads(&argc, argv)) return TB_EXIT_INPUT;
   const char *name = argv[1];
-  if (!strcmp(name, "--version") || !strcmp(name, "version")) return print_version();
+  if (!strcmp(name, "--version") || !strcmp(name, "version")) {
+    if (argc > 2) {
+      fprintf(stderr, "tissuebench %s: unknown option '%s'\nusage: tissuebench --version\n", name,
+              argv[2]);
+      return TB_EXIT_INPUT;
+    }
+    return print_version();
+  }
   if (!strcmp(name, "--help") || !strcmp(name, "-h")) name = "help";
   for (int i = 0; i < ncommands; i++) {
     if (strcmp(name, commands[i].name)) continue;
@@ -257,6 +247,7 @@ int main(int argc, char **argv) {
       printf("%s\n\n%s\n", commands[i].summary, commands[i].usage);
       return TB_EXIT_OK;
     }
+    if (tb_cli_check_repeats(name, argc - 1, argv + 1)) return TB_EXIT_INPUT;
     return commands[i].run(argc - 1, argv + 1);
   }
   fprintf(stderr, "tissuebench: unknown command '%s' (tissuebench help lists them)\n", name);

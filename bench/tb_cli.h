@@ -103,9 +103,20 @@ int tb_suite_bao(const tb_suite_opts *opts);
 int tb_suite_metaball(const tb_suite_opts *opts);
 int tb_suite_scaling(const tb_suite_opts *opts);
 
-/* Helpers shared by the commands. */
+/* Helpers shared by the commands (bench/cli.c). */
+/* main.c's command table, for the usage printed with option errors. */
+void tb_cli_set_commands(const tb_command *c, int n);
 int tb_cli_has_help(int argc, char **argv);
-/* Parses key=value into a double; returns 0 or prints an error and -1. */
+/* Parses a finite double; returns 0 or prints an error (not a number, or
+ * out of range) and -1. */
 int tb_cli_parse_double(const char *what, const char *text, double *out);
+/* Prints "tissuebench CMD: unknown or incomplete option 'ARG'" and CMD's
+ * usage; returns TB_EXIT_INPUT. */
+int tb_cli_bad_option(const char *cmd, const char *arg);
+/* TB_EXIT_INPUT (message naming the option, and the usage) when an option
+ * "--NAME" appears twice among argv[1..argc-1] (--set may repeat, with
+ * another KEY each time), else 0.
+ * main.c runs it for every command. */
+int tb_cli_check_repeats(const char *cmd, int argc, char **argv);
 
 #endif

@@ -69,8 +69,13 @@ int tb_pairs_read(FILE *f, const char *name, tb_pairset *set, tb_error *err) {
   size_t cap = 0;
   long lineno = 0;
   int rc = 0;
-  while (getline(&line, &cap, f) >= 0) {
+  ssize_t got;
+  while ((got = getline(&line, &cap, f)) >= 0) {
     lineno++;
+    if (memchr(line, 0, (size_t)got)) { /* would cut the line short unseen */
+      rc = tb_error_set(err, name, lineno, "NUL byte in the line (a binary file?)");
+      break;
+    }
     char *s = line;
     while (*s == ' ' || *s == '\t' || *s == '\r') s++;
     if (!*s || *s == '\n' || *s == '#') continue;
@@ -121,8 +126,13 @@ int tb_pairs_read_jgt(const char *path, int label, tb_pairset *set, tb_error *er
   long lineno = 0;
   int rc = 0, k = 0;
   tb_vec3 v[6];
-  while (getline(&line, &cap, f) >= 0) {
+  ssize_t got;
+  while ((got = getline(&line, &cap, f)) >= 0) {
     lineno++;
+    if (memchr(line, 0, (size_t)got)) {
+      rc = tb_error_set(err, path, lineno, "NUL byte in the line (a binary file?)");
+      break;
+    }
     char *s = line;
     while (*s == ' ' || *s == '\t' || *s == '\r') s++;
     if (!*s || *s == '\n') continue;

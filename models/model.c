@@ -111,8 +111,13 @@ static int parse_value(const tb_model_class *c, const tb_setting *st, const char
   }
   errno = 0;
   x = strtod(text, &end);
-  if (!*text || *end || errno || !isfinite(x))
-    return tb_error_set(err, c->name, 0, "%s: '%s' is not a finite number", st->key, text);
+  if (!*text || *end || isnan(x))
+    return tb_error_set(err, c->name, 0, "%s: '%s' is not a number", st->key, text);
+  if (isinf(x)) { /* "inf", or beyond the largest double (an underflow keeps its tiny value) */
+    char r[96];
+    range_text(st, r, sizeof r);
+    return tb_error_set(err, c->name, 0, "%s = %s is out of range: %s, finite", st->key, text, r);
+  }
   if (st->type == TB_SETTING_INT && x != floor(x))
     return tb_error_set(err, c->name, 0, "%s: '%s' is not a whole number", st->key, text);
   int below = st->open & TB_OPEN_LO ? !(x > st->lo) : !(x >= st->lo);
@@ -120,7 +125,7 @@ static int parse_value(const tb_model_class *c, const tb_setting *st, const char
   if (below || above) {
     char r[96];
     range_text(st, r, sizeof r);
-    return tb_error_set(err, c->name, 0, "%s = %s is outside %s", st->key, text, r);
+    return tb_error_set(err, c->name, 0, "%s = %s is out of range %s", st->key, text, r);
   }
   *out = x;
   return 0;

@@ -114,10 +114,11 @@ int tb_sim_def_set(tb_sim_def *def, const char *kv, tb_error *err) {
   char *end;
   errno = 0;
   double x = strtod(eq + 1, &end);
-  if (!eq[1] || *end || errno || !isfinite(x) || x < 0 || x > 1e9 ||
-      (fields[i].is_int && x != floor(x)))
-    return tb_error_set(err, "--set", 0, "%s: '%s' is not a%s number in [0, 1e9]", key, eq + 1,
+  if (!eq[1] || *end || isnan(x) || (fields[i].is_int && isfinite(x) && x != floor(x)))
+    return tb_error_set(err, "--set", 0, "%s: '%s' is not a%s number", key, eq + 1,
                         fields[i].is_int ? " whole" : "");
+  if (!(x >= 0 && x <= 1e9)) /* inf, and beyond the largest double, too */
+    return tb_error_set(err, "--set", 0, "%s = %s is out of range [0, 1e9]", key, eq + 1);
   put_field(def, i, x);
   return 0;
 }

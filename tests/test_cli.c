@@ -1,8 +1,12 @@
 /* The command line, end to end through the built binary: help, --help of
  * every subcommand, exit codes, mesh info, mesh generation, reproduce. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "tb_cli.h"
+#include "tb_fidelity.h"
+#include "tb_pairs.h"
 #include "tb_test.h"
 
 static void help_lists_commands(void) {
@@ -29,7 +33,7 @@ static void mesh_generate_and_info(void) {
   TB_CHECK(strstr(tb_test_out, "vertices    1002") && strstr(tb_test_out, "triangles   2000"));
   TB_CHECK(strstr(tb_test_out, "closed      yes") && strstr(tb_test_out, "manifold    yes"));
   TB_CHECK(strstr(tb_test_out, "Euler 2"));
-  TB_CHECK(tb_test_cli_run("mesh sphere --set verts=250 --stats") == 1 &&
+  TB_CHECK(tb_test_cli_run("mesh sphere --set verts=250 --stats") == 2 &&
            strstr(tb_test_out, "10 f^2 + 2"));
   TB_CHECK(tb_test_cli_run("mesh sphere --set verts=abc --stats") == 2);
   TB_CHECK(tb_test_cli_run("mesh sphere --set colour=3 --stats") == 2);
@@ -206,6 +210,216 @@ static void test_runner_list_and_no_match(void) {
   TB_CHECK(strstr(tb_test_out, "passed") == NULL);
 }
 
+/* ---- issue 16: hostile command lines ---- */
+
+/* A sanitizer build's LeakSanitizer turns a leak into exit 23 and a report: the exit codes
+ * below and the absence of the report both catch it. */
+static void no_leak_report(const char *what) {
+  TB_CHECK_MSG(!strstr(tb_test_out, "LeakSanitizer") && !strstr(tb_test_out, "AddressSanitizer"),
+               "%s: %s", what, tb_test_out);
+}
+
+/* Item 3: `mesh NAME --out` that cannot be written (unknown extension, missing folder) frees
+ * the mesh: through the binary and in this process (LeakSanitizer at the end of tb_tests). */
+static void mesh_out_errors_no_leak(void) {
+  char args[1024];
+  snprintf(args, sizeof args, "mesh sphere --out %s/x.xyz", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "unknown extension"), "%s",
+               tb_test_out);
+  no_leak_report("unknown extension");
+  snprintf(args, sizeof args, "mesh sphere --out %s/no/such/dir/x.obj", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 1 && strstr(tb_test_out, "x.obj"), "%s", tb_test_out);
+  no_leak_report("unwritable");
+  snprintf(args, sizeof args, "mesh beam --part faces --out %s/no/such/dir/x.off",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 1, "%s", tb_test_out);
+  no_leak_report("unwritable faces");
+  const char *tet = tb_test_file("tet.obj",
+                                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                 "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
+                                 -1);
+  snprintf(args, sizeof args, "mesh subdivide %s --levels 1 --out %s/x.xyz", tet, tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "unknown extension"), "%s",
+               tb_test_out);
+  snprintf(args, sizeof args, "mesh subdivide %s --levels 1 --out %s/no/such/dir/x.obj", tet,
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 1, "%s", tb_test_out);
+  no_leak_report("subdivide unwritable");
+  char out[600];
+  snprintf(out, sizeof out, "%s/no/such/dir/y.vtk", tb_test_tmpdir());
+  char *argv[] = {"mesh", "beam", "--set", "nx=2", "--out", out, NULL};
+  TB_CHECK(tb_cmd_mesh(6, argv) == TB_EXIT_FAIL);
+  snprintf(out, sizeof out, "%s/y.stl", tb_test_tmpdir());
+  TB_CHECK(tb_cmd_mesh(6, argv) == TB_EXIT_INPUT);
+}
+
+/* Item 7: settings out of range name the range and exit 2; generator failures exit 2; a
+ * generated mesh beyond TB_COORD_MAX is refused, not described. */
+static void settings_out_of_range(void) {
+  TB_CHECK(tb_test_cli_run("mesh beam --set lx=1e308 --stats") == 2);
+  TB_CHECK_MSG(strstr(tb_test_out, "out of range [") && !strstr(tb_test_out, "inf"), "%s",
+               tb_test_out);
+  TB_CHECK(tb_test_cli_run("mesh sphere --set verts=1e400 --stats") == 2 &&
+           strstr(tb_test_out, "out of range [0, 1e+09]"));
+  TB_CHECK(tb_test_cli_run("mesh sphere --set verts=2.5 --stats") == 2 &&
+           strstr(tb_test_out, "whole number"));
+  TB_CHECK(tb_test_cli_run("mesh instrument --set length=1e90 --set jaw_length=1e90 "
+                           "--set radius=1e90 --stats") == 2);
+  TB_CHECK_MSG(strstr(tb_test_out, "within +-") && !strstr(tb_test_out, "surface:"), "%s",
+               tb_test_out);
+  TB_CHECK(tb_test_cli_run("mesh beam --set lx=1e89 --set nx=1 --set ny=1 --set nz=1 --stats") ==
+           0);
+  static const char *model_bad[] = {"E=1e400", "E=inf", "E=-1", "dt=1e400", "dt=-1"};
+  for (int i = 0; i < 5; i++) {
+    char args[256];
+    snprintf(args, sizeof args, "simulate --scene beam --model fem --set %s", model_bad[i]);
+    TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "out of range") &&
+                     !strstr(tb_test_out, "not a"),
+                 "%s: %s", model_bad[i], tb_test_out);
+  }
+  TB_CHECK(tb_test_cli_run("simulate --scene beam --model fem --set E=abc") == 2 &&
+           strstr(tb_test_out, "not a number"));
+}
+
+/* Item 8: unknown options exit 2 with the usage, for every command; an option given twice
+ * exits 2 naming it; reproduce --only with nothing in it or in one item exits 2. */
+static void options_unknown_and_repeated(void) {
+  static const char *unknown[] = {
+      "mesh list --bogus",      "help --bogus",          "reproduce --bogus",
+      "table 4.2 --bogus",      "tritri --bogus",        "collide --bogus",
+      "simulate --bogus",       "render --bogus",        "advise --bogus x",
+      "merge --bogus",          "mesh sphere --bogus 1", "mesh info",
+      "mesh subdivide --bogus", "mesh spheres --bogus",  "--version --bogus"};
+  for (int i = 0; i < (int)(sizeof unknown / sizeof *unknown); i++)
+    TB_CHECK_MSG(tb_test_cli_run(unknown[i]) == 2 && strstr(tb_test_out, "usage"), "%s: %s",
+                 unknown[i], tb_test_out);
+  static const char *twice[][2] = {
+      {"reproduce --seed 1 --seed 2 --list", "--seed"},
+      {"mesh sphere --out a.obj --out b.obj", "--out"},
+      {"mesh steak --seed 1 --seed 2 --stats", "--seed"},
+      {"tritri --method list --method exact", "--method"},
+      {"collide --bvh brute --bvh aabb a.obj b.obj", "--bvh"},
+      {"simulate --scene beam --steps 1 --steps 2", "--steps"},
+      {"render --mesh a.obj --out a.png --out b.png", "--out"},
+      {"render --mesh a.obj --out a.png --color none --color displacement", "--color"},
+      {"advise --scene beam --tol 0.1 --tol 0.2", "--tol"},
+      {"merge a b --out c --out d", "--out"},
+      {"mesh spheres a.obj --count 3 --count 4 --out x.sph", "--count"},
+      {"mesh subdivide a.obj --levels 1 --levels 2 --out b.obj", "--levels"},
+      {"table 4.2 --results a --results b", "--results"},
+      {"mesh steak --set seed=1 --set verts=1266 --set seed=2 --stats", "--set seed"},
+      {"simulate --scene beam --model fem --set E=1 --set E=2", "--set E"}};
+  for (int i = 0; i < (int)(sizeof twice / sizeof *twice); i++) {
+    char want[64];
+    snprintf(want, sizeof want, "%s given twice", twice[i][1]);
+    char cmd[1024]; /* in the temporary folder: a regression must not write here */
+    snprintf(cmd, sizeof cmd, "cd '%s' && '%s' %s", tb_test_tmpdir(), tb_test_cli(), twice[i][0]);
+    TB_CHECK_MSG(
+        tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 2 && strstr(tb_test_out, want),
+        "%s: %s", twice[i][0], tb_test_out);
+  }
+  TB_CHECK(tb_test_cli_run("simulate --scene beam --model fem --set E=1 --set nu=0.3 --steps 1") ==
+           0); /* --set repeats */
+  static const char *only[] = {"''", "meshes,", ",meshes", "meshes,,table-4.1", "nonsense"};
+  for (int i = 0; i < 5; i++) {
+    char args[128];
+    snprintf(args, sizeof args, "reproduce --only %s --results %s/never", only[i],
+             tb_test_tmpdir());
+    TB_CHECK_MSG(tb_test_cli_run(args) == 2, "--only %s: %s", only[i], tb_test_out);
+  }
+  TB_CHECK(tb_test_cli_run("table 4.2 --only meshes") == 2);
+}
+
+/* Item 4: advise's points rows outside their columns' meaning are refused with FILE:LINE. */
+static void advise_rejects_bad_rows(void) {
+  static const struct {
+    const char *row, *want;
+  } bad[] = {{"fem,1,10,p,38.5,25.974,-0.5,0.1,0,nan,1,nan,settled", "rms error"},
+             {"fem,1,10,p,38.5,25.974,0.01,-0.1,0,nan,1,nan,settled", "max error"},
+             {"fem,1,10,p,38.5,-25.974,0.01,0.1,0,nan,1,nan,settled", "ms/step"},
+             {"fem,1,10,p,38.5,0,0.01,0.1,0,nan,1,nan,settled", "ms/step"},
+             {"fem,1,10,p,inf,25.974,0.01,0.1,0,nan,1,nan,settled", "steps/s"},
+             {"fem,1,10,p,-38.5,25.974,0.01,0.1,0,nan,1,nan,settled", "steps/s"},
+             {"fem,1,10,p,0,25.974,0.01,0.1,0,nan,1,nan,settled", "steps/s"},
+             {"fem,1,10,p,nan,25.974,0.01,0.1,0,nan,1,nan,settled", "steps/s"},
+             {"fem,1,10,p,38.5,nan,0.01,0.1,0,nan,1,nan,settled", "steps/s"},
+             {"fem,1,10,p,38.5,2.5,0.01,0.1,0,nan,1,nan,settled", "steps/s"},
+             {"fem,1,10,p,38.5,25.974,0.01,0.1,inf,nan,1,nan,settled", "volume change"},
+             {"fem,1,10,p,38.5,25.974,0.01,0.1,0,-1,1,nan,settled", "reaction error"},
+             {"fem,1,10,p,38.5,25.974,0.01,0.1,0,nan,-1,nan,settled", "settle time"},
+             {"fem,1,10,p,38.5,25.974,0.01,0.1,0,nan,1,-1e-3,settled", "recovery error"},
+             {"fem,1,10,p,38.5,25.974,inf,0.1,0,nan,1,nan,settled", "rms error"}};
+  const char *good =
+      "fem,1,10,p,38.5,25.974,0.01,0.1,-0.02,nan,1,nan,settled\n"
+      "msm,1,10,p,nan,nan,nan,nan,nan,nan,nan,nan,unstable (at t = 0)\n";
+  for (int i = 0; i < (int)(sizeof bad / sizeof *bad); i++) {
+    char text[1024], name[32];
+    snprintf(text, sizeof text, "%s\n%s%s\n", TB_POINTS_HEADER, good, bad[i].row);
+    snprintf(name, sizeof name, "bad%d.csv", i);
+    const char *path = tb_test_file(name, text, -1);
+    tb_point *p = NULL;
+    int n;
+    tb_error err;
+    char want[64];
+    snprintf(want, sizeof want, "%s:4: %s", name, bad[i].want);
+    TB_CHECK_MSG(tb_points_read(path, &p, &n, &err) == -1 && strstr(err.msg, want) && !p,
+                 "row %d: %s", i, err.msg);
+  }
+  char text[1024];
+  snprintf(text, sizeof text, "%s\n%s", TB_POINTS_HEADER, good);
+  const char *path = tb_test_file("good.csv", text, -1);
+  tb_point *p = NULL;
+  int n = 0;
+  tb_error err;
+  TB_CHECK_MSG(tb_points_read(path, &p, &n, &err) == 0 && n == 2, "%s", err.msg);
+  free(p);
+  /* a measured time of 0 is written as nan, so a written file reads back */
+  tb_point q;
+  memset(&q, 0, sizeof q);
+  snprintf(q.model, sizeof q.model, "msm");
+  snprintf(q.state, sizeof q.state, "unstable");
+  q.steps_per_s = NAN, q.ms_step = 0, q.rms_err = q.max_err = NAN;
+  char line[512];
+  tb_point_format(&q, line, sizeof line);
+  snprintf(text, sizeof text, "%s\n%s\n", TB_POINTS_HEADER, line);
+  path = tb_test_file("zero.csv", text, -1);
+  TB_CHECK_MSG(tb_points_read(path, &p, &n, &err) == 0 && n == 1, "%s: %s", line, err.msg);
+  free(p);
+  char args[1024];
+  snprintf(args, sizeof args, "advise --points %s/bad0.csv --tol 0.05", tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "bad0.csv:4:"), "%s", tb_test_out);
+}
+
+/* Item 8: a NUL byte inside a line of a points or pair file is an error at its line, not a
+ * line silently cut short. */
+static void nul_byte_in_lines(void) {
+  char text[1024];
+  int len = snprintf(text, sizeof text, "%s\nfem,1,10,p,38.5,25.974,0.01,0.1,0,nan,1,nan,settled",
+                     TB_POINTS_HEADER);
+  memcpy(text + len, "\0junk\n", 6);
+  const char *path = tb_test_file("nul.csv", text, len + 6);
+  tb_point *p = NULL;
+  int n;
+  tb_error err;
+  TB_CHECK_MSG(tb_points_read(path, &p, &n, &err) == -1 && strstr(err.msg, "nul.csv:2: NUL"), "%s",
+               err.msg);
+  static const char pair[] = "0 0 0 1 0 0 0 1 0 0 0 1 1 0 1 0 1 1";
+  len = snprintf(text, sizeof text, "# pairs\n%s\n%s", pair, pair);
+  memcpy(text + len, "\0 7 7 7\n", 8);
+  path = tb_test_file("nul.txt", text, len + 8);
+  tb_pairset set;
+  TB_CHECK_MSG(tb_pairs_read_file(path, &set, &err) == -1 && strstr(err.msg, "nul.txt:3: NUL"),
+               "%s", err.msg);
+  len = snprintf(text, sizeof text, "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 1\n0 1 1\n0 0 0");
+  memcpy(text + len, "\0 5\n", 4);
+  const char *jgt = tb_test_file("nul.jgt", text, len + 4);
+  TB_CHECK_MSG(tb_pairs_read_jgt(jgt, 1, &set, &err) == -1 && strstr(err.msg, "nul.jgt:7: NUL"),
+               "%s", err.msg);
+  char args[1024];
+  snprintf(args, sizeof args, "tritri --method exact --input %s", path);
+  TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "nul.txt:3:"), "%s", tb_test_out);
+}
+
 const tb_test_case tb_tests_cli[] = {
     {"version_flag", version_flag},
     {"test_runner_list_and_no_match", test_runner_list_and_no_match},
@@ -216,5 +430,10 @@ const tb_test_case tb_tests_cli[] = {
     {"mesh_info_errors", mesh_info_errors},
     {"liver_stats_deterministic", liver_stats_deterministic},
     {"reproduce_meshes_suite", reproduce_meshes_suite},
+    {"mesh_out_errors_no_leak", mesh_out_errors_no_leak},
+    {"settings_out_of_range", settings_out_of_range},
+    {"options_unknown_and_repeated", options_unknown_and_repeated},
+    {"advise_rejects_bad_rows", advise_rejects_bad_rows},
+    {"nul_byte_in_lines", nul_byte_in_lines},
     {0, 0},
 };
