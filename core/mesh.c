@@ -62,9 +62,10 @@ int tb_coord_ok(tb_vec3 x) {
 int tb_mesh_check_coords(const tb_mesh *m, const char *what, tb_error *err) {
   for (int i = 0; i < m->nv; i++)
     if (!tb_coord_ok(m->x[i]))
-      return tb_error_set(err, what, 0,
-                          "vertex %d at (%g, %g, %g): coordinates must be finite and within +-%g",
-                          i, m->x[i].x, m->x[i].y, m->x[i].z, TB_COORD_MAX);
+      return tb_error_set(
+          err, what, 0,
+          "vertex %d at (%.17g, %.17g, %.17g): coordinates must be finite and within +-%g", i,
+          m->x[i].x, m->x[i].y, m->x[i].z, TB_COORD_MAX);
   return 0;
 }
 
