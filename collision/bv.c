@@ -32,16 +32,30 @@ int tb_aabb_aabb(tb_aabb a, tb_aabb b) {
          a.lo.z <= b.hi.z && b.lo.z <= a.hi.z;
 }
 
-/* Rounding: the centre (lo + hi) / 2 is off by at most eps/2 |c_i| per axis,
- * so the corner distance from it is at most the true half diagonal plus
- * eps |c|_1; the half diagonal itself and the tests' own arithmetic carry a
- * few eps of relative error, covered by the relative 1e-12. */
+/* Rounding: the centre (lo + hi) / 2 is off by at most eps/2 |c_i| per axis
+ * (plus half the smallest subnormal when it underflows), so the corner
+ * distance from it is at most the true half diagonal plus eps |c|_1; the
+ * half diagonal itself and the tests' own arithmetic carry a few eps of
+ * relative error, covered by the relative 1e-12. The half diagonal is
+ * computed with the extents divided by the largest, so that squares neither
+ * overflow nor underflow (a box 1e-200 wide has a sphere 1e-200 wide, not
+ * 0). The radius is at least TB_SPHERE_MIN_R (2^-500): then r^2 and every
+ * radius sum squared in the tests are normal numbers (never flushed to a
+ * subnormal or zero), and squared distances that underflow only err
+ * towards "overlap". Coordinates within TB_COORD_MAX (1e90, core/tb_mesh.h)
+ * keep every square far from overflow. */
 tb_sphere tb_aabb_sphere(tb_aabb b) {
   tb_sphere s;
   s.c = tb_v3(0.5 * (b.lo.x + b.hi.x), 0.5 * (b.lo.y + b.hi.y), 0.5 * (b.lo.z + b.hi.z));
   double dx = b.hi.x - b.lo.x, dy = b.hi.y - b.lo.y, dz = b.hi.z - b.lo.z;
-  double h = 0.5 * sqrt(dx * dx + dy * dy + dz * dz);
+  double m = dx > dy ? dx : dy, h = 0.0;
+  m = m > dz ? m : dz;
+  if (m > 0) {
+    dx /= m, dy /= m, dz /= m;
+    h = 0.5 * m * sqrt(dx * dx + dy * dy + dz * dz);
+  }
   double slack = DBL_EPSILON * (fabs(s.c.x) + fabs(s.c.y) + fabs(s.c.z));
   s.r = (h + slack) * (1.0 + 1e-12);
+  if (s.r < TB_SPHERE_MIN_R) s.r = TB_SPHERE_MIN_R;
   return s;
 }

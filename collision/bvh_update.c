@@ -8,7 +8,10 @@
  * rotation). Both are widened by 16 ulps of the coordinate magnitudes
  * sum_j |R_ij| (|c_j| + h_j) + |t_i|, which covers the rounding of this
  * update and of any ordinary evaluation of R x + t by the caller, so the
- * moved volumes contain the moved triangles and queries stay exact.
+ * moved volumes contain the moved triangles and queries stay exact. A
+ * motion that takes a volume beyond +-1e150 (where the tests' squares
+ * could overflow) gives that node a volume that meets everything, so the
+ * query falls back to testing its triangles.
  *
  * Deformation: bottom-up refit (part 5). Leaf boxes are recomputed from
  * the vertices; an inner node whose children both kept their boxes keeps
@@ -31,7 +34,13 @@
 #include <string.h>
 
 #include "tb_bvh.h"
+#include "tb_mesh.h"
 #include "tb_threads.h"
+
+/* Volumes moved beyond +-BV_SAFE (far past TB_COORD_MAX) become volumes
+ * that meet everything: up to it, squared distances and radius sums of
+ * the tests (bvh_query.c) stay finite (3 (2e150)^2 << DBL_MAX). */
+#define BV_SAFE 1e150
 
 void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t) {
   if (!b || b->nnodes == 0) return;
@@ -65,9 +74,19 @@ void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t) {
       hh += slack * e;
       lo[i] = cc - hh, hi[i] = cc + hh, nc[i] = sm;
     }
+    double r = s.r + slack * se;
+    int far = !(r <= BV_SAFE);
+    for (int i = 0; i < 3; i++)
+      far |= !((fabs(lo[i]) <= BV_SAFE) & (fabs(hi[i]) <= BV_SAFE) & (fabs(nc[i]) <= BV_SAFE));
+    if (far) { /* moved beyond what the tests can square: meets everything */
+      b->box[k].lo = tb_v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+      b->box[k].hi = tb_v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
+      b->sph[k].c = tb_v3(0, 0, 0), b->sph[k].r = HUGE_VAL;
+      continue;
+    }
     b->box[k].lo = tb_v3(lo[0], lo[1], lo[2]), b->box[k].hi = tb_v3(hi[0], hi[1], hi[2]);
     b->sph[k].c = tb_v3(nc[0], nc[1], nc[2]);
-    b->sph[k].r = s.r + slack * se;
+    b->sph[k].r = r;
   }
 }
 
@@ -98,14 +117,16 @@ static inline tb_vec3 vmax(tb_vec3 a, tb_vec3 b) {
   return tb_v3(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
 
-/* 1 when every vertex of every triangle is finite: v * 0 is 0 for finite v
- * and NaN for an infinity or a NaN (no branch, no library call). */
+/* 0 when p is finite and within TB_COORD_MAX (tb_coord_ok, core/tb_mesh.h),
+ * else 1: comparisons only (NaN fails them), no branch, no library call. */
+static inline int coord_bad(tb_vec3 p) {
+  return !((fabs(p.x) <= TB_COORD_MAX) & (fabs(p.y) <= TB_COORD_MAX) & (fabs(p.z) <= TB_COORD_MAX));
+}
+
+/* 1 when every vertex of every triangle is finite and within the bound. */
 static int all_finite(const tb_bvh *b, const tb_vec3 *x) {
   int bad = 0, n = 3 * b->ntri; /* a count: no chain of dependent additions */
-  for (int k = 0; k < n; k++) {
-    tb_vec3 p = x[b->tri[k]];
-    bad += p.x * 0.0 + p.y * 0.0 + p.z * 0.0 != 0.0;
-  }
+  for (int k = 0; k < n; k++) bad += coord_bad(x[b->tri[k]]);
   return bad == 0;
 }
 
@@ -199,8 +220,7 @@ int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta) {
     {
 #pragma omp for schedule(static) reduction(+ : bad)
       for (int k = 0; k < nref; k++) {
-        tb_vec3 p = x[b->tri[k]];
-        bad += p.x * 0.0 + p.y * 0.0 + p.z * 0.0 != 0.0;
+        bad += coord_bad(x[b->tri[k]]);
       }
       if (!bad) { /* the reduced count, the same on every thread */
 #pragma omp for schedule(dynamic, 1) reduction(+ : nchanged)
