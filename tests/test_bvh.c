@@ -1023,6 +1023,11 @@ static void threads_identical(void) {
       ya[m.tri[3 * (m.ntri / 2)]].y = NAN;
       TB_CHECK(tb_bvh_refit(&A[1], ya, 0) == -1);
       TB_CHECK(!memcmp(A[0].box, A[1].box, nb * sizeof *A[0].box));
+      /* so is one beyond TB_COORD_MAX, in the last chunk of the check */
+      ya[m.tri[3 * (m.ntri / 2)]].y = 0;
+      ya[m.tri[3 * m.ntri - 1]].z = -1.0000001e90;
+      TB_CHECK(tb_bvh_refit(&A[1], ya, 0) == -1);
+      TB_CHECK(!memcmp(A[0].box, A[1].box, nb * sizeof *A[0].box));
       for (int t = 0; t < 2; t++) tb_bvh_free(&A[t]), tb_bvh_free(&B[t]), tb_pairlist_free(&p[t]);
     }
   tb_threads_set(was);
