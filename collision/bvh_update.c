@@ -129,12 +129,12 @@ static inline tb_vec3 vmax(tb_vec3 a, tb_vec3 b) {
  * 29k references, gcc 12 -O2). */
 static int refs_bad(const tb_vec3 *x, const int *ref, int n) {
 #ifdef __SSE2__
-  const __m128d abs = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+  const __m128d absmask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
   const __m128d lim = _mm_set1_pd(TB_COORD_MAX);
   __m128d acc = _mm_setzero_pd();
   for (int k = 0; k < n; k++) {
     const double *p = &x[ref[k]].x;
-    __m128d xy = _mm_and_pd(_mm_loadu_pd(p), abs), z = _mm_and_pd(_mm_load_sd(p + 2), abs);
+    __m128d xy = _mm_and_pd(_mm_loadu_pd(p), absmask), z = _mm_and_pd(_mm_load_sd(p + 2), absmask);
     acc = _mm_or_pd(acc, _mm_or_pd(_mm_cmpnle_pd(xy, lim), _mm_cmpnle_sd(z, lim)));
   }
   return _mm_movemask_pd(acc) != 0;
