@@ -5,7 +5,8 @@
  * (1e6) and tiny (2^-23 ~ 1.2e-7); zero-area triangles). Degenerate
  * families use integer coordinates in [-8, 8] and fractions k/8 of them,
  * which doubles hold exactly, then exact symmetries (axis permutations,
- * sign flips, vertex order, swapping the triangles). */
+ * sign flips, vertex order, swapping the triangles). tb_pairs_scaled gives
+ * the scaled copies of the correctness table's "scaled" rows. */
 #include <math.h>
 #include <string.h>
 
@@ -217,4 +218,29 @@ int tb_pairgen(const tb_pair_family *f, int n, uint64_t seed, tb_pairset *set) {
     if (tb_pairs_add(set, &pr, -1)) return -1;
   }
   return 0;
+}
+
+/* x 2^e without loss: finite, and back again by 2^-e gives x. */
+static int scales_exactly(double x, int e, double *y) {
+  *y = ldexp(x, e);
+  return isfinite(*y) && ldexp(*y, -e) == x;
+}
+
+int tb_pairs_scaled(const tb_pairset *in, int e, tb_pairset *out, int *index) {
+  int added = 0;
+  for (int i = 0; i < in->n; i++) {
+    const tb_tripair *p = &in->pairs[i];
+    const tb_vec3 *v[6] = {&p->p[0], &p->p[1], &p->p[2], &p->q[0], &p->q[1], &p->q[2]};
+    tb_vec3 w[6];
+    int ok = 1;
+    for (int k = 0; k < 6 && ok; k++)
+      ok = scales_exactly(v[k]->x, e, &w[k].x) && scales_exactly(v[k]->y, e, &w[k].y) &&
+           scales_exactly(v[k]->z, e, &w[k].z);
+    if (!ok) continue;
+    tb_tripair q = {{w[0], w[1], w[2]}, {w[3], w[4], w[5]}};
+    if (tb_pairs_add(out, &q, in->expect ? in->expect[i] : -1)) return -1;
+    if (index) index[added] = i;
+    added++;
+  }
+  return added;
 }

@@ -22,4 +22,10 @@ const tb_pair_family *tb_pair_family_find(const char *name);
 /* Appends n pairs of the family to set (expect -1). 0, or -1 out of memory. */
 int tb_pairgen(const tb_pair_family *f, int n, uint64_t seed, tb_pairset *set);
 
+/* Appends to out every pair of in whose coordinates all scale exactly by
+ * 2^e (finite, and no bit lost to underflow), scaled; index[k] (when not
+ * NULL, room for in->n) gets the number in `in` of out's k-th new pair.
+ * Returns how many were appended, -1 out of memory. */
+int tb_pairs_scaled(const tb_pairset *in, int e, tb_pairset *out, int *index);
+
 #endif

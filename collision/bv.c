@@ -32,16 +32,35 @@ int tb_aabb_aabb(tb_aabb a, tb_aabb b) {
          a.lo.z <= b.hi.z && b.lo.z <= a.hi.z;
 }
 
-/* Rounding: the centre (lo + hi) / 2 is off by at most eps/2 |c_i| per axis,
- * so the corner distance from it is at most the true half diagonal plus
- * eps |c|_1; the half diagonal itself and the tests' own arithmetic carry a
- * few eps of relative error, covered by the relative 1e-12. */
+/* Rounding: the centre (lo + hi) / 2 is off by at most eps/2 |c_i| per axis
+ * (plus half the smallest subnormal when it underflows), so the corner
+ * distance from it is at most the true half diagonal plus eps |c|_1; the
+ * half diagonal itself and the tests' own arithmetic carry a few eps of
+ * relative error, covered by the relative 1e-12. Extents outside
+ * [2^-450, 2^450] are first scaled by an exact power of two so that their
+ * squares neither underflow nor overflow (a box 1e-200 wide gets a sphere
+ * 1e-200 wide, not 0); boxes within TB_COORD_MAX (core/tb_mesh.h) of
+ * ordinary size never take that branch. The radius is at least
+ * TB_SPHERE_MIN_R (2^-500): then r^2 and every radius sum squared in the
+ * tests are normal numbers (never a subnormal or zero), and squared
+ * distances that underflow only err towards "overlap". Within TB_COORD_MAX
+ * no square or sum of squares of the tests overflows. */
 tb_sphere tb_aabb_sphere(tb_aabb b) {
   tb_sphere s;
   s.c = tb_v3(0.5 * (b.lo.x + b.hi.x), 0.5 * (b.lo.y + b.hi.y), 0.5 * (b.lo.z + b.hi.z));
   double dx = b.hi.x - b.lo.x, dy = b.hi.y - b.lo.y, dz = b.hi.z - b.lo.z;
-  double h = 0.5 * sqrt(dx * dx + dy * dy + dz * dz);
+  double m = dx > dy ? dx : dy;
+  m = m > dz ? m : dz;
+  double h;
+  if (m > 0x1p-450 && m < 0x1p450) {
+    h = 0.5 * sqrt(dx * dx + dy * dy + dz * dz);
+  } else { /* exact scaling: 2^600 brings 2^-1074 to 2^-474, 2^-600 2^1024 to 2^424 */
+    double up = m < 1 ? 0x1p600 : 0x1p-600;
+    dx *= up, dy *= up, dz *= up;
+    h = 0.5 * sqrt(dx * dx + dy * dy + dz * dz) / up;
+  }
   double slack = DBL_EPSILON * (fabs(s.c.x) + fabs(s.c.y) + fabs(s.c.z));
   s.r = (h + slack) * (1.0 + 1e-12);
+  if (s.r < TB_SPHERE_MIN_R) s.r = TB_SPHERE_MIN_R;
   return s;
 }

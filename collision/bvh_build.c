@@ -14,12 +14,16 @@
  * the axis, at their middle index. Boxes are exact (min-max of the
  * vertices), each node's sphere circumscribes its box; the layer kind of a
  * node follows its depth. Children are allocated in pairs (child, child+1).
+ * Vertices must be finite and within TB_COORD_MAX (core/tb_mesh.h), else
+ * the build is refused: beyond it squared distances of the sphere tests
+ * could overflow (issue 16: 1e200 gave no pairs at all).
  * Everything is deterministic: ties go to the lower axis and, in sorts, to
  * the lower triangle number. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "tb_bvh.h"
+#include "tb_mesh.h"
 
 tb_bvh_def tb_bvh_default_def(void) {
   tb_bvh_def d;
@@ -331,6 +335,15 @@ int tb_bvh_build(tb_bvh *b, const tb_vec3 *x, const int *tri, int ntri, const tb
       rc = tb_error_set(err, "bvh", 0, "triangle %d has a non-finite vertex", t);
       goto done;
     }
+    for (int k = 0; k < 3; k++)
+      if (!tb_coord_ok(x[v[k]])) {
+        tb_vec3 w = x[v[k]];
+        rc = tb_error_set(err, "bvh", 0,
+                          "triangle %d: vertex %d at (%.17g, %.17g, %.17g) is beyond the "
+                          "coordinate bound +-%g",
+                          t, v[k], w.x, w.y, w.z, TB_COORD_MAX);
+        goto done;
+      }
     B.tbox[t].lo = vmin(p, vmin(q, r)), B.tbox[t].hi = vmax(p, vmax(q, r));
     B.cen[t] = tb_v3((p.x + q.x + r.x) / 3.0, (p.y + q.y + r.y) / 3.0, (p.z + q.z + r.z) / 3.0);
     b->tri_index[t] = t;

@@ -8,7 +8,10 @@
  * rotation). Both are widened by 16 ulps of the coordinate magnitudes
  * sum_j |R_ij| (|c_j| + h_j) + |t_i|, which covers the rounding of this
  * update and of any ordinary evaluation of R x + t by the caller, so the
- * moved volumes contain the moved triangles and queries stay exact.
+ * moved volumes contain the moved triangles and queries stay exact. A
+ * motion that takes a volume beyond +-1e150 (where the tests' squares
+ * could overflow) gives that node a volume that meets everything, so the
+ * query falls back to testing its triangles.
  *
  * Deformation: bottom-up refit (part 5). Leaf boxes are recomputed from
  * the vertices; an inner node whose children both kept their boxes keeps
@@ -27,11 +30,20 @@
  * Threads (tb_threads.h): whole subtrees per task, then the nodes above
  * them (see tb_bvh_refit below): the same volumes for any thread count. */
 #include <float.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
 #include "tb_bvh.h"
+#include "tb_mesh.h"
 #include "tb_threads.h"
+
+/* Volumes moved beyond +-BV_SAFE (far past TB_COORD_MAX) become volumes
+ * that meet everything: up to it, squared distances and radius sums of
+ * the tests (bvh_query.c) stay finite (3 (2e150)^2 << DBL_MAX). */
+#define BV_SAFE 1e150
 
 void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t) {
   if (!b || b->nnodes == 0) return;
@@ -65,9 +77,19 @@ void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t) {
       hh += slack * e;
       lo[i] = cc - hh, hi[i] = cc + hh, nc[i] = sm;
     }
+    double r = s.r + slack * se;
+    int far = !(r <= BV_SAFE);
+    for (int i = 0; i < 3; i++)
+      far |= !((fabs(lo[i]) <= BV_SAFE) & (fabs(hi[i]) <= BV_SAFE) & (fabs(nc[i]) <= BV_SAFE));
+    if (far) { /* moved beyond what the tests can square: meets everything */
+      b->box[k].lo = tb_v3(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+      b->box[k].hi = tb_v3(HUGE_VAL, HUGE_VAL, HUGE_VAL);
+      b->sph[k].c = tb_v3(0, 0, 0), b->sph[k].r = HUGE_VAL;
+      continue;
+    }
     b->box[k].lo = tb_v3(lo[0], lo[1], lo[2]), b->box[k].hi = tb_v3(hi[0], hi[1], hi[2]);
     b->sph[k].c = tb_v3(nc[0], nc[1], nc[2]);
-    b->sph[k].r = s.r + slack * se;
+    b->sph[k].r = r;
   }
 }
 
@@ -98,16 +120,33 @@ static inline tb_vec3 vmax(tb_vec3 a, tb_vec3 b) {
   return tb_v3(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
 }
 
-/* 1 when every vertex of every triangle is finite: v * 0 is 0 for finite v
- * and NaN for an infinity or a NaN (no branch, no library call). */
-static int all_finite(const tb_bvh *b, const tb_vec3 *x) {
-  int bad = 0, n = 3 * b->ntri; /* a count: no chain of dependent additions */
+/* 1 when a vertex referenced by ref[0..n) is not finite or lies beyond
+ * TB_COORD_MAX (tb_coord_ok, core/tb_mesh.h), else 0. "Not |v| <= max" also
+ * catches NaN. With SSE2 the three coordinates are compared two and one at a
+ * time and the results or-ed into a register, converted once at the end:
+ * about 0.45 ns per reference against 0.65 ns for the finiteness test alone
+ * (v * 0 != 0) it replaces and 0.9 ns for scalar comparisons (liver faces,
+ * 29k references, gcc 12 -O2). */
+static int refs_bad(const tb_vec3 *x, const int *ref, int n) {
+#ifdef __SSE2__
+  const __m128d absmask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+  const __m128d lim = _mm_set1_pd(TB_COORD_MAX);
+  __m128d acc = _mm_setzero_pd();
   for (int k = 0; k < n; k++) {
-    tb_vec3 p = x[b->tri[k]];
-    bad += p.x * 0.0 + p.y * 0.0 + p.z * 0.0 != 0.0;
+    const double *p = &x[ref[k]].x;
+    __m128d xy = _mm_and_pd(_mm_loadu_pd(p), absmask), z = _mm_and_pd(_mm_load_sd(p + 2), absmask);
+    acc = _mm_or_pd(acc, _mm_or_pd(_mm_cmpnle_pd(xy, lim), _mm_cmpnle_sd(z, lim)));
   }
-  return bad == 0;
+  return _mm_movemask_pd(acc) != 0;
+#else
+  int bad = 0;
+  for (int k = 0; k < n; k++) bad |= !tb_coord_ok(x[ref[k]]);
+  return bad;
+#endif
 }
+
+/* References per task of the parallel check. */
+#define CHECK_CHUNK 4096
 
 /* Node k's new volumes from the vertices (a leaf) or its children (refit
  * before it); returns 1 when a volume changed. */
@@ -189,18 +228,18 @@ int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta) {
   if (!(delta > 0)) delta = 0; /* negative or NaN: exact */
   int nchanged = 0;
   if (b->nnodes < REFIT_PAR_MIN || tb_threads() == 1) {
-    if (!all_finite(b, x)) return -1;
+    if (refs_bad(x, b->tri, 3 * b->ntri)) return -1;
     /* children come after their parent: the same volumes, in memory order */
     for (int k = b->nnodes - 1; k >= 0; k--) nchanged += refit_node(b, x, delta, k);
-  } else { /* one parallel region: the finiteness check, then the tasks */
+  } else { /* one parallel region: the coordinate check, then the tasks */
     int cut[TASK_CAP], top[TASK_CAP], ntop, n = cut_tree(b, cut, top, &ntop), bad = 0;
-    const int nref = 3 * b->ntri;
+    const int nref = 3 * b->ntri, nchunk = (nref + CHECK_CHUNK - 1) / CHECK_CHUNK;
 #pragma omp parallel
     {
 #pragma omp for schedule(static) reduction(+ : bad)
-      for (int k = 0; k < nref; k++) {
-        tb_vec3 p = x[b->tri[k]];
-        bad += p.x * 0.0 + p.y * 0.0 + p.z * 0.0 != 0.0;
+      for (int c = 0; c < nchunk; c++) {
+        int k0 = c * CHECK_CHUNK, k1 = k0 + CHECK_CHUNK < nref ? k0 + CHECK_CHUNK : nref;
+        bad += refs_bad(x, b->tri + k0, k1 - k0);
       }
       if (!bad) { /* the reduced count, the same on every thread */
 #pragma omp for schedule(dynamic, 1) reduction(+ : nchanged)

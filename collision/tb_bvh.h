@@ -26,7 +26,9 @@ int tb_sphere_sphere(tb_sphere a, tb_sphere b);
 int tb_sphere_aabb(tb_sphere s, tb_aabb b); /* closest point on the box */
 int tb_aabb_aabb(tb_aabb a, tb_aabb b);
 /* The sphere circumscribing a box: centre the box centre, radius half the
- * diagonal (thesis §4.3.3), rounded outward so it contains the box. */
+ * diagonal (thesis §4.3.3), rounded outward so it contains the box, and at
+ * least TB_SPHERE_MIN_R so that squared radii never underflow (bv.c). */
+#define TB_SPHERE_MIN_R 0x1p-500
 tb_sphere tb_aabb_sphere(tb_aabb b);
 
 /* ---- building ---- */
@@ -86,6 +88,10 @@ typedef struct tb_bvh {
   const int *tri; /* the mesh's triangles (3 per), not owned */
 } tb_bvh;
 
+/* Refuses (-1, err) a triangle with a vertex that is not finite or lies
+ * beyond TB_COORD_MAX (1e90, core/tb_mesh.h): within it, every square and
+ * sum of squares of the volume arithmetic stays finite, and the volumes hold
+ * their triangles down to subnormal coordinates (bv.c). */
 int tb_bvh_build(tb_bvh *b, const tb_vec3 *x, const int *tri, int ntri, const tb_bvh_def *def,
                  tb_error *err);
 void tb_bvh_free(tb_bvh *b);
@@ -96,14 +102,16 @@ void tb_bvh_free(tb_bvh *b);
  * composing and boxes never grow without bound (thesis §4.3.3 part 3):
  * boxes by the rotated-AABB update (centre R c + t, half extents |R| h),
  * spheres move with their centres (radius kept); both widened by a few ulps
- * of the coordinates so they contain x' however the caller rounds it. */
+ * of the coordinates so they contain x' however the caller rounds it.
+ * A volume moved beyond +-1e150 meets everything (see bvh_update.c). */
 void tb_bvh_transform(tb_bvh *b, tb_mat3 R, tb_vec3 t);
 /* Bottom-up refit from the (deformed) vertices x: leaf boxes rebuilt, a box
  * replaced only when ||Min'-Min||_2 + ||Max'-Max||_2 > delta (delta = 0:
  * exact boxes); a kept box is grown to contain the new one (so it stays
  * within delta of the exact box and queries stay exact). The refit volumes
  * become the rest volumes. Returns the number of nodes whose volume
- * changed, -1 for non-finite vertices. Large hierarchies are refit on the
+ * changed, -1 (nothing changed) for a vertex that is not finite or lies
+ * beyond TB_COORD_MAX (core/tb_mesh.h). Large hierarchies are refit on the
  * threads of tb_threads.h (whole subtrees per task): the same volumes for
  * any thread count. */
 int tb_bvh_refit(tb_bvh *b, const tb_vec3 *x, double delta);

@@ -795,6 +795,25 @@ static void transform_rules(void) {
   tb_bvh_transform(&b, R, t);
   TB_CHECK(tb_aabb_aabb(b.box[0], aabb(1e300, 1e300, 1e300, 1e300, 1e300, 1e300)));
   TB_CHECK(tb_sphere_sphere(b.sph[3], sphere(-1e300, 0, 0, 0)));
+  /* a motion beyond 1e150 too (squares of such volumes could overflow):
+   * every volume meets everything, and a query still finds every pair */
+  tb_vec3 far = tb_v3(1e200, -1e200, 1e160);
+  tb_bvh_transform(&b, tb_m3_identity(), far);
+  for (int i = 0; i < b.nnodes; i++)
+    bad += !tb_aabb_aabb(b.box[i], aabb(-1e300, -1e300, -1e300, -1e300, -1e300, -1e300)) ||
+           !(b.sph[i].r == HUGE_VAL);
+  TB_CHECK_MSG(!bad, "%d volumes moved by 1e200 do not meet everything", bad);
+  tb_vec3 *y = malloc((size_t)m.nv * sizeof *y);
+  if (y) {
+    move(m.x, m.nv, tb_m3_identity(), far, y);
+    tb_pairlist ref = no_pairs();
+    TB_CHECK(tb_collide_brute(y, m.tri, m.ntri, y, m.tri, m.ntri, tb_tritri_exact, &ref, NULL) ==
+             0);
+    tb_pairlist_sort_unique(&ref);
+    TB_CHECK(ref.n > 0 && query_equals(&b, y, &b, y, &ref));
+    tb_pairlist_free(&ref);
+    free(y);
+  }
   free(rest), free(once);
   tb_bvh_free(&b);
   tb_mesh_free(&m);
@@ -1004,6 +1023,11 @@ static void threads_identical(void) {
       ya[m.tri[3 * (m.ntri / 2)]].y = NAN;
       TB_CHECK(tb_bvh_refit(&A[1], ya, 0) == -1);
       TB_CHECK(!memcmp(A[0].box, A[1].box, nb * sizeof *A[0].box));
+      /* so is one beyond TB_COORD_MAX, in the last chunk of the check */
+      ya[m.tri[3 * (m.ntri / 2)]].y = 0;
+      ya[m.tri[3 * m.ntri - 1]].z = -1.0000001e90;
+      TB_CHECK(tb_bvh_refit(&A[1], ya, 0) == -1);
+      TB_CHECK(!memcmp(A[0].box, A[1].box, nb * sizeof *A[0].box));
       for (int t = 0; t < 2; t++) tb_bvh_free(&A[t]), tb_bvh_free(&B[t]), tb_pairlist_free(&p[t]);
     }
   tb_threads_set(was);
@@ -1013,16 +1037,17 @@ static void threads_identical(void) {
   tb_mesh_free(&m);
 }
 
-/* A chain: triangles near the planes x = 200^k 1e-300, so every mean split
- * peels off the farthest one (the mean of m + 1 of them exceeds all but the
- * last) and the hierarchy is N - 1 deep; a self-query then needs a
+/* A chain: triangles near the planes x = c_k, c_0 = 1e-300, c_k = (k + 2)
+ * c_(k-1) (up to ~1e77, within TB_COORD_MAX), so every mean split peels off
+ * the farthest one (the mean of the first k + 1 exceeds c_k / (k + 1) > all
+ * but the last) and the hierarchy is N - 1 deep; a self-query then needs a
  * traversal stack beyond its initial 256 pairs. */
 static void deep_chain(void) {
   enum { N = 200 };
   static tb_vec3 x[3 * N];
   static int tri[3 * N];
   double c = 1e-300;
-  for (int k = 0; k < N; k++, c *= 200) {
+  for (int k = 0; k < N; k++, c *= k + 2) {
     x[3 * k] = tb_v3(c, 0, 0), x[3 * k + 1] = tb_v3(c * (1 + 1e-9), 1, 0);
     x[3 * k + 2] = tb_v3(c, 0, 1);
   }
@@ -1093,6 +1118,144 @@ static void errors_and_edges(void) {
   tb_pairlist_free(&p);
 }
 
+/* ---- coordinates over the whole range readers accept (issue 16, item 1) ---- */
+static void scaled_copy(const tb_vec3 *x, int nv, int e, tb_vec3 *y) {
+  for (int v = 0; v < nv; v++) y[v] = tb_v3(ldexp(x[v].x, e), ldexp(x[v].y, e), ldexp(x[v].z, e));
+}
+
+/* Two random soups scaled by exact powers of two, from 2^-1000 (extents
+ * ~1e-303: squares of them underflow) up to 2^290 (coordinates ~1e87, just
+ * within TB_COORD_MAX): for every one of the 18 build options, built at
+ * the scaled positions and refit to them from the unscaled build, the
+ * query gives brute force's pairs and every sphere holds its box. */
+static void scaled_soups(void) {
+  static const int scales[] = {-1000, -800, -700, -530, -520, -510, -290,
+                               -150,  -40,  0,    40,   150,  290};
+  const int nscales = (int)(sizeof scales / sizeof scales[0]);
+  tb_mesh s1, s2;
+  soup(&s1, 300, 21), soup(&s2, 200, 22);
+  tb_vec3 *y1 = malloc((size_t)s1.nv * sizeof *y1), *y2 = malloc((size_t)s2.nv * sizeof *y2);
+  TB_CHECK(s1.x && s2.x && y1 && y2);
+  if (!s1.x || !s2.x || !y1 || !y2) return;
+  tb_error err;
+  int wrong = 0;
+  for (int si = 0; si < nscales; si++) {
+    scaled_copy(s1.x, s1.nv, scales[si], y1), scaled_copy(s2.x, s2.nv, scales[si], y2);
+    tb_pairlist ref = no_pairs(), self = no_pairs();
+    TB_CHECK(tb_collide_brute(y1, s1.tri, s1.ntri, y2, s2.tri, s2.ntri, tb_tritri_exact, &ref,
+                              NULL) == 0);
+    TB_CHECK(tb_collide_brute(y1, s1.tri, s1.ntri, y1, s1.tri, s1.ntri, tb_tritri_exact, &self,
+                              NULL) == 0);
+    tb_pairlist_sort_unique(&ref), tb_pairlist_sort_unique(&self);
+    TB_CHECK_MSG(ref.n > 0 && self.n > 0, "2^%d: %d and %d pairs", scales[si], ref.n, self.n);
+    for (int k = 0; k < NOPTIONS; k++) {
+      tb_bvh_def d = option(k);
+      tb_bvh A, B, R;
+      if (tb_bvh_build(&A, y1, s1.tri, s1.ntri, &d, &err) ||
+          tb_bvh_build(&B, y2, s2.tri, s2.ntri, &d, &err)) {
+        TB_CHECK_MSG(0, "2^%d option %d: %s", scales[si], k, err.msg);
+        continue;
+      }
+      check_structure(&A, y1, &d, EXACT), check_structure(&B, y2, &d, EXACT);
+      int e1 = query_equals(&A, y1, &B, y2, &ref), e2 = query_equals(&A, y1, &A, y1, &self), e3 = 1;
+      /* refit from the unit-scale build to the scaled positions */
+      if (tb_bvh_build(&R, s2.x, s2.tri, s2.ntri, &d, &err) == 0) {
+        TB_CHECK(tb_bvh_refit(&R, y2, 0) >= (scales[si] != 0));
+        check_structure(&R, y2, &d, EXACT);
+        e3 = query_equals(&A, y1, &R, y2, &ref);
+        tb_bvh_free(&R);
+      }
+      if (!e1 || !e2 || !e3)
+        wrong++, fprintf(stderr, "  2^%d option %d (%s): built %d self %d refit %d\n", scales[si],
+                         k, KINDS[k % 3], e1, e2, e3);
+      tb_bvh_free(&A), tb_bvh_free(&B);
+    }
+    tb_pairlist_free(&ref), tb_pairlist_free(&self);
+  }
+  TB_CHECK_MSG(!wrong, "%d scaled queries differ from brute force", wrong);
+  free(y1), free(y2);
+  tb_mesh_free(&s1), tb_mesh_free(&s2);
+}
+
+/* The issue's triangle (1e200 on each axis) collided with itself: at
+ * 1e90 (the bound) and 1e-90 every kind finds the one pair; beyond the
+ * bound the build and the refit refuse it with a clear message. */
+static void issue_coords(void) {
+  int tri[3] = {0, 1, 2};
+  const double at[3] = {1e90, 1e-90, 5e-324};
+  tb_error err;
+  for (int a = 0; a < 3; a++) {
+    tb_vec3 x[3] = {{at[a], 0, 0}, {0, at[a], 0}, {0, 0, at[a]}};
+    for (int k = 0; k < 3; k++) {
+      tb_bvh_def d = tb_bvh_kind_def(KINDS[k]);
+      tb_bvh b;
+      if (tb_bvh_build(&b, x, tri, 1, &d, &err)) {
+        TB_CHECK_MSG(0, "%g %s: %s", at[a], KINDS[k], err.msg);
+        continue;
+      }
+      TB_CHECK(sphere_holds(b.sph[0], b.box[0]));
+      tb_pairlist p = no_pairs();
+      TB_CHECK(tb_bvh_collide(&b, x, &b, x, tb_tritri_exact, &p, NULL) == 0);
+      TB_CHECK_MSG(p.n == 1, "%g %s: %d pairs", at[a], KINDS[k], p.n);
+      tb_pairlist_free(&p);
+      if (a == 0) { /* refit beyond the bound: refused, nothing changes */
+        tb_vec3 y[3] = {{1e200, 0, 0}, {0, 1e200, 0}, {0, 0, 1e200}};
+        tb_aabb root = b.box[0];
+        TB_CHECK(tb_bvh_refit(&b, y, 0) == -1 && box_equal(b.box[0], root));
+      }
+      tb_bvh_free(&b);
+    }
+  }
+  const double beyond[3] = {1e200, -1.0000001e90, 1e91};
+  for (int a = 0; a < 3; a++) {
+    tb_vec3 x[3] = {{beyond[a], 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int k = 0; k < 3; k++) {
+      tb_bvh_def d = tb_bvh_kind_def(KINDS[k]);
+      tb_bvh b;
+      int rc = tb_bvh_build(&b, x, tri, 1, &d, &err);
+      TB_CHECK_MSG(rc != 0 && b.nnodes == 0 && strstr(err.msg, "bvh") &&
+                       strstr(err.msg, "triangle 0") && strstr(err.msg, "1e+90"),
+                   "%g: rc %d, '%s'", beyond[a], rc, rc ? err.msg : "");
+    }
+  }
+}
+
+/* Refit keeps spheres conservative: at scales from 2^-1000 to 2^290, soups
+ * deformed and refit (delta 0 and > 0) have every node's sphere holding
+ * its triangles (long double check). */
+static void refit_spheres_hold(void) {
+  static const int scales[] = {-1000, -700, -290, 0, 290};
+  tb_mesh s;
+  soup(&s, 500, 31);
+  tb_vec3 *y = malloc((size_t)s.nv * sizeof *y), *z = malloc((size_t)s.nv * sizeof *z);
+  TB_CHECK(s.x && y && z);
+  if (!s.x || !y || !z) return;
+  tb_error err;
+  int bad = 0;
+  for (int si = 0; si < 5; si++)
+    for (int k = 0; k < 3; k++) {
+      tb_bvh_def d = tb_bvh_kind_def(KINDS[k]);
+      tb_bvh b;
+      scaled_copy(s.x, s.nv, scales[si], y);
+      if (tb_bvh_build(&b, y, s.tri, s.ntri, &d, &err)) {
+        TB_CHECK_MSG(0, "%s", err.msg);
+        continue;
+      }
+      for (int f = 1; f <= 6; f++) {
+        deform(s.x, s.nv, 0.3 * f, 0.01 * f, z);
+        scaled_copy(z, s.nv, scales[si], y);
+        double delta = f % 2 ? 0.0 : ldexp(0.02, scales[si]);
+        TB_CHECK(tb_bvh_refit(&b, y, delta) >= 0);
+        for (int i = 0; i < b.nnodes; i++)
+          bad += !sphere_holds_tris(b.sph[i], y, &b, i) || !sphere_holds(b.sph[i], b.box[i]);
+      }
+      tb_bvh_free(&b);
+    }
+  TB_CHECK_MSG(!bad, "%d spheres smaller than their contents after refit", bad);
+  free(y), free(z);
+  tb_mesh_free(&s);
+}
+
 const tb_test_case tb_tests_bvh[] = {{"volumes_hand", volumes_hand},
                                      {"volumes_random", volumes_random},
                                      {"fig44_rules", fig44_rules},
@@ -1109,4 +1272,7 @@ const tb_test_case tb_tests_bvh[] = {{"volumes_hand", volumes_hand},
                                      {"deep_chain", deep_chain},
                                      {"threads_identical", threads_identical},
                                      {"errors_and_edges", errors_and_edges},
+                                     {"scaled_soups", scaled_soups},
+                                     {"issue_coords", issue_coords},
+                                     {"refit_spheres_hold", refit_spheres_hold},
                                      {0, 0}};

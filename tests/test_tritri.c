@@ -203,6 +203,16 @@ static void tables_end_to_end(void) {
   TB_CHECK(strstr(tb_test_out, "| exact |") && strstr(tb_test_out, "near-miss") &&
            strstr(tb_test_out, "designed 40"));
   TB_CHECK(strstr(tb_test_out, "agrees with the labels of designed 40 on 40 of 40"));
+  /* the scaled family (issue 16): a row per scale, the oracle's column 0 */
+  static const char *const scaled[] = {"| 2^-600 |", "| 2^-500 |", "| 2^-300 |", "| 2^0 |",
+                                       "| 2^300 |",  "| 2^500 |",  "| 2^600 |"};
+  TB_CHECK(strstr(tb_test_out, "| scale | pairs | moller |") && strstr(tb_test_out, "| cgal |\n") &&
+           strstr(tb_test_out, "overflow") && strstr(tb_test_out, "1e90"));
+  for (int k = 0; k < 7; k++) {
+    const char *row = strstr(tb_test_out, scaled[k]), *end = row ? strchr(row, '\n') : NULL;
+    TB_CHECK_MSG(row && end && end - row > 6 && !strncmp(end - 5, "| 0 |", 5),
+                 "scaled row %s missing or the oracle (last column) not 0", scaled[k]);
+  }
   snprintf(args, sizeof args, "table 4.1 --scale 0.001 --results %s/r", tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   snprintf(cmd, sizeof cmd, "cat %s/r/table-4.1/table.md", tb_test_tmpdir());

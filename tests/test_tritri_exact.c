@@ -567,6 +567,68 @@ static void jgt_pairs(void) {
   }
 }
 
+/* Exact scaling by a power of two changes no intersection: the oracles
+ * (CGAL, the table's, and the rationals above) and the tests that claim
+ * exactness give the same answers on the correctness table's families
+ * scaled by 2^k (tb_pairs_scaled keeps the pairs that scale exactly), as
+ * the scaled rows of the correctness table assume (issue 16, item 9). */
+static void scaled_invariance(void) {
+  static const int scales[] = {-1000, -600, -500, -300, -40, 40, 300, 500, 600, 900};
+  const tb_tritri_method *cgal = tb_tritri_find("cgal"), *ex = tb_tritri_find("exact"),
+                         *gex = tb_tritri_find("guigue-exact");
+  TB_CHECK(cgal && ex && gex && cgal->exact && ex->exact && gex->exact);
+  if (!cgal || !ex || !gex) return;
+  /* a lost bit is refused: 2^-1074 cannot be halved, 3 2^-1074 not either */
+  tb_tripair tiny = {{{0x1p-1074, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}};
+  tb_pairset one = {0}, out = {0};
+  TB_CHECK(tb_pairs_add(&one, &tiny, -1) == 0);
+  TB_CHECK(tb_pairs_scaled(&one, -1, &out, NULL) == 0 && out.n == 0);
+  TB_CHECK(tb_pairs_scaled(&one, 1, &out, NULL) == 1 && out.n == 1 &&
+           out.pairs[0].p[0].x == 0x1p-1073 && out.pairs[0].q[2].z == 2.0);
+  TB_CHECK(tb_pairs_scaled(&one, 1024, &out, NULL) == 0 && out.n == 1); /* 2^1024 overflows */
+  tb_pairs_free(&one), tb_pairs_free(&out);
+  int nf, wrong = 0, kept_all_up = 1, dropped_down = 0;
+  long checked = 0;
+  const tb_pair_family *fam = tb_pair_families(&nf);
+  for (int f = 0; f < nf; f++) {
+    tb_pairset set = {0};
+    TB_CHECK(tb_pairgen(&fam[f], 150, 78, &set) == 0);
+    unsigned char *base = malloc((size_t)set.n + 1);
+    int *index = malloc((size_t)set.n * sizeof *index + 1);
+    if (!base || !index) {
+      TB_CHECK(0);
+      free(base), free(index), tb_pairs_free(&set);
+      return;
+    }
+    for (int i = 0; i < set.n; i++) {
+      const tb_tripair *t = &set.pairs[i];
+      base[i] = (unsigned char)cgal->test(t->p, t->q);
+      wrong += oracle(t->p, t->q) != base[i];
+    }
+    for (int e = 0; e < (int)(sizeof scales / sizeof scales[0]); e++) {
+      tb_pairset sc = {0};
+      int n = tb_pairs_scaled(&set, scales[e], &sc, index);
+      TB_CHECK(n == sc.n);
+      if (scales[e] > 0) kept_all_up &= n == set.n;
+      if (scales[e] < 0) dropped_down += set.n - n;
+      for (int i = 0; i < n; i++) {
+        const tb_tripair *t = &sc.pairs[i];
+        int want = base[index[i]];
+        int bad = (cgal->test(t->p, t->q) != want) + (ex->test(t->p, t->q) != want) +
+                  (gex->test(t->p, t->q) != want) + (oracle(t->p, t->q) != want);
+        if (bad && wrong < 5)
+          fprintf(stderr, "  %s pair %d scaled by 2^%d: %d answers changed\n", fam[f].name,
+                  index[i], scales[e], bad);
+        wrong += bad != 0, checked++;
+      }
+      tb_pairs_free(&sc);
+    }
+    free(base), free(index), tb_pairs_free(&set);
+  }
+  TB_CHECK_MSG(wrong == 0, "%d scaled pairs changed their answer", wrong);
+  TB_CHECK(checked > 10000 && kept_all_up && dropped_down > 0);
+}
+
 const tb_test_case tb_tests_tritri_exact[] = {
     {"predicates_vs_rationals", predicates_vs_rationals},
     {"predicates_near_degenerate", predicates_near_degenerate},
@@ -575,4 +637,5 @@ const tb_test_case tb_tests_tritri_exact[] = {
     {"families", families},
     {"table_families", table_families},
     {"jgt_pairs", jgt_pairs},
+    {"scaled_invariance", scaled_invariance},
     {0, 0}};
