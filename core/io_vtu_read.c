@@ -253,11 +253,13 @@ static void end_array(vr *r) {
     for (long i = 0; i < n; i += 3) {
       const unsigned char *p = values(r) + i * r->size;
       tb_vec3 x = tb_v3(get_real(r, p), get_real(r, p + r->size), get_real(r, p + 2 * r->size));
-      if (!tb_isfinite3(x)) {
-        fail(r, r->line, "Points: point %ld is not finite", i / 3);
+      int bad = tb_build_vert(r->b, x);
+      if (bad > 0) {
+        fail(r, r->line, "Points: point %ld (%.17g, %.17g, %.17g) is not finite or beyond +-%g",
+             i / 3, x.x, x.y, x.z, TB_COORD_MAX);
         return;
       }
-      if (tb_build_vert(r->b, x)) {
+      if (bad) {
         fail(r, r->line, "out of memory");
         return;
       }
@@ -449,8 +451,8 @@ static void XMLCALL on_end(void *ud, const XML_Char *name) {
 }
 
 static int parse(vr *r) {
-  FILE *f = fopen(r->path, "rb");
-  if (!f) return tb_error_set(r->err, r->path, 0, "cannot open: %s", strerror(errno));
+  FILE *f = tb_io_open(r->path, r->err);
+  if (!f) return -1;
   int rc = 0;
   for (int done = 0; !done && rc == 0;) {
     void *buf = XML_GetBuffer(r->xp, 1 << 16);
