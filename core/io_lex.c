@@ -27,15 +27,24 @@ int tb_lex_fail(tb_lex *lx, const char *fmt, ...) {
 
 FILE *tb_io_open(const char *path, tb_error *err) {
   struct stat st;
+  /* stat first: opening a FIFO would wait for a writer */
+  if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+    tb_error_set(err, path, 0, S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file");
+    return NULL;
+  }
   FILE *f = fopen(path, "rb");
   if (!f) {
     tb_error_set(err, path, 0, "cannot open: %s", strerror(errno));
     return NULL;
   }
-  if (fstat(fileno(f), &st) || !S_ISREG(st.st_mode)) {
-    int dir = S_ISDIR(st.st_mode);
+  if (fstat(fileno(f), &st)) {
+    tb_error_set(err, path, 0, "cannot stat: %s", strerror(errno));
     fclose(f);
-    tb_error_set(err, path, 0, dir ? "is a directory" : "not a regular file");
+    return NULL;
+  }
+  if (!S_ISREG(st.st_mode)) {
+    tb_error_set(err, path, 0, S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file");
+    fclose(f);
     return NULL;
   }
   return f;

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "io_internal.h"
 
@@ -147,9 +148,8 @@ static int read_part(char *name, size_t len, int kind, int upper, tb_build *b, l
   static const char *const ext[2][3] = {{".node", ".ele", ".face"}, {".NODE", ".ELE", ".FACE"}};
   tb_lex lx;
   strcpy(name + len, ext[upper][kind]);
-  FILE *f = fopen(name, "rb");
-  *absent = !f && errno == ENOENT;
-  if (f) fclose(f);
+  struct stat st;
+  *absent = stat(name, &st) != 0 && errno == ENOENT;
   if (*absent) return 0;
   if (tb_lex_open(&lx, name, '#', err)) return -1;
   int rc = kind == 0   ? read_node(&lx, b, base)
