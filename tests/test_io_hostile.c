@@ -285,6 +285,14 @@ static void test_eof_line(void) {
       {"z_stl.stl", "solid t\n" FACET("0 1 0"), 8, "unexpected end of file"},
       {"z_empty.obj", "", 0, "empty file"},
       {"z_comment.obj", "# a\n# b\n", 2, "empty file"},
+      {"z_nopiece.vtu",
+       "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\">\n"
+       "<UnstructuredGrid>\n</UnstructuredGrid>\n</VTKFile>\n",
+       5, "no Piece"},
+      {"z_trunc.vtu", "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\">\n<Unstr", 3,
+       "XML error"},
+      {"z_trunc2.vtu", "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\">\n", 2,
+       "XML error: no element found"},
       {0, 0, 0, 0}};
   run_bad(c);
 }
