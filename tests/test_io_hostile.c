@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "tb_mesh_io.h"
+#include "tb_spheres.h"
 #include "tb_test.h"
 #include "tb_vtu.h"
 
@@ -196,6 +197,14 @@ static void test_bom(void) {
       {"b_mid.msh", MSH2 BOM NODES3, 4, "byte-order mark inside the file"},
       {0, 0, 0, 0}};
   run_bad(c);
+  /* .sph files use the same tokenizer */
+  tb_spheres s;
+  tb_error err = {{0}};
+  const char *p = tb_test_file("b.sph", BOM "sph 1.0\nsphe 1 0 0 0 1\n", -1);
+  TB_CHECK_MSG(tb_spheres_read(p, &s, &err) == 0 && s.n == 1, "%s", err.msg);
+  tb_spheres_free(&s);
+  p = tb_test_file("b_mid.sph", "sph 1.0\nsphe 1 0 0 0 1" BOM "\n", -1);
+  TB_CHECK(tb_spheres_read(p, &s, &err) != 0 && strstr(err.msg, "b_mid.sph:2: byte-order mark"));
 }
 
 /* ---- item 7: a binary STL whose header starts with "solid", wrong count ---- */
