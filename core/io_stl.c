@@ -179,15 +179,16 @@ static int read_ascii(tb_lex *lx, tb_build *b, vmap *h) {
   char name[256], end[256];
   if (tb_lex_need(lx, "'solid'")) return -1;
   for (;;) {
-    if (strcasecmp(tb_lex_word(lx), "solid"))
-      return tb_lex_fail(lx, "expected 'solid' or end of file, found '%.40s'", lx->buf);
+    char *w = tb_lex_word(lx);
+    if (strcasecmp(w, "solid"))
+      return tb_lex_fail(lx, "expected 'solid' or end of file, found '%.40s'", w);
     rest_of_line(lx, name, sizeof name);
     for (;;) {
       if (tb_lex_need(lx, "'facet' or 'endsolid'")) return -1;
-      char *w = tb_lex_word(lx);
-      if (!strcasecmp(w, "endsolid")) break;
-      if (strcasecmp(w, "facet"))
-        return tb_lex_fail(lx, "expected 'facet' or 'endsolid', found '%.40s'", w);
+      char *kw = tb_lex_word(lx);
+      if (!strcasecmp(kw, "endsolid")) break;
+      if (strcasecmp(kw, "facet"))
+        return tb_lex_fail(lx, "expected 'facet' or 'endsolid', found '%.40s'", kw);
       if (facet(lx, b, h)) return -1;
     }
     int words = tb_lex_left(lx);
