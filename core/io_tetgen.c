@@ -54,6 +54,7 @@ static int cmp_id(const void *a, const void *b) {
 
 /* Error at the later line of the first duplicate number among the n in ids. */
 static int check_ids(tb_lex *lx, elem_id *ids, long n, const char *what) {
+  if (n < 2) return 0;
   qsort(ids, (size_t)n, sizeof *ids, cmp_id);
   long dup = -1;
   for (long i = 1; i < n; i++)
