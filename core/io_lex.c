@@ -261,8 +261,8 @@ int tb_build_vert(tb_build *b, tb_vec3 x) {
 int tb_lex_vert(tb_lex *lx, tb_build *b, tb_vec3 x) {
   int r = tb_build_vert(b, x);
   if (r > 0)
-    return tb_lex_fail(lx, "vertex %d (%.17g, %.17g, %.17g): coordinate beyond +-%g", b->m.nv + 1,
-                       x.x, x.y, x.z, TB_COORD_MAX);
+    return tb_lex_fail(lx, "vertex %d (%g, %g, %g): coordinate beyond +-%g", b->m.nv + 1, x.x, x.y,
+                       x.z, TB_COORD_MAX);
   return r ? tb_lex_fail(lx, "out of memory") : 0;
 }
 

@@ -73,8 +73,8 @@ static int sphere(tb_lex *lx, tb_spheres *s) {
     return -1;
   if (!(r > 0)) return tb_lex_fail(lx, "radius %.17g is not positive", r);
   if (!tb_coord_ok(c) || r > TB_COORD_MAX)
-    return tb_lex_fail(lx, "sphere (%.17g, %.17g, %.17g) radius %.17g: beyond +-%g", c.x, c.y, c.z,
-                       r, TB_COORD_MAX);
+    return tb_lex_fail(lx, "sphere (%g, %g, %g) radius %g: beyond +-%g", c.x, c.y, c.z, r,
+                       TB_COORD_MAX);
   if (tb_lex_end(lx)) return -1;
   if (tb_spheres_push(s, c, r)) return tb_lex_fail(lx, "out of memory");
   return 0;

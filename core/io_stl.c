@@ -131,7 +131,7 @@ static int facet(tb_lex *lx, tb_build *b, vmap *h) {
         tb_lex_end(lx))
       return -1;
     if (!tb_coord_ok(x))
-      return tb_lex_fail(lx, "vertex (%.17g, %.17g, %.17g): coordinate beyond +-%g", x.x, x.y, x.z,
+      return tb_lex_fail(lx, "vertex (%g, %g, %g): coordinate beyond +-%g", x.x, x.y, x.z,
                          TB_COORD_MAX);
     if ((v[k] = vmap_get(h, b, x)) < 0) return tb_lex_fail(lx, "out of memory");
   }

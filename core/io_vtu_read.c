@@ -256,8 +256,8 @@ static void end_array(vr *r) {
       tb_vec3 x = tb_v3(get_real(r, p), get_real(r, p + r->size), get_real(r, p + 2 * r->size));
       int bad = tb_build_vert(r->b, x);
       if (bad > 0) {
-        fail(r, r->line, "Points: point %ld (%.17g, %.17g, %.17g) is not finite or beyond +-%g",
-             i / 3, x.x, x.y, x.z, TB_COORD_MAX);
+        fail(r, r->line, "Points: point %ld (%g, %g, %g) is not finite or beyond +-%g", i / 3, x.x,
+             x.y, x.z, TB_COORD_MAX);
         return;
       }
       if (bad) {
