@@ -19,7 +19,7 @@ typedef struct msh {
   tb_lex lx;
   tb_build *b;
   int version; /* 0 before any header, then 1, 2 or 4 */
-  int have_nodes;
+  int have_nodes, have_elements;
   node_tag *tags;
   int ntags, captags;
 } msh;
@@ -82,7 +82,7 @@ static int coords(msh *s, int nextra) {
   for (int k = 0; k < nextra; k++)
     if (tb_lex_real(&s->lx, &u, "parametric coordinate")) return -1;
   if (tb_lex_end(&s->lx)) return -1;
-  return tb_build_vert(s->b, x) ? tb_lex_fail(&s->lx, "out of memory") : 0;
+  return tb_lex_vert(&s->lx, s->b, x);
 }
 
 /* v1 and v2: "n", then n lines "tag x y z". */
@@ -92,7 +92,7 @@ static int nodes_v12(msh *s, const char *end) {
       tb_lex_end(&s->lx))
     return -1;
   for (long i = 0; i < n; i++)
-    if (data_line(s, i, n, "node") || tb_lex_long(&s->lx, &tag, "node tag") ||
+    if (data_line(s, i, n, "node") || tb_lex_range(&s->lx, &tag, 1, LONG_MAX, "node tag") ||
         add_tag(s, tag, s->b->m.nv) || coords(s, 0))
       return -1;
   return finish_nodes(s, end);
@@ -116,7 +116,7 @@ static int nodes_v4(msh *s) {
         tb_lex_range(&s->lx, &k, 0, INT_MAX - total, "block node count") || tb_lex_end(&s->lx))
       return -1;
     for (long i = 0; i < k; i++)
-      if (data_line(s, i, k, "node tag") || tb_lex_long(&s->lx, &tag, "node tag") ||
+      if (data_line(s, i, k, "node tag") || tb_lex_range(&s->lx, &tag, 1, LONG_MAX, "node tag") ||
           tb_lex_end(&s->lx) || add_tag(s, tag, s->b->m.nv + (int)i))
         return -1;
     for (long i = 0; i < k; i++)
@@ -237,15 +237,29 @@ static int section(msh *s, const char *w) {
   int elm = !strcmp(w, "$ELM") || !strcmp(w, "$Elements");
   if (w[0] != '$') return tb_lex_fail(&s->lx, "expected a $Section, found '%.40s'", w);
   if (!strcmp(w, "$MeshFormat"))
-    return s->version ? tb_lex_fail(&s->lx, "second $MeshFormat") : mesh_format(s);
+    return s->version == 1 ? tb_lex_fail(&s->lx,
+                                         "$MeshFormat after legacy $NOD/$ELM sections: "
+                                         "the legacy (version 1) and the new format mixed")
+           : s->version    ? tb_lex_fail(&s->lx, "second $MeshFormat")
+                           : mesh_format(s);
   if (!nod && !elm) return skip_section(s, w);
   if (tb_lex_end(&s->lx)) return -1;
   if (v1 && s->version == 0) s->version = 1;
-  if (s->version == 0 || v1 != (s->version == 1))
-    return tb_lex_fail(&s->lx, "%s does not fit this file's format (%s)", w,
-                       s->version ? "version mismatch" : "no $MeshFormat before it");
+  if (v1 && s->version != 1)
+    return tb_lex_fail(&s->lx,
+                       "legacy (version 1) section %s in a version %d file: the legacy and the "
+                       "new format mixed",
+                       w, s->version);
+  if (s->version == 0)
+    return tb_lex_fail(&s->lx, "%s without $MeshFormat before it (legacy files use $NOD/$ELM)", w);
+  if (!v1 && s->version == 1)
+    return tb_lex_fail(&s->lx,
+                       "%s after legacy $NOD/$ELM sections: the legacy (version 1) and the new "
+                       "format mixed",
+                       w);
   if (nod && s->have_nodes) return tb_lex_fail(&s->lx, "second node section");
   if (elm && !s->have_nodes) return tb_lex_fail(&s->lx, "elements before nodes");
+  if (elm && s->have_elements++) return tb_lex_fail(&s->lx, "second element section");
   if (s->version == 4) return nod ? nodes_v4(s) : elements_v4(s);
   if (nod) return nodes_v12(s, v1 ? "$ENDNOD" : "$EndNodes");
   return elements_v12(s, v1 ? "$ENDELM" : "$EndElements");

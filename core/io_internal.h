@@ -20,6 +20,9 @@ typedef struct tb_build {
 /* Grows array p (elements of size sz, capacity *cap) to hold need >= 1
  * elements; returns the array, or NULL when out of memory (p untouched). */
 void *tb_io_grow(void *p, int *cap, long need, size_t sz);
+/* Appends vertex x: 0 done, 1 refused (not tb_coord_ok: non-finite or
+ * beyond +-TB_COORD_MAX), -1 out of memory. Every reader adds its vertices
+ * here, so no reader can return a coordinate outside the bound. */
 int tb_build_vert(tb_build *b, tb_vec3 x);
 int tb_build_tri(tb_build *b, int a, int c, int d);
 int tb_build_tet(tb_build *b, const int v[4]);
@@ -37,10 +40,16 @@ typedef struct tb_lex {
   long nl;     /* newlines read so far */
   int comment; /* comment character ('#') or 0 */
   int eof;
-  int seen; /* a line with a token was read */
+  int seen;  /* a line with a token was read */
+  long last; /* the last physical line read (0 none) */
 } tb_lex;
 
-/* Opens path (binary mode) for reading; comment is '#' or 0. */
+/* Opens path (binary mode) for reading; a directory or any other path that
+ * is not a regular file is refused ("is a directory", "not a regular file").
+ * NULL with err set on failure. */
+FILE *tb_io_open(const char *path, tb_error *err);
+/* Opens path with tb_io_open; comment is '#' or 0. A UTF-8 byte-order mark
+ * at the start of the file is skipped; one anywhere else is an error. */
 int tb_lex_open(tb_lex *lx, const char *path, int comment, tb_error *err);
 void tb_lex_close(tb_lex *lx);
 /* Advances to the next line holding a token: 1 found, 0 end of file, -1 a
@@ -67,6 +76,9 @@ int tb_lex_end(tb_lex *lx);
 int tb_lex_trailing(tb_lex *lx, const char *after);
 /* Error "no vertices" (or "empty file") when b has no vertex; else 0. */
 int tb_lex_done(tb_lex *lx, const tb_build *b);
+/* tb_build_vert reporting failure at the current line ("coordinate beyond
+ * +-1e+90", "out of memory"); returns 0 or -1. */
+int tb_lex_vert(tb_lex *lx, tb_build *b, tb_vec3 x);
 /* Reports "path:line: reason" at the current line; returns -1. */
 int tb_lex_fail(tb_lex *lx, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 

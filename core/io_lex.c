@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "io_internal.h"
 
@@ -24,14 +25,39 @@ int tb_lex_fail(tb_lex *lx, const char *fmt, ...) {
   return tb_error_set(lx->err, lx->path, lx->line, "%s", reason);
 }
 
+FILE *tb_io_open(const char *path, tb_error *err) {
+  struct stat st;
+  /* stat first: opening a FIFO would wait for a writer */
+  if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+    tb_error_set(err, path, 0, S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file");
+    return NULL;
+  }
+  FILE *f = fopen(path, "rb");
+  if (!f) {
+    tb_error_set(err, path, 0, "cannot open: %s", strerror(errno));
+    return NULL;
+  }
+  if (fstat(fileno(f), &st)) {
+    tb_error_set(err, path, 0, "cannot stat: %s", strerror(errno));
+    fclose(f);
+    return NULL;
+  }
+  if (!S_ISREG(st.st_mode)) {
+    tb_error_set(err, path, 0, S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file");
+    fclose(f);
+    return NULL;
+  }
+  return f;
+}
+
 int tb_lex_open(tb_lex *lx, const char *path, int comment, tb_error *err) {
   memset(lx, 0, sizeof *lx);
   lx->path = path;
   lx->err = err;
   lx->comment = comment;
   lx->line = 1;
-  lx->f = fopen(path, "rb");
-  if (!lx->f) return tb_error_set(err, path, 0, "cannot open: %s", strerror(errno));
+  lx->f = tb_io_open(path, err);
+  if (!lx->f) return -1;
   lx->cap = 256;
   lx->buf = malloc(lx->cap);
   if (!lx->buf) {
@@ -50,14 +76,18 @@ void tb_lex_close(tb_lex *lx) {
   lx->buf = NULL;
 }
 
-/* One physical line into buf: 1 read, 0 end of file, -1 error. */
+/* One physical line into buf: 1 read, 0 end of file, -1 error. At end of
+ * file, line is the file's last line (0 for an empty file), never one past. */
 static int read_raw(tb_lex *lx) {
   size_t n = 0;
   int c = EOF;
-  lx->line = lx->nl + 1;
   lx->buf[0] = 0;
   lx->cur = lx->buf;
-  if (lx->eof) return 0;
+  if (lx->eof) {
+    lx->line = lx->last;
+    return 0;
+  }
+  lx->line = lx->nl + 1;
   while ((c = getc(lx->f)) != EOF && c != '\n') {
     if (c == 0) return tb_lex_fail(lx, "NUL byte: binary data in a text file");
     if (n + 1 >= lx->cap) {
@@ -77,10 +107,18 @@ static int read_raw(tb_lex *lx) {
     lx->nl++;
   } else {
     lx->eof = 1;
-    if (n == 0) return 0;
+    if (n == 0) {
+      lx->line = lx->last;
+      return 0;
+    }
   }
+  lx->last = lx->line;
+  /* A UTF-8 byte-order mark may open the file; anywhere else it is named. */
+  static const char bom[] = "\xEF\xBB\xBF";
+  if (lx->line == 1 && !strncmp(lx->buf, bom, 3)) lx->cur = lx->buf + 3;
+  if (strstr(lx->cur, bom)) return tb_lex_fail(lx, "byte-order mark inside the file");
   if (lx->comment) {
-    char *h = strchr(lx->buf, lx->comment);
+    char *h = strchr(lx->cur, lx->comment);
     if (h) *h = 0;
   }
   return 1;
@@ -212,11 +250,20 @@ void *tb_io_grow(void *p, int *cap, long need, size_t sz) {
 }
 
 int tb_build_vert(tb_build *b, tb_vec3 x) {
+  if (!tb_coord_ok(x)) return 1;
   tb_vec3 *p = tb_io_grow(b->m.x, &b->capv, (long)b->m.nv + 1, sizeof *p);
   if (!p) return -1;
   b->m.x = p;
   p[b->m.nv++] = x;
   return 0;
+}
+
+int tb_lex_vert(tb_lex *lx, tb_build *b, tb_vec3 x) {
+  int r = tb_build_vert(b, x);
+  if (r > 0)
+    return tb_lex_fail(lx, "vertex %d (%g, %g, %g): coordinate beyond +-%g", b->m.nv + 1, x.x, x.y,
+                       x.z, TB_COORD_MAX);
+  return r ? tb_lex_fail(lx, "out of memory") : 0;
 }
 
 int tb_build_tri(tb_build *b, int a, int c, int d) {

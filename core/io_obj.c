@@ -67,8 +67,7 @@ static int vertex(tb_lex *lx, tb_build *b) {
   if (n > 4) return tb_lex_fail(lx, "vertex with %d values (expected 3 to 7)", n + 3);
   for (int k = 0; k < n; k++)
     if (tb_lex_real(lx, &extra, "vertex weight/colour")) return -1;
-  if (tb_build_vert(b, x)) return tb_lex_fail(lx, "out of memory");
-  return 0;
+  return tb_lex_vert(lx, b, x);
 }
 
 /* FCL's leading "nv nf" line: 1 when the line is one (counts stored). */

@@ -21,12 +21,13 @@ static int header(tb_lex *lx, long *nv, long *nf, int *extra) {
     if (tb_lex_left(lx) == 0 && tb_lex_need(lx, "vertex and face counts")) return -1;
   } else if (tb_parse_long(w, nv)) {
     return tb_lex_fail(lx, "not an OFF file: expected 'OFF' or counts, found '%.40s'", w);
+  } else if (*nv < 0 || *nv > INT_MAX) {
+    return tb_lex_fail(lx, "vertex count %ld out of range (0..%d)", *nv, INT_MAX);
   }
   if ((kw && tb_lex_range(lx, nv, 0, INT_MAX, "vertex count")) ||
       tb_lex_range(lx, nf, 0, INT_MAX, "face count") ||
-      (tb_lex_left(lx) > 0 && tb_lex_long(lx, &ne, "edge count")))
+      (tb_lex_left(lx) > 0 && tb_lex_range(lx, &ne, 0, LONG_MAX, "edge count")))
     return -1;
-  if (*nv < 0 || *nv > INT_MAX) return tb_lex_fail(lx, "vertex count %ld out of range", *nv);
   return tb_lex_end(lx);
 }
 
@@ -39,7 +40,7 @@ static int vertex(tb_lex *lx, tb_build *b, long i, long nv, int extra) {
   while (extra && tb_lex_left(lx) > 0)
     if (tb_lex_real(lx, &e, "vertex colour/normal")) return -1;
   if (tb_lex_end(lx)) return -1;
-  return tb_build_vert(b, x) ? tb_lex_fail(lx, "out of memory") : 0;
+  return tb_lex_vert(lx, b, x);
 }
 
 static int face(tb_lex *lx, tb_build *b, long j, long nf) {

@@ -72,6 +72,9 @@ static int sphere(tb_lex *lx, tb_spheres *s) {
       tb_lex_real(lx, &c.y, "y") || tb_lex_real(lx, &c.z, "z") || tb_lex_real(lx, &r, "radius"))
     return -1;
   if (!(r > 0)) return tb_lex_fail(lx, "radius %.17g is not positive", r);
+  if (!tb_coord_ok(c) || r > TB_COORD_MAX)
+    return tb_lex_fail(lx, "sphere (%g, %g, %g) radius %g: beyond +-%g", c.x, c.y, c.z, r,
+                       TB_COORD_MAX);
   if (tb_lex_end(lx)) return -1;
   if (tb_spheres_push(s, c, r)) return tb_lex_fail(lx, "out of memory");
   return 0;
@@ -111,9 +114,10 @@ int tb_spheres_read(const char *path, tb_spheres *s, tb_error *err) {
 int tb_spheres_write(const char *path, const tb_spheres *s, tb_error *err) {
   if (s->n < 1) return tb_error_set(err, path, 0, "no spheres to write");
   for (int i = 0; i < s->n; i++)
-    if (!tb_isfinite3(s->c[i]) || !(s->r[i] > 0) || !isfinite(s->r[i]))
-      return tb_error_set(err, path, 0, "sphere %d: centre not finite or radius not positive",
-                          i + 1);
+    if (!tb_coord_ok(s->c[i]) || !(s->r[i] > 0) || !(s->r[i] <= TB_COORD_MAX))
+      return tb_error_set(err, path, 0,
+                          "sphere %d: centre not finite or beyond +-%g, or radius not in (0, %g]",
+                          i + 1, TB_COORD_MAX, TB_COORD_MAX);
   FILE *f = fopen(path, "w");
   if (!f) return tb_error_set(err, path, 0, "cannot write");
   fprintf(f, "sph 1.0\n#nums %d\n", s->n);

@@ -79,10 +79,10 @@ static int read_binary(tb_lex *lx, unsigned long n, tb_build *b, vmap *h) {
     for (int k = 0; k < 3; k++) {
       const unsigned char *p = rec + 12 + 12 * k;
       tb_vec3 x = tb_v3(lefloat(p), lefloat(p + 4), lefloat(p + 8));
-      if (!tb_isfinite3(x))
+      if (!tb_coord_ok(x))
         return tb_error_set(lx->err, lx->path, 0,
-                            "triangle %lu (byte offset %ld): non-finite coordinate", t + 1,
-                            off + 12 + 12 * k);
+                            "triangle %lu (byte offset %ld): coordinate not finite or beyond +-%g",
+                            t + 1, off + 12 + 12 * k, TB_COORD_MAX);
       if ((v[k] = vmap_get(h, b, x)) < 0)
         return tb_error_set(lx->err, lx->path, 0, "out of memory");
     }
@@ -103,26 +103,50 @@ static int expect(tb_lex *lx, const char *kw, const char *kw2) {
   return 0;
 }
 
+/* expect(), then nothing else on the line. */
+static int expect_line(tb_lex *lx, const char *kw, const char *kw2) {
+  return expect(lx, kw, kw2) || tb_lex_end(lx) ? -1 : 0;
+}
+
+/* The rest of "facet": nothing, or "normal nx ny nz". */
+static int facet_normal(tb_lex *lx) {
+  double n;
+  char *w = tb_lex_word(lx);
+  if (!w) return 0;
+  if (strcasecmp(w, "normal"))
+    return tb_lex_fail(lx, "expected 'normal' after 'facet', found '%.40s'", w);
+  if (tb_lex_real(lx, &n, "normal x") || tb_lex_real(lx, &n, "normal y") ||
+      tb_lex_real(lx, &n, "normal z"))
+    return -1;
+  return tb_lex_end(lx);
+}
+
 static int facet(tb_lex *lx, tb_build *b, vmap *h) {
   int v[3];
-  if (expect(lx, "outer", "loop")) return -1;
+  if (facet_normal(lx) || expect_line(lx, "outer", "loop")) return -1;
   for (int k = 0; k < 3; k++) {
     tb_vec3 x;
     if (expect(lx, "vertex", NULL) || tb_lex_real(lx, &x.x, "x coordinate") ||
         tb_lex_real(lx, &x.y, "y coordinate") || tb_lex_real(lx, &x.z, "z coordinate") ||
         tb_lex_end(lx))
       return -1;
+    if (!tb_coord_ok(x))
+      return tb_lex_fail(lx, "vertex (%g, %g, %g): coordinate beyond +-%g", x.x, x.y, x.z,
+                         TB_COORD_MAX);
     if ((v[k] = vmap_get(h, b, x)) < 0) return tb_lex_fail(lx, "out of memory");
   }
-  if (expect(lx, "endloop", NULL) || expect(lx, "endfacet", NULL)) return -1;
+  if (expect_line(lx, "endloop", NULL) || expect_line(lx, "endfacet", NULL)) return -1;
   return tb_build_tri(b, v[0], v[1], v[2]) ? tb_lex_fail(lx, "out of memory") : 0;
 }
 
-/* Starts with "solid" (after blanks) as ASCII STL does? */
+/* Starts with "solid" (after a UTF-8 byte-order mark and blanks) as ASCII
+ * STL does? */
 static int solid_prefix(FILE *f) {
   char s[6] = {0};
+  unsigned char bom[3];
   int c;
   rewind(f);
+  if (fread(bom, 1, 3, f) != 3 || memcmp(bom, "\xEF\xBB\xBF", 3)) rewind(f);
   while ((c = getc(f)) == ' ' || c == '\t' || c == '\r' || c == '\n') continue;
   s[0] = (char)c;
   size_t n = fread(s + 1, 1, 4, f);
@@ -130,23 +154,50 @@ static int solid_prefix(FILE *f) {
   return n == 4 && strncasecmp(s, "solid", 5) == 0;
 }
 
-static int read_ascii(tb_lex *lx, tb_build *b, vmap *h) {
-  int r;
+/* A NUL byte among the first 4 kB: binary data (ASCII STL has none; a binary
+ * STL's triangle count and floats nearly always hold one). */
+static int has_nul(FILE *f) {
+  unsigned char buf[4096];
+  rewind(f);
+  size_t n = fread(buf, 1, sizeof buf, f);
+  rewind(f);
+  return memchr(buf, 0, n) != NULL;
+}
+
+/* The rest of the current line, words joined by one space, into out. */
+static void rest_of_line(tb_lex *lx, char *out, size_t cap) {
   char *w;
+  size_t n = 0;
+  out[0] = 0;
+  while ((w = tb_lex_word(lx)) != NULL && n + 1 < cap)
+    n += (size_t)snprintf(out + n, cap - n, "%s%s", n ? " " : "", w);
+}
+
+/* "solid [name]", facets, "endsolid [name]"; more solids may follow. The
+ * name after endsolid is the solid's own or one word. */
+static int read_ascii(tb_lex *lx, tb_build *b, vmap *h) {
+  char name[256], end[256];
   if (tb_lex_need(lx, "'solid'")) return -1;
-  tb_lex_word(lx); /* "solid", then the name */
   for (;;) {
-    if (tb_lex_need(lx, "'facet' or 'endsolid'")) return -1;
-    w = tb_lex_word(lx);
-    if (!strcasecmp(w, "facet")) {
+    char *w = tb_lex_word(lx);
+    if (strcasecmp(w, "solid"))
+      return tb_lex_fail(lx, "expected 'solid' or end of file, found '%.40s'", w);
+    rest_of_line(lx, name, sizeof name);
+    for (;;) {
+      if (tb_lex_need(lx, "'facet' or 'endsolid'")) return -1;
+      char *kw = tb_lex_word(lx);
+      if (!strcasecmp(kw, "endsolid")) break;
+      if (strcasecmp(kw, "facet"))
+        return tb_lex_fail(lx, "expected 'facet' or 'endsolid', found '%.40s'", kw);
       if (facet(lx, b, h)) return -1;
-    } else if (!strcasecmp(w, "endsolid")) {
-      if ((r = tb_lex_line(lx)) <= 0) return r;
-      if (strcasecmp(tb_lex_word(lx), "solid"))
-        return tb_lex_fail(lx, "expected 'solid' or end of file");
-    } else {
-      return tb_lex_fail(lx, "expected 'facet' or 'endsolid', found '%.40s'", w);
     }
+    int words = tb_lex_left(lx);
+    rest_of_line(lx, end, sizeof end);
+    if (words > 1 && strcmp(end, name))
+      return tb_lex_fail(lx, "unexpected '%.40s' after 'endsolid' (a name only: '%.40s')", end,
+                         name);
+    int r = tb_lex_line(lx);
+    if (r <= 0) return r;
   }
 }
 
@@ -162,11 +213,16 @@ int tb_read_stl(const char *path, tb_build *b, tb_error *err) {
   } else if (size >= 84 && fread(head, 1, 84, lx.f) == 84 &&
              size - 84 == 50 * (long)le32(head + 80)) {
     rc = read_binary(&lx, le32(head + 80), b, &h);
+  } else if (size >= 84 && solid_prefix(lx.f) && has_nul(lx.f)) {
+    rc = tb_error_set(err, path, 0,
+                      "binary STL (its header starts with 'solid') of %lu triangles should be "
+                      "%ld bytes, the file has %ld (wrong triangle count or truncated)",
+                      (unsigned long)le32(head + 80), 84 + 50 * (long)le32(head + 80), size);
   } else if (solid_prefix(lx.f)) {
     rc = read_ascii(&lx, b, &h);
     if (rc == 0) rc = tb_lex_done(&lx, b);
   } else if (size == 0) {
-    rc = tb_lex_fail(&lx, "empty file (no data)");
+    rc = tb_error_set(err, path, 0, "empty file (no data)");
   } else if (size < 84) {
     rc = tb_lex_fail(&lx,
                      "not an STL file: no 'solid' at the start, and %ld bytes is too short for "

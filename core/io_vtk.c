@@ -65,7 +65,7 @@ static int points(tb_lex *lx, tb_build *b) {
     if (next_real(lx, &x.x, what[0]) || next_real(lx, &x.y, what[1]) ||
         next_real(lx, &x.z, what[2]))
       return -1;
-    if (tb_build_vert(b, x)) return tb_lex_fail(lx, "out of memory");
+    if (tb_lex_vert(lx, b, x)) return -1;
   }
   return 0;
 }

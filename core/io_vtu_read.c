@@ -52,6 +52,7 @@ typedef struct vr {
   long long *cell[3]; /* connectivity, offsets, types */
   long ncell[3], cline[3];
   int have_points, field_in_piece;
+  long nl, lastline; /* newlines read; the file's last line (0: empty) */
 } vr;
 
 static int fail(vr *r, long line, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -253,11 +254,13 @@ static void end_array(vr *r) {
     for (long i = 0; i < n; i += 3) {
       const unsigned char *p = values(r) + i * r->size;
       tb_vec3 x = tb_v3(get_real(r, p), get_real(r, p + r->size), get_real(r, p + 2 * r->size));
-      if (!tb_isfinite3(x)) {
-        fail(r, r->line, "Points: point %ld is not finite", i / 3);
+      int bad = tb_build_vert(r->b, x);
+      if (bad > 0) {
+        fail(r, r->line, "Points: point %ld (%g, %g, %g) is not finite or beyond +-%g", i / 3, x.x,
+             x.y, x.z, TB_COORD_MAX);
         return;
       }
-      if (tb_build_vert(r->b, x)) {
+      if (bad) {
         fail(r, r->line, "out of memory");
         return;
       }
@@ -449,8 +452,8 @@ static void XMLCALL on_end(void *ud, const XML_Char *name) {
 }
 
 static int parse(vr *r) {
-  FILE *f = fopen(r->path, "rb");
-  if (!f) return tb_error_set(r->err, r->path, 0, "cannot open: %s", strerror(errno));
+  FILE *f = tb_io_open(r->path, r->err);
+  if (!f) return -1;
   int rc = 0;
   for (int done = 0; !done && rc == 0;) {
     void *buf = XML_GetBuffer(r->xp, 1 << 16);
@@ -464,10 +467,14 @@ static int parse(vr *r) {
       break;
     }
     done = n < (1 << 16);
-    if (XML_ParseBuffer(r->xp, (int)n, done) != XML_STATUS_OK)
+    for (size_t i = 0; i < n; i++) r->nl += ((const char *)buf)[i] == '\n';
+    if (n) r->lastline = r->nl + (((const char *)buf)[n - 1] != '\n');
+    if (XML_ParseBuffer(r->xp, (int)n, done) != XML_STATUS_OK) {
+      long line = (long)XML_GetCurrentLineNumber(r->xp); /* past the end at end of file */
       rc = r->failed ? -1
-                     : tb_error_set(r->err, r->path, (long)XML_GetCurrentLineNumber(r->xp),
+                     : tb_error_set(r->err, r->path, line < r->lastline ? line : r->lastline,
                                     "XML error: %s", XML_ErrorString(XML_GetErrorCode(r->xp)));
+    }
   }
   fclose(f);
   if (rc == 0 && r->failed) rc = -1;
@@ -487,7 +494,7 @@ static int read_vtu(const char *path, tb_build *b, tb_vtu_field *field, tb_error
   XML_SetElementHandler(r.xp, on_start, on_end);
   XML_SetCharacterDataHandler(r.xp, on_text);
   int rc = parse(&r);
-  long lines = (long)XML_GetCurrentLineNumber(r.xp);
+  long lines = r.lastline; /* errors at end of file cite its last line */
   XML_ParserFree(r.xp);
   free_cells(&r);
   free(r.bytes);

@@ -31,6 +31,22 @@ static const char *extension(const char *path) {
   return dot && (!slash || dot > slash + 1) ? dot : "";
 }
 
+/* The readers' contract, checked once more on what they return: every
+ * coordinate tb_coord_ok, every index in range. A failure is a reader bug,
+ * reported rather than passed on. */
+static int check_read(const char *path, const tb_mesh *m, tb_error *err) {
+  if (tb_mesh_check_coords(m, path, err)) return -1;
+  for (long i = 0; i < 3L * m->ntri; i++)
+    if (m->tri[i] < 0 || m->tri[i] >= m->nv)
+      return tb_error_set(err, path, 0, "reader error: triangle %ld uses vertex %d of %d", i / 3,
+                          m->tri[i], m->nv);
+  for (long i = 0; i < 4L * m->ntet; i++)
+    if (m->tet[i] < 0 || m->tet[i] >= m->nv)
+      return tb_error_set(err, path, 0, "reader error: tetrahedron %ld uses vertex %d of %d", i / 4,
+                          m->tet[i], m->nv);
+  return 0;
+}
+
 int tb_mesh_read(const char *path, tb_mesh *m, tb_error *err) {
   const char *ext = extension(path);
   memset(m, 0, sizeof *m);
@@ -38,7 +54,7 @@ int tb_mesh_read(const char *path, tb_mesh *m, tb_error *err) {
     if (strcasecmp(ext, readers[i].ext)) continue;
     tb_build b;
     memset(&b, 0, sizeof b);
-    if (readers[i].fn(path, &b, err)) {
+    if (readers[i].fn(path, &b, err) || check_read(path, &b.m, err)) {
       tb_build_free(&b);
       return -1;
     }

@@ -159,6 +159,7 @@ static const struct {
 } suites[] = {
     {"core", tb_tests_core},
     {"io", tb_tests_io},
+    {"io_hostile", tb_tests_io_hostile},
     {"vtu", tb_tests_vtu},
     {"mc", tb_tests_mc},
     {"results", tb_tests_results},

@@ -65,6 +65,7 @@ int tb_test_cli_run(const char *args);
 /* The tables, one per test file. */
 extern const tb_test_case tb_tests_core[];
 extern const tb_test_case tb_tests_io[];
+extern const tb_test_case tb_tests_io_hostile[];
 extern const tb_test_case tb_tests_vtu[];
 extern const tb_test_case tb_tests_mc[];
 extern const tb_test_case tb_tests_results[];

@@ -414,9 +414,9 @@ static void test_errors_obj(void) {
       {"e_slash.obj", TRI3 "f 1/1/1/1 2 3\n", 4, "too many '/'"},
       {"e_stmt.obj", TRI3 "vx 1 2 3\n", 4, "unknown OBJ statement 'vx'"},
       {"e_many.obj", "v 1 2 3 4 5 6 7 8\n", 1, "vertex with 8 values"},
-      {"e_empty.obj", "", 1, "empty file"},
-      {"e_blank.obj", "# only\n\n# comments\n", 4, "empty file"},
-      {"e_novert.obj", "o thing\ng group\n", 3, "no vertices"},
+      {"e_empty.obj", "", 0, "empty file"},
+      {"e_blank.obj", "# only\n\n# comments\n", 3, "empty file"},
+      {"e_novert.obj", "o thing\ng group\n", 2, "no vertices"},
       {"e_hdr.obj", "4 1\n" TRI3 "f 1 2 3\n", 1, "header counts 4 vertices, 1 faces"},
       {NULL, NULL, 0, NULL}};
   run_bad(c);
@@ -426,14 +426,14 @@ static void test_errors_obj(void) {
 #define OFF3 "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n"
 static void test_errors_off(void) {
   static const bad_case c[] = {
-      {"e_empty.off", "", 1, "empty file"},
+      {"e_empty.off", "", 0, "empty file"},
       {"e_magic.off", "PLY\n3 1 0\n", 1, "not an OFF file"},
       {"e_variant.off", "4OFF\n3 1 0\n", 1, "unsupported OFF variant '4OFF'"},
       {"e_count.off", "OFF\nthree 1 0\n", 2, "vertex count 'three' is not an integer"},
       {"e_negcount.off", "OFF\n3 -1 0\n", 2, "face count -1 out of range"},
-      {"e_truncv.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n", 5,
+      {"e_truncv.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n", 4,
        "unexpected end of file (expected vertex 3 of 3)"},
-      {"e_truncf.off", OFF3, 6, "unexpected end of file (expected face 1 of 1)"},
+      {"e_truncf.off", OFF3, 5, "unexpected end of file (expected face 1 of 1)"},
       {"e_extra.off", OFF3 "3 0 1 2\n3 0 1 2\n", 7, "unexpected data after the last face"},
       {"e_range.off", OFF3 "3 0 1 3\n", 6, "vertex index 3 out of range (0..2)"},
       {"e_negidx.off", OFF3 "3 0 -1 2\n", 6, "vertex index -1 out of range"},
@@ -443,7 +443,7 @@ static void test_errors_off(void) {
       {"e_vextra.off", "OFF\n3 1 0\n0 0 0 5\n", 3, "unexpected '5'"},
       {"e_fsize.off", OFF3 "2 0 1\n", 6, "face with 2 vertices"},
       {"e_fshort.off", OFF3 "4 0 1 2\n", 6, "missing vertex index"},
-      {"e_huge.off", "OFF\n2000000000 2000000000 0\n0 0 0\n", 4, "expected vertex 2 of 2000000000"},
+      {"e_huge.off", "OFF\n2000000000 2000000000 0\n0 0 0\n", 3, "expected vertex 2 of 2000000000"},
       {"e_big.off", "OFF\n99999999999 1 0\n", 2, "vertex count 99999999999 out of range"},
       {NULL, NULL, 0, NULL}};
   run_bad(c);
@@ -454,12 +454,12 @@ static void test_errors_off(void) {
   "\n  endloop\n endfacet\n"
 static void test_errors_stl(void) {
   static const bad_case c[] = {
-      {"e_empty.stl", "", 1, "empty file"},
+      {"e_empty.stl", "", 0, "empty file"},
       {"e_magic.stl", "hello world\n", 1, "not an STL file"},
       {"e_trunc.stl",
-       "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n", 6,
+       "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n", 5,
        "unexpected end of file (expected 'vertex')"},
-      {"e_noend.stl", "solid t\n" FACET("0 1 0"), 9, "expected 'facet' or 'endsolid'"},
+      {"e_noend.stl", "solid t\n" FACET("0 1 0"), 8, "expected 'facet' or 'endsolid'"},
       {"e_nan.stl", "solid t\n" FACET("0 nan 0") "endsolid\n", 6, "'nan' is not finite"},
       {"e_text.stl", "solid t\n" FACET("0 1 z") "endsolid\n", 6, "'z' is not a number"},
       {"e_few.stl", "solid t\n" FACET("0 1") "endsolid\n", 6, "missing z coordinate"},
@@ -473,7 +473,7 @@ static void test_errors_stl(void) {
        "expected 'facet' or 'endsolid', found 'facets'"},
       {"e_after.stl", "solid t\n" FACET("0 1 0") "endsolid\nmore\n", 10,
        "expected 'solid' or end of file"},
-      {"e_none.stl", "solid t\nendsolid t\n", 3, "no vertices"},
+      {"e_none.stl", "solid t\nendsolid t\n", 2, "no vertices"},
       {NULL, NULL, 0, NULL}};
   run_bad(c);
 }
@@ -484,7 +484,7 @@ static void test_errors_stl_binary(void) {
   v[10] = NAN; /* triangle 2, vertex 1, y */
   long n = stl_binary(buf, v, 2, "binary");
   tb_test_expect_read_error(tb_test_file("e_nan_bin.stl", (const char *)buf, n), 0,
-                            "triangle 2 (byte offset 146): non-finite coordinate");
+                            "triangle 2 (byte offset 146): coordinate not finite");
   v[10] = INFINITY;
   stl_binary(buf, v, 2, "binary");
   tb_test_expect_read_error(tb_test_file("e_inf_bin.stl", (const char *)buf, n), 0,
@@ -510,7 +510,7 @@ typedef struct tg_case {
 #define NODE4 "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
 static void test_errors_tetgen(void) {
   static const tg_case c[] = {
-      {"t1", "3 3 0 0\n1 0 0 0\n2 1 0 0\n", NULL, NULL, ".node", ".node", 4,
+      {"t1", "3 3 0 0\n1 0 0 0\n2 1 0 0\n", NULL, NULL, ".node", ".node", 3,
        "expected node 3 of 3"},
       {"t2", "2 3 0 0\n1 0 0 0\n3 1 0 0\n", NULL, NULL, ".node", ".node", 3,
        "node number 3 out of sequence"},
@@ -523,21 +523,21 @@ static void test_errors_tetgen(void) {
       {"t7", "1 3 0 0\n1 0 0 0\n2 1 0 0\n", NULL, NULL, ".node", ".node", 3,
        "unexpected data after the last node"},
       {"t8", "1 3 1 1\n1 0 0 0 5\n", NULL, NULL, ".node", ".node", 2, "missing boundary marker"},
-      {"t9", "", NULL, NULL, ".node", ".node", 1, "empty file"},
+      {"t9", "", NULL, NULL, ".node", ".node", 0, "empty file"},
       {"t10", NODE4, "1 4 0\n1 1 2 3 9\n", NULL, ".node", ".ele", 2,
        "node index 9 out of range (1..4)"},
       {"t11", NODE4, "1 4 0\n# zero-based index in a 1-based set\n1 0 1 2 3\n", NULL, ".ele",
        ".ele", 3, "node index 0 out of range"},
       {"t12", NULL, "1 4 0\n1 1 2 3 4\n", NULL, ".ele", ".ele", 0, "missing companion"},
       {"t13", NODE4, "1 5 0\n1 1 2 3 4 4\n", NULL, ".ele", ".ele", 1, "5 nodes per tetrahedron"},
-      {"t14", NODE4, "2 4 0\n1 1 2 3 4\n", NULL, ".ele", ".ele", 3, "expected tetrahedron 2 of 2"},
+      {"t14", NODE4, "2 4 0\n1 1 2 3 4\n", NULL, ".ele", ".ele", 2, "expected tetrahedron 2 of 2"},
       {"t15", NODE4, "1 4 1\n1 1 2 3 4\n", NULL, ".ele", ".ele", 2,
        "missing tetrahedron attribute"},
       {"t16", NODE4, "1 4 0\n1 1 2 3 4\n", "1 1\n1 1 2 3\n", ".node", ".face", 2,
        "0 values after the face's nodes"},
       {"t17", NODE4, "1 4 0\n1 1 2 3 4\n", "1 0\n1 1 2 5\n", ".node", ".face", 2,
        "node index 5 out of range"},
-      {"t18", "2147483647 3 0 0\n1 0 0 0\n", NULL, NULL, ".node", ".node", 3,
+      {"t18", "2147483647 3 0 0\n1 0 0 0\n", NULL, NULL, ".node", ".node", 2,
        "expected node 2 of 2147483647"},
       {NULL, NULL, NULL, NULL, NULL, NULL, 0, NULL}};
   static const char *const ext[3] = {".node", ".ele", ".face"};
@@ -569,13 +569,13 @@ static void test_errors_tetgen(void) {
 #define NOD3 "$NOD\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$ENDNOD\n"
 static void test_errors_msh(void) {
   static const bad_case c[] = {
-      {"e_empty.msh", "", 1, "empty file"},
+      {"e_empty.msh", "", 0, "empty file"},
       {"e_top.msh", "hello\n", 1, "expected a $Section, found 'hello'"},
       {"e_bin.msh", "$MeshFormat\n4.1 1 8\n", 2, "binary .msh not supported"},
       {"e_v40.msh", "$MeshFormat\n4 0 8\n$EndMeshFormat\n", 2, "unsupported .msh version 4"},
       {"e_v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", 2, "unsupported .msh version 3"},
-      {"e_trunc.msh", "$NOD\n2\n1 0 0 0\n", 4, "unexpected end of file (expected node 2 of 2)"},
-      {"e_trelm.msh", NOD3 "$ELM\n1\n1 2 0 1 3 1 2 3\n", 10,
+      {"e_trunc.msh", "$NOD\n2\n1 0 0 0\n", 3, "unexpected end of file (expected node 2 of 2)"},
+      {"e_trelm.msh", NOD3 "$ELM\n1\n1 2 0 1 3 1 2 3\n", 9,
        "unexpected end of file (expected $ENDELM)"},
       {"e_tag.msh", NOD3 "$ELM\n1\n1 2 0 1 3 1 2 99\n$ENDELM\n", 9, "unknown node tag 99"},
       {"e_nan.msh", "$NOD\n1\n1 0 nan 0\n$ENDNOD\n", 3, "y coordinate 'nan' is not finite"},
@@ -587,9 +587,10 @@ static void test_errors_msh(void) {
        "element type 4 has 4 nodes, not 3"},
       {"e_dup.msh", "$NOD\n2\n1 0 0 0\n1 1 0 0\n$ENDNOD\n", 4, "duplicate node tag 1"},
       {"e_order.msh", MSH2 "$Elements\n0\n$EndElements\n", 4, "elements before nodes"},
-      {"e_nofmt.msh", "$Nodes\n0\n$EndNodes\n", 1, "no $MeshFormat"},
-      {"e_mix.msh", MSH2 "$NOD\n0\n$ENDNOD\n", 4, "$NOD does not fit"},
-      {"e_skip.msh", MSH2 "$Comments\nhello\n", 6, "expected $EndComments"},
+      {"e_nofmt.msh", "$Nodes\n0\n$EndNodes\n", 1, "$Nodes without $MeshFormat"},
+      {"e_mix.msh", MSH2 "$NOD\n0\n$ENDNOD\n", 4,
+       "legacy (version 1) section $NOD in a version 2 file: the legacy and the new format mixed"},
+      {"e_skip.msh", MSH2 "$Comments\nhello\n", 5, "expected $EndComments"},
       {"e_v2elm.msh",
        MSH2 "$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 2 0 1 1 2\n"
             "$EndElements\n",
@@ -601,8 +602,8 @@ static void test_errors_msh(void) {
       {"e_v4blk.msh",
        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n2 1 1 1\n0 1 0 1\n1\n0 0 0\n$EndNodes\n", 9,
        "section ends after 1 of 2 node blocks"},
-      {"e_huge.msh", "$NOD\n2147483647\n1 0 0 0\n", 4, "expected node 2 of 2147483647"},
-      {"e_none.msh", MSH2, 4, "no vertices"},
+      {"e_huge.msh", "$NOD\n2147483647\n1 0 0 0\n", 3, "expected node 2 of 2147483647"},
+      {"e_none.msh", MSH2, 3, "no vertices"},
       {NULL, NULL, 0, NULL}};
   run_bad(c);
 }

@@ -18,7 +18,7 @@
 static void round_trip(void) {
   tb_spheres s = {0, NULL, NULL, -1}, t;
   tb_error err;
-  const double v[] = {0.1, 1.0 / 3, -2.5e-300, 1e300, 4.9e-324, -0.0, 123456789.123456789};
+  const double v[] = {0.1, 1.0 / 3, -2.5e-300, 1e88, 4.9e-324, -0.0, 123456789.123456789};
   for (int i = 0; i < 40; i++) {
     tb_vec3 c = tb_v3(v[i % 7], v[(i + 2) % 7] * (i + 1), v[(i + 5) % 7] / 7);
     double r = fabs(v[(i + 3) % 7]) + 1e-3 * i + DBL_MIN;
@@ -77,7 +77,10 @@ static void expect_error(const char *name, const char *content, long len, long l
                          const char *reason) {
   const char *p = tb_test_file(name, content, len);
   char prefix[700];
-  snprintf(prefix, sizeof prefix, "%s:%ld: ", p, line);
+  if (line > 0)
+    snprintf(prefix, sizeof prefix, "%s:%ld: ", p, line);
+  else
+    snprintf(prefix, sizeof prefix, "%s: ", p);
   tb_spheres s;
   tb_error err = {{0}};
   int rc = tb_spheres_read(p, &s, &err);
@@ -101,12 +104,14 @@ static void malformed(void) {
   expect_error("junk.sph", "sph 1.0\nsphe 1 0 0 0 1 2\n", -1, 2, "unexpected '2' at end of line");
   expect_error("junk2.sph", "sph 1.0\nsphe 1 0 0 0 1x\n", -1, 2, "radius '1x' is not a number");
   expect_error("id.sph", "sph 1.0\nsphe 1.5 0 0 0 1\n", -1, 2, "sphere id '1.5' is not an integer");
-  expect_error("empty.sph", "", 0, 1, "empty file");
-  expect_error("comments.sph", "# nothing\n#nums 3\n", -1, 3, "empty file");
+  expect_error("empty.sph", "", 0, 0, "empty file");
+  expect_error("comments.sph", "# nothing\n#nums 3\n", -1, 2, "empty file");
   expect_error("nohdr.sph", "sphe 1 0 0 0 1\n", -1, 1, "expected the header 'sph 1.0'");
   expect_error("ver.sph", "sph 2.0\nsphe 1 0 0 0 1\n", -1, 1, "unsupported version '2.0'");
   expect_error("two.sph", "sph 1.0\nsphe 1 0 0 0 1\nsph 1.0\n", -1, 3, "second 'sph' header");
-  expect_error("none.sph", "sph 1.0\n#nums 0\n", -1, 3, "no spheres");
+  expect_error("none.sph", "sph 1.0\n#nums 0\n", -1, 2, "no spheres");
+  expect_error("far.sph", "sph 1.0\nsphe 1 0 0 0 1\nsphe 2 1e200 0 0 1\n", -1, 3, "beyond +-1e+90");
+  expect_error("bigr.sph", "sph 1.0\nsphe 1 0 0 0 1e91\n", -1, 2, "beyond +-1e+90");
   expect_error("bin.sph",
                "\x7f"
                "ELF\x02\x01\x01\x00\x00\x00\xff\xfe\n",
