@@ -47,5 +47,7 @@ const tb_fuzz_target *tb_fuzz_target_find(const char *name);
  * and "#@face") and runs the target on it. 0 when the contract held, -1
  * with why when it broke, -2 when the file could not be written. */
 int tb_fuzz_run(const tb_fuzz_target *t, const uint8_t *data, size_t size, char *why, size_t cap);
+/* 1 when the reader of the last tb_fuzz_run accepted its input. */
+int tb_fuzz_accepted(void);
 
 #endif

@@ -66,11 +66,16 @@ static const uint8_t *part(const uint8_t *data, size_t size, const char *mark, s
 
 /* ---- the readers ---- */
 
+static int accepted; /* the last run's reader took its input */
+
+int tb_fuzz_accepted(void) { return accepted; }
+
 static int run_mesh(const char *path, char *why, size_t cap) {
   tb_mesh m;
   tb_error err = {{0}};
   memset(&m, 0xa5, sizeof m); /* the reader must set every field */
   int rc = tb_mesh_read(path, &m, &err);
+  accepted = rc == 0;
   int ok = tb_fuzz_check_mesh(path, rc, &m, &err, why, cap);
   if (rc == 0) tb_mesh_free(&m);
   return ok;
@@ -81,6 +86,7 @@ static int run_sph(const char *path, char *why, size_t cap) {
   tb_error err = {{0}};
   memset(&s, 0xa5, sizeof s);
   int rc = tb_spheres_read(path, &s, &err);
+  accepted = rc == 0;
   int ok = tb_fuzz_check_spheres(path, rc, &s, &err, why, cap);
   if (rc == 0) tb_spheres_free(&s);
   return ok;
@@ -91,6 +97,7 @@ static int run_pairs(const char *path, char *why, size_t cap) {
   tb_error err = {{0}};
   memset(&p, 0xa5, sizeof p);
   int rc = tb_pairs_read_file(path, &p, &err);
+  accepted = rc == 0;
   int ok = tb_fuzz_check_pairs(path, rc, &p, &err, why, cap);
   if (rc == 0) tb_pairs_free(&p);
   return ok;
@@ -101,6 +108,7 @@ static int run_points(const char *path, char *why, size_t cap) {
   int n = -7;
   tb_error err = {{0}};
   int rc = tb_points_read(path, &p, &n, &err);
+  accepted = rc == 0;
   int ok = tb_fuzz_check_points(path, rc, p, n, &err, why, cap);
   if (rc == 0) free(p);
   return ok;
@@ -110,6 +118,7 @@ static int run_scene(const char *path, char *why, size_t cap) {
   tb_scene_desc d;
   tb_error err = {{0}};
   int rc = tb_scene_desc_load(&d, path, &err);
+  accepted = rc == 0;
   if (rc) return tb_fuzz_check_error(path, &err, why, cap);
   tb_scene_desc_free(&d);
   return 0;
@@ -123,6 +132,7 @@ static int run_cases(const char *path, char *why, size_t cap) {
     return -1;
   }
   int rc = tb_shard_load(path, "suite", 1, &err);
+  accepted = rc == 0;
   if (rc == 0) rc = tb_shard_load(path, "suite", 2, &err); /* a second shard's copy */
   tb_shard_reset();
   return rc ? tb_fuzz_check_error(path, &err, why, cap) : 0;
@@ -134,7 +144,8 @@ static int run_shardinfo(const char *path, char *why, size_t cap) {
   snprintf(folder, sizeof folder, "%.*s", (int)(strrchr(path, '/') - path), path);
   tb_shard_info s;
   tb_error err = {{0}};
-  if (tb_shard_info_read(folder, &s, &err)) return tb_fuzz_check_error(path, &err, why, cap);
+  accepted = tb_shard_info_read(folder, &s, &err) == 0;
+  if (!accepted) return tb_fuzz_check_error(path, &err, why, cap);
   if (s.k < 1 || s.k > s.n) {
     snprintf(why, cap, "accepted k=%d n=%d", s.k, s.n);
     return -1;
@@ -176,6 +187,7 @@ const tb_fuzz_target *tb_fuzz_target_find(const char *name) {
 }
 
 int tb_fuzz_run(const tb_fuzz_target *t, const uint8_t *data, size_t size, char *why, size_t cap) {
+  accepted = 0;
   const char *d = tmpdir();
   char path[600], other[600];
   if (!d) return snprintf(why, cap, "cannot create a temporary folder"), -2;
