@@ -51,7 +51,8 @@ static int put(const char *path, const uint8_t *data, size_t size) {
   return fclose(f) || rc ? -1 : 0;
 }
 
-/* data[from, to) up to the next line that is exactly `mark` (or the end). */
+/* *len: the length of the text before the first line that is exactly `mark`.
+ * Returns the text after that line, or NULL (and *len = size) when none is. */
 static const uint8_t *part(const uint8_t *data, size_t size, const char *mark, size_t *len) {
   size_t m = strlen(mark);
   for (size_t i = 0; i + m <= size; i++)
