@@ -2,7 +2,8 @@
 # tools/fuzz.sh [SECONDS] [HARNESS...]: builds the libFuzzer harnesses of
 # tests/fuzz (a clang build in build-fuzz/, -Dfuzz=true) and runs each for
 # SECONDS (default 300; .ci/run uses 20), all of them when none is named
-# (obj off stl tetgen msh vtk vtu sph scene pairs points cases shardinfo).
+# (obj off stl tetgen msh vtk vtu sph scene pairs jgt points cases
+# shardinfo).
 # Corpora are kept in build-fuzz/corpus/HARNESS/; the seeds are rebuilt each
 # time in build-fuzz/seeds/HARNESS/ from tests/fuzz/seeds, tests/data,
 # scenes/*.ini, tests/fuzz/regressions and meshes made by `tissuebench mesh`
@@ -22,7 +23,7 @@ case "$secs" in '' | *[!0-9]*)
   echo "usage: tools/fuzz.sh [SECONDS] [HARNESS...]" >&2
   exit 2 ;;
 esac
-all="obj off stl tetgen msh vtk vtu sph scene pairs points cases shardinfo"
+all="obj off stl tetgen msh vtk vtu sph scene pairs jgt points cases shardinfo"
 names=${*:-$all}
 for h in $names; do
   case " $all " in *" $h "*) ;; *)

@@ -104,6 +104,18 @@ static int run_pairs(const char *path, char *why, size_t cap) {
   return ok;
 }
 
+/* The JGT Shen-2003 pair files (six "x y z" lines per pair). */
+static int run_jgt(const char *path, char *why, size_t cap) {
+  tb_pairset p;
+  tb_error err = {{0}};
+  memset(&p, 0xa5, sizeof p);
+  int rc = tb_pairs_read_jgt(path, 1, &p, &err);
+  accepted = rc == 0;
+  int ok = tb_fuzz_check_pairs(path, rc, &p, &err, why, cap);
+  if (rc == 0) tb_pairs_free(&p);
+  return ok;
+}
+
 static int run_points(const char *path, char *why, size_t cap) {
   tb_point *p = (tb_point *)1;
   int n = -7;
@@ -171,6 +183,7 @@ static const tb_fuzz_target targets[] = {
     {"sph", "sph", "SOFA .sph spheres (core/io_sph.c)", run_sph},
     {"scene", "ini", "scene files (scenes/scene_file.c)", run_scene},
     {"pairs", "txt", "tritri pair lines (collision/pairs.c)", run_pairs},
+    {"jgt", "txt", "JGT Shen-2003 pair files (collision/pairs.c)", run_jgt},
     {"points", "csv", "advise's points.csv (bench/cmd_advise.c)", run_points},
     {"cases", "ini", "a shard's cases.ini (core/results_shard.c)", run_cases},
     {"shardinfo", "ini", "a shard's shard.ini (bench/cmd_merge.c)", run_shardinfo},
