@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "fuzz/fuzz_check.h"
+#include "tb_scene_file.h"
 #include "tb_test.h"
 
 static int by_name(const void *a, const void *b) {
@@ -179,10 +180,44 @@ static void test_tetgen_split(void) {
   TB_CHECK(t && tb_fuzz_run(t, (const uint8_t *)in, 40, why, sizeof why) == 0);
 }
 
+/* Found by fuzz_scene: an empty id_file read the scene's folder as the id
+ * file ("DIR/: no node ids in the file"), and a folder was taken for a mesh
+ * or id file. Each is now "SCENE:LINE: ..." saying what is wrong, and an
+ * error inside an id file follows the scene's line with the id file's own
+ * "FILE:LINE: reason". */
+static void test_scene_paths(void) {
+  static const struct {
+    const char *text;
+    int line;
+    const char *reason;
+  } cases[] = {
+      {"[fix]\nid_file =\n", 2, "no file named"},
+      {"[fix]\nid_file = .\n", 2, "a folder, not a file"},
+      {"[mesh]\nfile = .\n", 2, "a folder, not a file"},
+      {"[mesh]\nfile =\n", 2, "no file named"},
+      {"[scene]\n\n[fix]\nid_file = sp-ids.txt\n", 4, "sp-ids.txt:2: not a node id"},
+  };
+  tb_test_file("sp-ids.txt", "1 2\n3 x\n", -1);
+  for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+    const char *path = tb_test_file("sp.ini", cases[i].text, -1);
+    char prefix[700];
+    snprintf(prefix, sizeof prefix, "%s:%d: ", path, cases[i].line);
+    tb_scene_desc d;
+    tb_error err = {{0}};
+    int rc = tb_scene_desc_load(&d, path, &err);
+    TB_CHECK_MSG(rc != 0, "'%s' loaded", cases[i].text);
+    if (rc == 0) {
+      tb_scene_desc_free(&d);
+      continue;
+    }
+    TB_CHECK_MSG(!strncmp(err.msg, prefix, strlen(prefix)) && strstr(err.msg, cases[i].reason),
+                 "'%s': message '%s', expected '%s...%s'", cases[i].text, err.msg, prefix,
+                 cases[i].reason);
+  }
+}
+
 const tb_test_case tb_tests_fuzz_regressions[] = {
-    {"checks_catch", test_checks_catch},
-    {"tetgen_split", test_tetgen_split},
-    {"seeds", test_seeds},
-    {"regressions", test_regressions},
-    {NULL, NULL},
+    {"scene_paths", test_scene_paths},   {"checks_catch", test_checks_catch},
+    {"tetgen_split", test_tetgen_split}, {"seeds", test_seeds},
+    {"regressions", test_regressions},   {NULL, NULL},
 };
