@@ -91,6 +91,8 @@ run_one() { # HARNESS: one libFuzzer run, its log in $bd/logs/HARNESS.log
   echo $? >"$bd/logs/$h.rc"
 }
 mkdir -p "$bd/logs"
+# the harnesses' temporary folders (a crashed run leaves its own behind)
+rm -rf "$bd/tmp" && mkdir -p "$bd/tmp" && TMPDIR=$(cd "$bd/tmp" && pwd) && export TMPDIR
 echo "fuzzing $secs s each, $jobs at a time: $names"
 running=0
 for h in $names; do
