@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "scene_priv.h"
@@ -149,9 +150,10 @@ int tb_selector_parse(tb_selector *sel, int kind, const char *value, const char 
     const char *why;
     if (tb_scene_resolve_path(base_dir, value, full, sizeof full, &why))
       return tb_error_set(err, path, line, "id_file '%s': %s", value, why);
-    if (read_id_file(full, &sel->ids, &sel->nids, err)) {
+    tb_error in = {{0}}; /* the id file's own "FILE:LINE: reason", after the scene's line */
+    if (read_id_file(full, &sel->ids, &sel->nids, &in)) {
       free(sel->ids), sel->ids = NULL;
-      return -1;
+      return tb_error_set(err, path, line, "id_file: %s", in.msg);
     }
     return 0;
   }
@@ -183,6 +185,9 @@ int tb_scene_resolve_path(const char *dir, const char *value, char *out, size_t 
   else
     n = snprintf(out, cap, "%s/%s", dir, value);
   if (n < 0 || (size_t)n >= cap) return *why = "path too long", -1;
-  if (access(out, R_OK)) return *why = "cannot read the file", -1;
+  if (!value[0] || !strcmp(value, prefix)) return *why = "no file named", -1;
+  struct stat st;
+  if (access(out, R_OK) || stat(out, &st)) return *why = "cannot read the file", -1;
+  if (S_ISDIR(st.st_mode)) return *why = "a folder, not a file", -1;
   return 0;
 }

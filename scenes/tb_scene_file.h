@@ -186,8 +186,8 @@ int tb_selector_parse(tb_selector *sel, int kind, const char *value, const char 
 
 /* A mesh or id file named in a scene: relative to dir (the scene file's
  * folder; "" for the working directory), or `data:REST` for
- * ../shared/data/REST (or $TB_DATA_DIR/REST). Fails with *why set when the
- * file cannot be read. */
+ * ../shared/data/REST (or $TB_DATA_DIR/REST). Fails with *why set when no
+ * file is named, or it cannot be read or is a folder. */
 int tb_scene_resolve_path(const char *dir, const char *value, char *out, size_t cap,
                           const char **why);
 

@@ -203,6 +203,7 @@ static const struct {
     {"metaball_suite", tb_tests_metaball_suite},
     {"shard", tb_tests_shard},
     {"scaling", tb_tests_scaling},
+    {"fuzz_regressions", tb_tests_fuzz_regressions},
 };
 
 static int selected(const char *id, int argc, char **argv) {

@@ -1,9 +1,11 @@
 #!/bin/sh
 # Installs the Debian 12 packages tissuebench needs: with apt-get when run as
-# root, otherwise prints the one command to run and fails.
+# root, otherwise prints the one command to run and fails. clang,
+# libclang-rt-14-dev (libFuzzer, sanitizers) and libomp-14-dev (OpenMP for
+# clang) build the fuzzing harnesses (tools/fuzz.sh, .ci/run).
 packages="meson ninja-build pkg-config gcc g++ libsuitesparse-dev libopenblas-dev libfcl-dev
 libccd-dev libbullet-dev libcgal-dev libgmp-dev tetgen libtet1.5-dev gnuplot-nox libexpat1-dev
-libinih-dev libosmesa6-dev libgl-dev libpng-dev parallel"
+libinih-dev libosmesa6-dev libgl-dev libpng-dev parallel clang libclang-rt-14-dev libomp-14-dev"
 
 missing=""
 for p in $packages; do
