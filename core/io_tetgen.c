@@ -65,15 +65,18 @@ static int check_ids(tb_lex *lx, elem_id *ids, long n, const char *what) {
                      ids[dup - 1].line);
 }
 
-/* Reads the line of element i of n: its number (to ids[i]) and nc node
- * indices (to v, 0-based). */
+/* Reads the line of element i of n: its number (to (*ids)[i], grown with
+ * *cap) and nc node indices (to v, 0-based). */
 static int indices(tb_lex *lx, const tb_build *b, long base, long i, long n, int nc, int *v,
-                   elem_id *ids) {
+                   elem_id **ids, int *cap) {
   long id, t;
+  elem_id *p = tb_io_grow(*ids, cap, i + 1, sizeof *p);
+  if (!p) return tb_lex_fail(lx, "out of memory");
+  *ids = p;
   if (tb_lex_item(lx, i, n, nc == 3 ? "face" : "tetrahedron") ||
       tb_lex_long(lx, &id, "element number"))
     return -1;
-  ids[i] = (elem_id){id, lx->line};
+  p[i] = (elem_id){id, lx->line};
   for (int k = 0; k < nc; k++) {
     if (tb_lex_range(lx, &t, base, base + b->m.nv - 1, "node index")) return -1;
     v[k] = (int)(t - base);
@@ -95,13 +98,7 @@ static int read_ele(tb_lex *lx, tb_build *b, long base) {
   elem_id *ids = NULL;
   int cap = 0, rc = 0;
   for (long i = 0; rc == 0 && i < n; i++) {
-    elem_id *p = tb_io_grow(ids, &cap, i + 1, sizeof *ids);
-    if (!p) {
-      rc = tb_lex_fail(lx, "out of memory");
-      break;
-    }
-    ids = p;
-    rc = indices(lx, b, base, i, n, (int)npt, v, ids);
+    rc = indices(lx, b, base, i, n, (int)npt, v, &ids, &cap);
     for (long k = 0; rc == 0 && k < nattr; k++) rc = tb_lex_real(lx, &a, "tetrahedron attribute");
     if (rc == 0) rc = tb_lex_end(lx);
     if (rc == 0 && tb_build_tet(b, v)) rc = tb_lex_fail(lx, "out of memory");
@@ -122,13 +119,7 @@ static int read_face(tb_lex *lx, tb_build *b, long base) {
   elem_id *ids = NULL;
   int cap = 0, rc = 0;
   for (long i = 0; rc == 0 && i < n; i++) {
-    elem_id *p = tb_io_grow(ids, &cap, i + 1, sizeof *ids);
-    if (!p) {
-      rc = tb_lex_fail(lx, "out of memory");
-      break;
-    }
-    ids = p;
-    if ((rc = indices(lx, b, base, i, n, 3, v, ids)) != 0) break;
+    if ((rc = indices(lx, b, base, i, n, 3, v, &ids, &cap)) != 0) break;
     int left = tb_lex_left(lx); /* the marker, then maybe two adjacent tets (tetgen -nn) */
     if (left != nmark && left != nmark + 2)
       rc = tb_lex_fail(lx, "%d values after the face's nodes (expected %ld or %ld)", left, nmark,
