@@ -43,16 +43,17 @@ void tb_test_skip(const char *fmt, ...) {
   skipped = 1;
 }
 
-/* Reads path expecting failure with message "path:LINE: ...REASON..." (line
- * 0: "path: ...") and an empty mesh. */
-void tb_test_expect_read_error(const char *path, long line, const char *reason) {
+/* Reads path expecting failure with message "in:LINE: ...REASON..." (line
+ * 0: "in: ...", -1: any line or none) and an empty mesh; `in` is the file
+ * the reader blames (path itself, or a partner such as a TetGen .ele). */
+void tb_test_expect_read_error_in(const char *path, const char *in, long line, const char *reason) {
   tb_mesh m;
   tb_error err = {{0}};
   char prefix[700];
   if (line > 0)
-    snprintf(prefix, sizeof prefix, "%s:%ld: ", path, line);
+    snprintf(prefix, sizeof prefix, "%s:%ld: ", in, line);
   else
-    snprintf(prefix, sizeof prefix, "%s: ", path);
+    snprintf(prefix, sizeof prefix, "%s:%s", in, line ? "" : " ");
   int rc = tb_mesh_read(path, &m, &err);
   TB_CHECK_MSG(rc != 0, "%s: read should fail (%s)", path, reason);
   TB_CHECK_MSG(strncmp(err.msg, prefix, strlen(prefix)) == 0, "message '%s' lacks prefix '%s'",
@@ -60,6 +61,23 @@ void tb_test_expect_read_error(const char *path, long line, const char *reason) 
   TB_CHECK_MSG(strstr(err.msg, reason) != NULL, "message '%s' lacks '%s'", err.msg, reason);
   TB_CHECK(m.nv == 0 && m.ntri == 0 && m.ntet == 0 && !m.x && !m.tri && !m.tet);
   if (rc == 0) tb_mesh_free(&m);
+}
+
+void tb_test_expect_read_error(const char *path, long line, const char *reason) {
+  tb_test_expect_read_error_in(path, path, line, reason);
+}
+
+void tb_test_expect_read_errors(const tb_test_bad_file *c) {
+  for (; c->name; c++)
+    tb_test_expect_read_error(tb_test_file(c->name, c->text, -1), c->line, c->reason);
+}
+
+const char *tb_test_tmp_path(const char *name) {
+  static char p[4][600];
+  static int slot;
+  char *s = p[slot++ % 4];
+  snprintf(s, 600, "%s/%s", tb_test_tmpdir(), name);
+  return s;
 }
 
 /* The whole file as a string (NULL when unreadable); the caller frees. */

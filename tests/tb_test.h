@@ -48,6 +48,19 @@ char *tb_test_slurp(const char *path);
 /* Reads path (tb_mesh_read) expecting failure with the message
  * "path:LINE: ...REASON..." (line 0: "path: ...") and an empty mesh. */
 void tb_test_expect_read_error(const char *path, long line, const char *reason);
+/* The same, the message naming file `in` (a partner file, or path itself);
+ * line -1: any line or none. */
+void tb_test_expect_read_error_in(const char *path, const char *in, long line, const char *reason);
+/* A file that must not read: its name, content, the line blamed and the reason. */
+typedef struct tb_test_bad_file {
+  const char *name, *text;
+  long line;
+  const char *reason;
+} tb_test_bad_file;
+/* tb_test_expect_read_error on each, written with tb_test_file, up to a NULL name. */
+void tb_test_expect_read_errors(const tb_test_bad_file *c);
+/* name inside tb_test_tmpdir() (one of 4 rotating buffers). */
+const char *tb_test_tmp_path(const char *name);
 /* Field k (0-based) of a CSV line (quoted fields may hold commas) into out;
  * 0 when the line has fewer fields. */
 int tb_test_csv_field(const char *line, int k, char *out, size_t cap);

@@ -14,14 +14,6 @@
 
 /* ---- helpers ---- */
 
-static const char *tmp(const char *name) {
-  static char p[4][600];
-  static int slot;
-  char *s = p[slot++ % 4];
-  snprintf(s, 600, "%s/%s", tb_test_tmpdir(), name);
-  return s;
-}
-
 static int read_ok(const char *path, tb_mesh *m) {
   tb_error err = {{0}};
   int rc = tb_mesh_read(path, m, &err);
@@ -49,17 +41,6 @@ static void check_same(const tb_mesh *a, const tb_mesh *b) {
   TB_CHECK(a->nv == 0 || memcmp(a->x, b->x, (size_t)a->nv * sizeof *a->x) == 0);
   check_ints(a->tri, b->tri, 3 * a->ntri, "tri");
   check_ints(a->tet, b->tet, 4 * a->ntet, "tet");
-}
-
-typedef struct bad_case {
-  const char *name, *text;
-  long line;
-  const char *reason;
-} bad_case;
-
-static void run_bad(const bad_case *c) {
-  for (; c->name; c++)
-    tb_test_expect_read_error(tb_test_file(c->name, c->text, -1), c->line, c->reason);
 }
 
 /* A unit-ish cube in five tets with awkward coordinates, and a surface. */
@@ -210,7 +191,7 @@ static void test_tetgen_one_based(void) {
   int tet[8] = {0, 1, 2, 3, 1, 2, 3, 4}, tri[6] = {0, 2, 1, 0, 1, 3};
   const char *which[2] = {"a.node", "a.ele"};
   for (int k = 0; k < 2; k++) {
-    if (!read_ok(tmp(which[k]), &m)) continue;
+    if (!read_ok(tb_test_tmp_path(which[k]), &m)) continue;
     TB_CHECK(m.nv == 5 && m.ntet == 2 && m.ntri == 2 && m.x[4].z == 1.0);
     if (m.ntet == 2 && m.ntri == 2)
       check_ints(m.tet, tet, 8, "tet"), check_ints(m.tri, tri, 6, "tri");
@@ -223,12 +204,12 @@ static void test_tetgen_zero_based(void) {
   tb_test_file("z.node", "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n", -1);
   tb_test_file("z.ele", "1 10 0\n0 3 2 1 0 0 1 1 2 2 3\n", -1);
   tb_test_file("z.face", "1 1\n0 0 1 2 5 0 -1\n", -1); /* marker and two neighbours (-nn) */
-  if (read_ok(tmp("z.node"), &m)) {
+  if (read_ok(tb_test_tmp_path("z.node"), &m)) {
     TB_CHECK(m.nv == 4 && m.ntet == 1 && m.ntri == 1 && m.tet[0] == 3 && m.tet[3] == 0);
     tb_mesh_free(&m);
   }
   tb_test_file("pts.node", "2 3\n1 0 0 0\n2 1 2 3\n", -1); /* no .ele: points only */
-  if (read_ok(tmp("pts.node"), &m)) {
+  if (read_ok(tb_test_tmp_path("pts.node"), &m)) {
     TB_CHECK(m.nv == 2 && m.ntet == 0 && m.x[1].z == 3.0);
     tb_mesh_free(&m);
   }
@@ -282,7 +263,7 @@ static void test_msh_v4(void) {
 
 static void roundtrip(const char *name, tb_mesh src) {
   tb_mesh m;
-  if (!write_ok(tmp(name), &src) || !read_ok(tmp(name), &m)) return;
+  if (!write_ok(tb_test_tmp_path(name), &src) || !read_ok(tb_test_tmp_path(name), &m)) return;
   check_same(&m, &src);
   tb_mesh_free(&m);
 }
@@ -305,7 +286,8 @@ static void test_write_tet_boundary(void) {
   TB_CHECK(n == 12);
   const char *name[2] = {"bnd.off", "bnd.obj"};
   for (int k = 0; k < 2 && n > 0; k++) {
-    if (!write_ok(tmp(name[k]), &src) || !read_ok(tmp(name[k]), &m)) continue;
+    if (!write_ok(tb_test_tmp_path(name[k]), &src) || !read_ok(tb_test_tmp_path(name[k]), &m))
+      continue;
     TB_CHECK(m.nv == 8 && m.ntri == n && m.ntet == 0);
     if (m.ntri == n) check_ints(m.tri, faces, 3 * n, "boundary");
     TB_CHECK(m.nv == 8 && memcmp(m.x, src.x, sizeof cube_x) == 0);
@@ -321,7 +303,8 @@ static void test_write_surface_compact(void) {
   tb_mesh src = {5, x, 2, tri, 0, NULL, 0}, m;
   const char *name[3] = {"cmp.off", "cmp.obj", "cmp.vtk"};
   for (int k = 0; k < 3; k++) {
-    if (!write_ok(tmp(name[k]), &src) || !read_ok(tmp(name[k]), &m)) continue;
+    if (!write_ok(tb_test_tmp_path(name[k]), &src) || !read_ok(tb_test_tmp_path(name[k]), &m))
+      continue;
     TB_CHECK_MSG(m.nv == 4 && m.ntri == 2, "%s: %d vertices, %d triangles", name[k], m.nv, m.ntri);
     if (m.nv == 4 && m.ntri == 2) {
       check_ints(m.tri, want, 6, "tri");
@@ -333,7 +316,8 @@ static void test_write_surface_compact(void) {
   tb_mesh beam;
   tb_error err;
   TB_CHECK(tb_beam(3, 3, 3, 3, 3, 3, &beam, &err) == 0);
-  if (write_ok(tmp("cmp_beam.off"), &beam) && read_ok(tmp("cmp_beam.off"), &m)) {
+  if (write_ok(tb_test_tmp_path("cmp_beam.off"), &beam) &&
+      read_ok(tb_test_tmp_path("cmp_beam.off"), &m)) {
     TB_CHECK_MSG(m.nv == 64 - 8 && m.ntri == beam.ntri, "%d vertices", m.nv);
     for (int i = 0, j = 0; i < beam.nv && j < m.nv; i++) {
       tb_vec3 p = beam.x[i];
@@ -350,8 +334,10 @@ static void test_write_surface_compact(void) {
 
 static void test_write_vtk(void) {
   tb_mesh tets = cube(1, 1), tris = cube(0, 1);
-  if (!write_ok(tmp("t.vtk"), &tets) || !write_ok(tmp("s.vtk"), &tris)) return;
-  char *a = tb_test_slurp(tmp("t.vtk")), *b = tb_test_slurp(tmp("s.vtk")), line[200];
+  if (!write_ok(tb_test_tmp_path("t.vtk"), &tets) || !write_ok(tb_test_tmp_path("s.vtk"), &tris))
+    return;
+  char *a = tb_test_slurp(tb_test_tmp_path("t.vtk")), *b = tb_test_slurp(tb_test_tmp_path("s.vtk")),
+       line[200];
   TB_CHECK(a && b);
   if (a && b) {
     TB_CHECK(strncmp(a, "# vtk DataFile Version 3.0\n", 27) == 0);
@@ -379,26 +365,27 @@ static void expect_write_error(const char *path, const tb_mesh *m, const char *r
 static void test_write_errors(void) {
   tb_mesh m = cube(1, 1);
   expect_write_error("/nonexistent-dir/x.obj", &m, "cannot open for writing");
-  expect_write_error(tmp("x.ply"), &m, "unknown mesh format");
-  if (symlink("/dev/full", tmp("full.obj")) == 0 && symlink("/dev/full", tmp("full.vtk")) == 0) {
-    expect_write_error(tmp("full.obj"), &m, "write failed");
-    expect_write_error(tmp("full.vtk"), &m, "write failed");
+  expect_write_error(tb_test_tmp_path("x.ply"), &m, "unknown mesh format");
+  if (symlink("/dev/full", tb_test_tmp_path("full.obj")) == 0 &&
+      symlink("/dev/full", tb_test_tmp_path("full.vtk")) == 0) {
+    expect_write_error(tb_test_tmp_path("full.obj"), &m, "write failed");
+    expect_write_error(tb_test_tmp_path("full.vtk"), &m, "write failed");
   } else {
     TB_CHECK_MSG(0, "cannot link /dev/full");
   }
   int bad[3] = {0, 8, 2};
   tb_mesh b = {8, cube_x, 1, bad, 0, NULL, 0};
-  expect_write_error(tmp("bad.off"), &b, "cannot write: triangle 0 uses vertex 8");
+  expect_write_error(tb_test_tmp_path("bad.off"), &b, "cannot write: triangle 0 uses vertex 8");
   tb_vec3 nan_x[3] = {{0, 0, 0}, {NAN, 0, 0}, {0, 1, 0}};
   tb_mesh c = {3, nan_x, 1, bad, 0, NULL, 0};
-  expect_write_error(tmp("nan.obj"), &c, "vertex 1 is not finite");
+  expect_write_error(tb_test_tmp_path("nan.obj"), &c, "vertex 1 is not finite");
 }
 
 /* ---- malformed input, per format ---- */
 
 #define TRI3 "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
 static void test_errors_obj(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"e_range.obj", TRI3 "f 1 2 4\n", 4, "vertex index 4 out of range"},
       {"e_zero.obj", TRI3 "f 0 1 2\n", 4, "out of range"},
       {"e_neg.obj", TRI3 "\n# c\nf -1 -2 -4\n", 6, "vertex index -4 out of range"},
@@ -419,13 +406,13 @@ static void test_errors_obj(void) {
       {"e_novert.obj", "o thing\ng group\n", 2, "no vertices"},
       {"e_hdr.obj", "4 1\n" TRI3 "f 1 2 3\n", 1, "header counts 4 vertices, 1 faces"},
       {NULL, NULL, 0, NULL}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
   tb_test_expect_read_error(tb_test_file("e_nul.obj", "v 0 0 0\nv 1\0 0 0\n", 16), 2, "NUL byte");
 }
 
 #define OFF3 "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n"
 static void test_errors_off(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"e_empty.off", "", 0, "empty file"},
       {"e_magic.off", "PLY\n3 1 0\n", 1, "not an OFF file"},
       {"e_variant.off", "4OFF\n3 1 0\n", 1, "unsupported OFF variant '4OFF'"},
@@ -446,14 +433,14 @@ static void test_errors_off(void) {
       {"e_huge.off", "OFF\n2000000000 2000000000 0\n0 0 0\n", 3, "expected vertex 2 of 2000000000"},
       {"e_big.off", "OFF\n99999999999 1 0\n", 2, "vertex count 99999999999 out of range"},
       {NULL, NULL, 0, NULL}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
 }
 
 #define FACET(v)                                                                      \
   " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex " v \
   "\n  endloop\n endfacet\n"
 static void test_errors_stl(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"e_empty.stl", "", 0, "empty file"},
       {"e_magic.stl", "hello world\n", 1, "not an STL file"},
       {"e_trunc.stl",
@@ -475,7 +462,7 @@ static void test_errors_stl(void) {
        "expected 'solid' or end of file"},
       {"e_none.stl", "solid t\nendsolid t\n", 2, "no vertices"},
       {NULL, NULL, 0, NULL}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
 }
 
 static void test_errors_stl_binary(void) {
@@ -549,15 +536,15 @@ static void test_errors_tetgen(void) {
       if (text[k]) tb_test_file(name, text[k], -1);
     }
     snprintf(name, sizeof name, "%s%s", t->base, t->read);
-    const char *path = tmp(name);
+    const char *path = tb_test_tmp_path(name);
     snprintf(name, sizeof name, "%s%s", t->base, t->bad);
     tb_mesh m;
     tb_error err = {{0}};
     char prefix[700];
     if (t->line)
-      snprintf(prefix, sizeof prefix, "%s:%ld: ", tmp(name), t->line);
+      snprintf(prefix, sizeof prefix, "%s:%ld: ", tb_test_tmp_path(name), t->line);
     else
-      snprintf(prefix, sizeof prefix, "%s: ", tmp(name));
+      snprintf(prefix, sizeof prefix, "%s: ", tb_test_tmp_path(name));
     TB_CHECK_MSG(tb_mesh_read(path, &m, &err) != 0, "%s should fail", path);
     TB_CHECK_MSG(strncmp(err.msg, prefix, strlen(prefix)) == 0 && strstr(err.msg, t->reason),
                  "message '%s', expected '%s...%s'", err.msg, prefix, t->reason);
@@ -568,7 +555,7 @@ static void test_errors_tetgen(void) {
 #define MSH2 "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
 #define NOD3 "$NOD\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$ENDNOD\n"
 static void test_errors_msh(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"e_empty.msh", "", 0, "empty file"},
       {"e_top.msh", "hello\n", 1, "expected a $Section, found 'hello'"},
       {"e_bin.msh", "$MeshFormat\n4.1 1 8\n", 2, "binary .msh not supported"},
@@ -605,14 +592,14 @@ static void test_errors_msh(void) {
       {"e_huge.msh", "$NOD\n2147483647\n1 0 0 0\n", 3, "expected node 2 of 2147483647"},
       {"e_none.msh", MSH2, 3, "no vertices"},
       {NULL, NULL, 0, NULL}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
 }
 
 static void test_errors_generic(void) {
   tb_test_expect_read_error(tb_test_file("mesh.ply", "ply\n", -1), 0, "unknown mesh format '.ply'");
   tb_test_expect_read_error(tb_test_file("noext", "v 0 0 0\n", -1), 0, "unknown mesh format ''");
-  tb_test_expect_read_error(tmp("missing.obj"), 0, "cannot open: No such file");
-  tb_test_expect_read_error(tmp("missing.node"), 0, "cannot open: No such file");
+  tb_test_expect_read_error(tb_test_tmp_path("missing.obj"), 0, "cannot open: No such file");
+  tb_test_expect_read_error(tb_test_tmp_path("missing.node"), 0, "cannot open: No such file");
   long n = (1L << 20) + 100;
   char *big = malloc((size_t)n + 1);
   if (!big) return;
@@ -678,7 +665,7 @@ static void test_real_roundtrip(void) {
   tb_mesh m, r;
   if (real("sofa/liver.obj", &m)) {
     TB_CHECK(tb_mesh_topology(&m).closed);
-    if (write_ok(tmp("liver.obj"), &m) && read_ok(tmp("liver.obj"), &r)) {
+    if (write_ok(tb_test_tmp_path("liver.obj"), &m) && read_ok(tb_test_tmp_path("liver.obj"), &r)) {
       drop_unused(&m);
       TB_CHECK(m.nv == 139);
       check_same(&r, &m), tb_mesh_free(&r);
@@ -687,7 +674,8 @@ static void test_real_roundtrip(void) {
   }
   if (real("sofa/liver2.msh", &m)) {
     m.nskipped = 0;
-    if (write_ok(tmp("liver2.node"), &m) && read_ok(tmp("liver2.ele"), &r))
+    if (write_ok(tb_test_tmp_path("liver2.node"), &m) &&
+        read_ok(tb_test_tmp_path("liver2.ele"), &r))
       check_same(&r, &m), tb_mesh_free(&r);
     tb_mesh_free(&m);
   }

@@ -17,43 +17,6 @@
 #include "tb_test.h"
 #include "tb_vtu.h"
 
-typedef struct bad_case {
-  const char *name, *text;
-  long line;
-  const char *reason;
-} bad_case;
-
-static void run_bad(const bad_case *c) {
-  for (; c->name; c++)
-    tb_test_expect_read_error(tb_test_file(c->name, c->text, -1), c->line, c->reason);
-}
-
-static const char *tmp(const char *name) {
-  static char p[4][600];
-  static int slot;
-  char *s = p[slot++ % 4];
-  snprintf(s, 600, "%s/%s", tb_test_tmpdir(), name);
-  return s;
-}
-
-/* Reads path expecting failure reported in file `in` (a partner file, or
- * path itself) at line (0: none, -1: any) with reason, and an empty mesh. */
-static void expect_error_in(const char *path, const char *in, long line, const char *reason) {
-  tb_mesh m;
-  tb_error err = {{0}};
-  char prefix[700];
-  if (line > 0)
-    snprintf(prefix, sizeof prefix, "%s:%ld: ", in, line);
-  else
-    snprintf(prefix, sizeof prefix, "%s:%s", in, line ? "" : " ");
-  int rc = tb_mesh_read(path, &m, &err);
-  TB_CHECK_MSG(rc != 0, "%s: read should fail (%s)", path, reason);
-  TB_CHECK_MSG(!strncmp(err.msg, prefix, strlen(prefix)) && strstr(err.msg, reason),
-               "message '%s', expected '%s...%s'", err.msg, prefix, reason);
-  TB_CHECK(m.nv == 0 && m.ntri == 0 && m.ntet == 0 && !m.x && !m.tri && !m.tet);
-  if (rc == 0) tb_mesh_free(&m);
-}
-
 /* Reads path expecting success and the contract; returns the mesh (caller frees). */
 static tb_mesh read_good(const char *path, int nv, int ntri, int ntet) {
   tb_mesh m;
@@ -83,7 +46,7 @@ static tb_mesh read_good(const char *path, int nv, int ntri, int ntet) {
 
 /* ---- item 1 and 2: coordinates beyond TB_COORD_MAX in every format ---- */
 static void test_coord_bound(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"c_item1.obj", "v 1e200 0 0\nv 0 1e200 0\nv 0 0 1e200\nf 1 2 3\n", 1, "beyond +-1e+90"},
       {"c_neg.obj", TRI3 "v 0 0 -1.0000001e90\n", 4, "vertex 4"},
       {"c.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1e91 0\n3 0 1 2\n", 5, "beyond +-1e+90"},
@@ -94,15 +57,16 @@ static void test_coord_bound(void) {
       {"c.vtk", VHDR "POINTS 3 double\n0 0 0\n1 0 0\n0 1\n1e95\nPOLYGONS 1 4\n3 0 1 2\n", 9,
        "beyond +-1e+90"},
       {0, 0, 0, 0}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
   /* item 2: a closed tetrahedron at +-1e300, as TetGen files */
   tb_test_file("c_tet.node",
                "4 3 0 0\n1 1e300 1e300 1e300\n2 -1e300 -1e300 1e300\n"
                "3 -1e300 1e300 -1e300\n4 1e300 -1e300 -1e300\n",
                -1);
   tb_test_file("c_tet.ele", "1 4 0\n1 1 2 3 4\n", -1);
-  tb_test_expect_read_error(tmp("c_tet.node"), 2, "beyond +-1e+90");
-  expect_error_in(tmp("c_tet.ele"), tmp("c_tet.node"), 2, "beyond +-1e+90");
+  tb_test_expect_read_error(tb_test_tmp_path("c_tet.node"), 2, "beyond +-1e+90");
+  tb_test_expect_read_error_in(tb_test_tmp_path("c_tet.ele"), tb_test_tmp_path("c_tet.node"), 2,
+                               "beyond +-1e+90");
   /* the bound itself is accepted */
   tb_mesh m = read_good(tb_test_file("c_ok.obj", "v 1e90 -1e90 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", -1),
                         3, 1, 0);
@@ -112,16 +76,17 @@ static void test_coord_bound(void) {
   int tri[3] = {0, 1, 2};
   tb_vtu_piece p = {3, x, 1, tri, 0, NULL, 0, NULL};
   tb_error err = {{0}};
-  if (tb_vtu_write(tmp("c.vtu"), &p, 1, &err) == 0)
-    expect_error_in(tmp("c.vtu"), tmp("c.vtu"), -1, "is not finite or beyond +-1e+90");
+  if (tb_vtu_write(tb_test_tmp_path("c.vtu"), &p, 1, &err) == 0)
+    tb_test_expect_read_error_in(tb_test_tmp_path("c.vtu"), tb_test_tmp_path("c.vtu"), -1,
+                                 "is not finite or beyond +-1e+90");
   else
     TB_CHECK_MSG(strstr(err.msg, "c.vtu"), "%s", err.msg);
   /* and the CLI: exit 2 with the message */
   char args[800];
-  snprintf(args, sizeof args, "mesh info %s", tmp("c_item1.obj"));
+  snprintf(args, sizeof args, "mesh info %s", tb_test_tmp_path("c_item1.obj"));
   TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "c_item1.obj:1: "), "%s: %s", args,
                tb_test_out);
-  snprintf(args, sizeof args, "mesh info %s", tmp("c_tet.node"));
+  snprintf(args, sizeof args, "mesh info %s", tb_test_tmp_path("c_tet.node"));
   TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "c_tet.node:2: ") &&
                    !strstr(tb_test_out, "nan"),
                "%s: %s", args, tb_test_out);
@@ -129,7 +94,7 @@ static void test_coord_bound(void) {
 
 /* ---- item 5: a second $Elements section ---- */
 static void test_msh_second_elements(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"e2.msh", MSH2 NODES3 ELEMS1 ELEMS1, 14, "second element section"},
       {"e1.msh", NOD3 "$ELM\n1\n1 2 0 1 3 1 2 3\n$ENDELM\n$ELM\n0\n$ENDELM\n", 11,
        "second element section"},
@@ -139,7 +104,7 @@ static void test_msh_second_elements(void) {
             "$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 3\n$EndElements\n",
        19, "second element section"},
       {0, 0, 0, 0}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
   tb_mesh m = read_good(tb_test_file("e_one.msh", MSH2 NODES3 ELEMS1, -1), 3, 1, 0);
   tb_mesh_free(&m);
 }
@@ -150,21 +115,21 @@ static void test_tetgen_upper_case(void) {
   tb_test_file("UP.NODE", node, -1);
   tb_test_file("UP.ELE", "1 4 0\n1 1 2 3 4\n", -1);
   tb_test_file("UP.FACE", "1 0\n1 1 2 3\n", -1);
-  tb_mesh m = read_good(tmp("UP.NODE"), 4, 1, 1);
+  tb_mesh m = read_good(tb_test_tmp_path("UP.NODE"), 4, 1, 1);
   tb_mesh_free(&m);
-  m = read_good(tmp("UP.ELE"), 4, 1, 1);
+  m = read_good(tb_test_tmp_path("UP.ELE"), 4, 1, 1);
   tb_mesh_free(&m);
   char args[800];
-  snprintf(args, sizeof args, "mesh info %s", tmp("UP.NODE"));
+  snprintf(args, sizeof args, "mesh info %s", tb_test_tmp_path("UP.NODE"));
   TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s: %s", args, tb_test_out);
   /* lower case still reads lower-case partners */
   tb_test_file("lo.node", node, -1);
   tb_test_file("lo.ele", "1 4 0\n1 1 2 3 4\n", -1);
-  m = read_good(tmp("lo.ele"), 4, 0, 1);
+  m = read_good(tb_test_tmp_path("lo.ele"), 4, 0, 1);
   tb_mesh_free(&m);
   /* A.ELE without A.NODE names the upper-case partner */
   tb_test_file("NOPE.ELE", "1 4 0\n1 1 2 3 4\n", -1);
-  tb_test_expect_read_error(tmp("NOPE.ELE"), 0, "NOPE.NODE");
+  tb_test_expect_read_error(tb_test_tmp_path("NOPE.ELE"), 0, "NOPE.NODE");
 }
 
 /* ---- item 7: byte-order marks ---- */
@@ -187,16 +152,16 @@ static void test_bom(void) {
   tb_mesh_free(&m);
   tb_test_file("bt.node", BOM "3 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n", -1);
   tb_test_file("bt.face", BOM "1 0\n1 1 2 3\n", -1);
-  m = read_good(tmp("bt.node"), 3, 1, 0);
+  m = read_good(tb_test_tmp_path("bt.node"), 3, 1, 0);
   tb_mesh_free(&m);
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"b_mid.obj", TRI3 BOM "f 1 2 3\n", 4, "byte-order mark inside the file"},
       {"b_two.obj", BOM BOM TRI3, 1, "byte-order mark inside the file"},
       {"b_mid.off", "OFF\n3 1 0\n0 0 0\n" BOM "1 0 0\n0 1 0\n3 0 1 2\n", 4,
        "byte-order mark inside the file"},
       {"b_mid.msh", MSH2 BOM NODES3, 4, "byte-order mark inside the file"},
       {0, 0, 0, 0}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
   /* .sph files use the same tokenizer */
   tb_spheres s;
   tb_error err = {{0}};
@@ -228,40 +193,41 @@ static void test_not_regular(void) {
   static const char *const names[] = {"d.stl", "d.obj", "d.off", "d.msh",
                                       "d.vtk", "d.vtu", "d.node"};
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-    mkdir(tmp(names[i]), 0700);
-    tb_test_expect_read_error(tmp(names[i]), 0, "is a directory");
+    mkdir(tb_test_tmp_path(names[i]), 0700);
+    tb_test_expect_read_error(tb_test_tmp_path(names[i]), 0, "is a directory");
   }
   char args[800];
-  snprintf(args, sizeof args, "mesh info %s", tmp("d.stl"));
+  snprintf(args, sizeof args, "mesh info %s", tb_test_tmp_path("d.stl"));
   TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "is a directory") &&
                    !strstr(tb_test_out, "9223372036854775807"),
                "%s: %s", args, tb_test_out);
   /* a FIFO: refused at once, never waited on */
-  const char *fifo = tmp("fifo.obj");
+  const char *fifo = tb_test_tmp_path("fifo.obj");
   if (mkfifo(fifo, 0600) == 0)
     tb_test_expect_read_error(fifo, 0, "not a regular file");
   else
     tb_test_fail(__FILE__, __LINE__, "mkfifo %s failed", fifo);
   /* a directory beside a TetGen .node where the .ele should be */
   tb_test_file("dd.node", "3 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n", -1);
-  mkdir(tmp("dd.ele"), 0700);
-  expect_error_in(tmp("dd.node"), tmp("dd.ele"), 0, "is a directory");
+  mkdir(tb_test_tmp_path("dd.ele"), 0700);
+  tb_test_expect_read_error_in(tb_test_tmp_path("dd.node"), tb_test_tmp_path("dd.ele"), 0,
+                               "is a directory");
 }
 
 /* ---- item 7: the legacy and the new .msh format mixed ---- */
 static void test_msh_mixed(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"mx1.msh", NOD3 MSH2, 7, "the legacy (version 1) and the new format mixed"},
       {"mx2.msh", NOD3 NODES3, 7, "the legacy (version 1) and the new format mixed"},
       {"mx3.msh", MSH2 NOD3, 4, "the legacy and the new format mixed"},
       {0, 0, 0, 0}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
   tb_test_expect_read_error(tb_test_file("mx4.msh", MSH2 MSH2, -1), 4, "second $MeshFormat");
 }
 
 /* ---- item 7: file text in messages is escaped ---- */
 static void test_escaped_messages(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"x_esc.obj", TRI3 "\x1b[31mred 1 2 3\n", 4, "unknown OBJ statement '\\x1B[31mred'"},
       {"x_bad.obj", TRI3 "v 1 \xff\xfe 3\n", 4, "y coordinate '\\xFF\\xFE' is not a number"},
       {"x_c1.obj",
@@ -271,7 +237,7 @@ static void test_escaped_messages(void) {
       {"x_bel.off", "OFF\n3 1 0\n0 0 0\n1 0 \a\n", 4, "'\\x07' is not a number"},
       {"x_utf8.obj", "v 1 2 caf\xc3\xa9\n", 1, "'caf\xc3\xa9' is not a number"},
       {0, 0, 0, 0}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
   /* the whole message is free of control bytes, and the quoted text stays short */
   char big[300] = "v 1 2 ";
   for (int i = 6; i < 250; i++) big[i] = (char)(i % 2 ? 0x1b : 0x07);
@@ -281,12 +247,13 @@ static void test_escaped_messages(void) {
   tb_error err = {{0}};
   TB_CHECK(tb_mesh_read(tb_test_file("x_long.obj", big, -1), &m, &err) != 0);
   for (const char *s = err.msg; *s; s++) TB_CHECK((unsigned char)*s >= 0x20 && *s != 0x7f);
-  TB_CHECK_MSG(strlen(err.msg) < strlen(tmp("x_long.obj")) + 40 + 4 * 40, "%s", err.msg);
+  TB_CHECK_MSG(strlen(err.msg) < strlen(tb_test_tmp_path("x_long.obj")) + 40 + 4 * 40, "%s",
+               err.msg);
 }
 
 /* ---- item 7: errors at end of file cite the last line, not one past it ---- */
 static void test_eof_line(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"z_nl.off", "OFF\n3 1 0\n0 0 0\n", 3, "unexpected end of file (expected vertex 2 of 3)"},
       {"z_nonl.off", "OFF\n3 1 0\n0 0 0", 3, "unexpected end of file (expected vertex 2 of 3)"},
       {"z_blank.off", "OFF\n3 1 0\n0 0 0\n\n\n", 5, "unexpected end of file"},
@@ -303,52 +270,52 @@ static void test_eof_line(void) {
       {"z_trunc2.vtu", "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\">\n", 2,
        "XML error: no element found"},
       {0, 0, 0, 0}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
 }
 
 /* ---- item 8: inputs once silently accepted ---- */
 static void test_off_counts(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"o_ne.off", "OFF\n3 1 -1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", 2, "edge count -1 out of range"},
       {"o_nv.off", "OFF\n-3 1 0\n", 2, "vertex count -3 out of range"},
       {"o_nf.off", "OFF\n3 -1 0\n", 2, "face count -1 out of range"},
       {"o_nv2.off", "-3 1 0\n", 1, "vertex count -3 out of range"},
       {"o_ne2.off", "3 1 -5\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", 1, "edge count -5 out of range"},
       {0, 0, 0, 0}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
 }
 
 static void test_msh_tags(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"t0_v1.msh", "$NOD\n2\n1 0 0 0\n0 1 0 0\n$ENDNOD\n", 4, "node tag 0 out of range"},
       {"tn_v2.msh", MSH2 "$Nodes\n1\n-4 0 0 0\n$EndNodes\n", 6, "node tag -4 out of range"},
       {"t0_v4.msh", MSH4 "$Nodes\n1 1 0 0\n0 1 0 1\n0\n0 0 0\n$EndNodes\n", 7,
        "node tag 0 out of range"},
       {0, 0, 0, 0}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
 }
 
 static void test_tetgen_duplicates(void) {
   const char *node = "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
   tb_test_file("dup.node", node, -1);
   tb_test_file("dup.ele", "3 4 0\n1 1 2 3 4\n2 1 2 4 3\n1 2 1 3 4\n", -1);
-  expect_error_in(tmp("dup.node"), tmp("dup.ele"), 4,
-                  "duplicate tetrahedron number 1 (also on line 2)");
+  tb_test_expect_read_error_in(tb_test_tmp_path("dup.node"), tb_test_tmp_path("dup.ele"), 4,
+                               "duplicate tetrahedron number 1 (also on line 2)");
   tb_test_file("dupf.node", node, -1);
   tb_test_file("dupf.face", "2 0\n7 1 2 3\n7 1 2 4\n", -1);
-  expect_error_in(tmp("dupf.node"), tmp("dupf.face"), 3,
-                  "duplicate face number 7 (also on line 2)");
+  tb_test_expect_read_error_in(tb_test_tmp_path("dupf.node"), tb_test_tmp_path("dupf.face"), 3,
+                               "duplicate face number 7 (also on line 2)");
   tb_test_expect_read_error(tb_test_file("dupn.node", "2 3 0 0\n1 0 0 0\n1 1 0 0\n", -1), 3,
                             "node number 1 out of sequence");
   /* distinct numbers, in any order, still read */
   tb_test_file("okid.node", node, -1);
   tb_test_file("okid.ele", "2 4 0\n5 1 2 3 4\n2 1 2 4 3\n", -1);
-  tb_mesh m = read_good(tmp("okid.node"), 4, 0, 2);
+  tb_mesh m = read_good(tb_test_tmp_path("okid.node"), 4, 0, 2);
   tb_mesh_free(&m);
 }
 
 static void test_stl_junk(void) {
-  static const bad_case c[] = {
+  static const tb_test_bad_file c[] = {
       {"j_normal.stl",
        "solid t\n facet normal 0 0 1 junk\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n"
        "   vertex 0 1 0\n  endloop\n endfacet\nendsolid t\n",
@@ -372,7 +339,7 @@ static void test_stl_junk(void) {
       {"j_endsolid.stl", "solid t\n" FACET("0 1 0") "endsolid t 1 2 3\n", 9,
        "unexpected 't 1 2 3' after 'endsolid'"},
       {0, 0, 0, 0}};
-  run_bad(c);
+  tb_test_expect_read_errors(c);
   tb_mesh m;
   m = read_good(
       tb_test_file("j_ok1.stl", "solid my part\n" FACET("0 1 0") "endsolid my part\n", -1), 3, 1,

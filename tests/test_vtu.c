@@ -13,14 +13,6 @@
 #include "tb_test.h"
 #include "tb_vtu.h"
 
-static const char *tmp(const char *name) {
-  static char p[4][600];
-  static int slot;
-  char *s = p[slot++ % 4];
-  snprintf(s, 600, "%s/%s", tb_test_tmpdir(), name);
-  return s;
-}
-
 /* 1-based line of the first occurrence of needle in s (0 if absent). */
 static long line_of(const char *s, const char *needle) {
   const char *p = strstr(s, needle);
@@ -88,11 +80,11 @@ static int write_scene(const char *path, scene *s) {
 
 static void test_vtu_roundtrip(void) {
   scene s;
-  if (scene_make(&s) || write_scene(tmp("scene.vtu"), &s)) return;
+  if (scene_make(&s) || write_scene(tb_test_tmp_path("scene.vtu"), &s)) return;
   const tb_mesh *b = &s.beam;
   tb_mesh m;
   tb_error err = {{0}};
-  TB_CHECK_MSG(tb_mesh_read(tmp("scene.vtu"), &m, &err) == 0, "%s", err.msg);
+  TB_CHECK_MSG(tb_mesh_read(tb_test_tmp_path("scene.vtu"), &m, &err) == 0, "%s", err.msg);
   TB_CHECK_MSG(m.nv == b->nv + 4 && m.ntet == b->ntet && m.ntri == b->ntri + 2 && !m.nskipped,
                "%d v, %d tets, %d tris", m.nv, m.ntet, m.ntri);
   if (m.nv == b->nv + 4 && m.ntet == b->ntet && m.ntri == b->ntri + 2) {
@@ -110,13 +102,13 @@ static void test_vtu_roundtrip(void) {
  * bit, with zeros where the second piece has none. */
 static void test_vtu_arrays_parse_back(void) {
   scene s;
-  if (scene_make(&s) || write_scene(tmp("arrays.vtu"), &s)) return;
+  if (scene_make(&s) || write_scene(tb_test_tmp_path("arrays.vtu"), &s)) return;
   const tb_mesh *b = &s.beam;
   int ncell = b->ntet + b->ntri;
   tb_mesh m;
   tb_error err = {{0}};
   tb_vtu_field f = {"displacement", 0, 0, 0, NULL};
-  TB_CHECK_MSG(tb_vtu_read(tmp("arrays.vtu"), &m, &f, &err) == 0, "%s", err.msg);
+  TB_CHECK_MSG(tb_vtu_read(tb_test_tmp_path("arrays.vtu"), &m, &f, &err) == 0, "%s", err.msg);
   TB_CHECK_MSG(f.ncomp == 3 && f.ntuples == b->nv + 4, "%d x %d", f.ncomp, f.ntuples);
   if (f.ntuples == b->nv + 4) {
     TB_CHECK(memcmp(f.data, s.disp, sizeof *s.disp * (size_t)b->nv) == 0);
@@ -125,24 +117,26 @@ static void test_vtu_arrays_parse_back(void) {
   free(f.data);
   tb_mesh_free(&m);
   f = (tb_vtu_field){"strain", 1, 0, 0, NULL};
-  TB_CHECK_MSG(tb_vtu_read(tmp("arrays.vtu"), &m, &f, &err) == 0, "%s", err.msg);
+  TB_CHECK_MSG(tb_vtu_read(tb_test_tmp_path("arrays.vtu"), &m, &f, &err) == 0, "%s", err.msg);
   TB_CHECK_MSG(f.ncomp == 1 && f.ntuples == ncell + 2, "%d x %d", f.ncomp, f.ntuples);
   if (f.ntuples == ncell + 2)
     TB_CHECK(memcmp(f.data, s.strain, sizeof *s.strain * (size_t)ncell) == 0 && f.data[ncell] == 0);
   free(f.data);
   tb_mesh_free(&m);
   f = (tb_vtu_field){"inverted", 1, 0, 0, NULL};
-  TB_CHECK_MSG(tb_vtu_read(tmp("arrays.vtu"), &m, &f, &err) == 0, "%s", err.msg);
+  TB_CHECK_MSG(tb_vtu_read(tb_test_tmp_path("arrays.vtu"), &m, &f, &err) == 0, "%s", err.msg);
   for (int i = 0; i < ncell && f.ntuples == ncell + 2; i++)
     TB_CHECK(f.data[i] == (s.inverted[i] ? 1.0 : 0.0));
   free(f.data);
   tb_mesh_free(&m);
   /* a point-data request does not find cell data, nor an unknown name */
   f = (tb_vtu_field){"strain", 0, 0, 0, NULL};
-  TB_CHECK(tb_vtu_read(tmp("arrays.vtu"), &m, &f, &err) != 0 && strstr(err.msg, "no point-data"));
+  TB_CHECK(tb_vtu_read(tb_test_tmp_path("arrays.vtu"), &m, &f, &err) != 0 &&
+           strstr(err.msg, "no point-data"));
   TB_CHECK(f.data == NULL && m.nv == 0);
   f = (tb_vtu_field){"velocity", 0, 0, 0, NULL};
-  TB_CHECK(tb_vtu_read(tmp("arrays.vtu"), &m, &f, &err) != 0 && strstr(err.msg, "velocity"));
+  TB_CHECK(tb_vtu_read(tb_test_tmp_path("arrays.vtu"), &m, &f, &err) != 0 &&
+           strstr(err.msg, "velocity"));
   scene_free(&s);
 }
 
@@ -155,8 +149,8 @@ static void test_vtu_layout(void) {
   tb_vtu_array a = {"a<&\"b", 1, one, NULL, 1};
   tb_vtu_piece p = {4, x, 1, tri, 1, tet, 1, &a};
   tb_error err = {{0}};
-  TB_CHECK_MSG(tb_vtu_write(tmp("one.vtu"), &p, 1, &err) == 0, "%s", err.msg);
-  char *s = tb_test_slurp(tmp("one.vtu"));
+  TB_CHECK_MSG(tb_vtu_write(tb_test_tmp_path("one.vtu"), &p, 1, &err) == 0, "%s", err.msg);
+  char *s = tb_test_slurp(tb_test_tmp_path("one.vtu"));
   if (!s) return;
   static const char head[] = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\"";
   TB_CHECK(strncmp(s, head, strlen(head)) == 0);
@@ -176,23 +170,26 @@ static void test_vtu_write_errors(void) {
   tb_vtu_array a[2] = {{"d", 1, d, NULL, 0}, {"d", 3, d, NULL, 0}};
   tb_vtu_piece p[2] = {{3, x, 1, tri, 0, NULL, 0, NULL}, {1, x, 0, NULL, 0, NULL, 1, a + 1}};
   tb_error err = {{0}};
-  TB_CHECK(tb_vtu_write(tmp("e.vtu"), p, 1, &err) != 0 && strstr(err.msg, "uses point 3 of 3"));
+  TB_CHECK(tb_vtu_write(tb_test_tmp_path("e.vtu"), p, 1, &err) != 0 &&
+           strstr(err.msg, "uses point 3 of 3"));
   tri[2] = 2;
   p[0].narrays = 2, p[0].arrays = a;
-  TB_CHECK(tb_vtu_write(tmp("e.vtu"), p, 1, &err) != 0 && strstr(err.msg, "'d' twice"));
+  TB_CHECK(tb_vtu_write(tb_test_tmp_path("e.vtu"), p, 1, &err) != 0 &&
+           strstr(err.msg, "'d' twice"));
   p[0].narrays = 1;
-  TB_CHECK(tb_vtu_write(tmp("e.vtu"), p, 2, &err) != 0 && strstr(err.msg, "changes components"));
+  TB_CHECK(tb_vtu_write(tb_test_tmp_path("e.vtu"), p, 2, &err) != 0 &&
+           strstr(err.msg, "changes components"));
   TB_CHECK(tb_vtu_write("/nonexistent-dir/e.vtu", p, 1, &err) != 0 &&
            strstr(err.msg, "/nonexistent-dir/e.vtu: cannot open for writing"));
-  TB_CHECK(tb_vtu_write(tmp("e.vtu"), p, 0, &err) != 0);
+  TB_CHECK(tb_vtu_write(tb_test_tmp_path("e.vtu"), p, 0, &err) != 0);
 }
 
 static void test_pvd(void) {
   double t[3] = {0, 0.5, 1.0 / 3};
   const char *files[3] = {"f/frame_0000.vtu", "f/frame_0001.vtu", "f/a&b.vtu"};
   tb_error err = {{0}};
-  TB_CHECK_MSG(tb_pvd_write(tmp("run.pvd"), 3, t, files, &err) == 0, "%s", err.msg);
-  char *s = tb_test_slurp(tmp("run.pvd"));
+  TB_CHECK_MSG(tb_pvd_write(tb_test_tmp_path("run.pvd"), 3, t, files, &err) == 0, "%s", err.msg);
+  char *s = tb_test_slurp(tb_test_tmp_path("run.pvd"));
   if (!s) return;
   TB_CHECK(strstr(s, "<VTKFile type=\"Collection\""));
   TB_CHECK(
@@ -202,7 +199,8 @@ static void test_pvd(void) {
   TB_CHECK(strstr(s, "timestep=\"0.33333333333333331\"") && strstr(s, "file=\"f/a&amp;b.vtu\""));
   free(s);
   t[1] = NAN;
-  TB_CHECK(tb_pvd_write(tmp("bad.pvd"), 3, t, files, &err) != 0 && strstr(err.msg, "non-finite"));
+  TB_CHECK(tb_pvd_write(tb_test_tmp_path("bad.pvd"), 3, t, files, &err) != 0 &&
+           strstr(err.msg, "non-finite"));
 }
 
 /* s less the last base64 group of the Points array (static buffer). */
@@ -222,8 +220,8 @@ static void test_vtu_errors(void) {
   int tet[4] = {0, 1, 2, 3};
   tb_vtu_piece p = {4, x, 0, NULL, 1, tet, 0, NULL};
   tb_error err = {{0}};
-  TB_CHECK_MSG(tb_vtu_write(tmp("good.vtu"), &p, 1, &err) == 0, "%s", err.msg);
-  char *good = tb_test_slurp(tmp("good.vtu"));
+  TB_CHECK_MSG(tb_vtu_write(tb_test_tmp_path("good.vtu"), &p, 1, &err) == 0, "%s", err.msg);
+  char *good = tb_test_slurp(tb_test_tmp_path("good.vtu"));
   if (!good) return;
   static const char *types_tag = "Name=\"types\"";
   long points = line_of(good, "<Points>") + 1, types = line_of(good, types_tag);
@@ -337,8 +335,8 @@ static void test_vtk_roundtrip(void) {
   const tb_mesh *src[2] = {&tets, &surf};
   const char *name[2] = {"rt_tets.vtk", "rt_surf.vtk"};
   for (int k = 0; k < 2; k++) {
-    TB_CHECK_MSG(tb_mesh_write(tmp(name[k]), src[k], &err) == 0, "%s", err.msg);
-    if (tb_mesh_read(tmp(name[k]), &m, &err)) {
+    TB_CHECK_MSG(tb_mesh_write(tb_test_tmp_path(name[k]), src[k], &err) == 0, "%s", err.msg);
+    if (tb_mesh_read(tb_test_tmp_path(name[k]), &m, &err)) {
       TB_CHECK_MSG(0, "%s", err.msg);
       continue;
     }
@@ -413,9 +411,9 @@ static void test_vtk_errors(void) {
 /* mesh info reads both, and reports a bad .vtu with FILE:LINE, exit 2. */
 static void test_vtu_cli(void) {
   scene s;
-  if (scene_make(&s) || write_scene(tmp("cli.vtu"), &s)) return;
+  if (scene_make(&s) || write_scene(tb_test_tmp_path("cli.vtu"), &s)) return;
   char args[1024], want[800];
-  snprintf(args, sizeof args, "mesh info %s", tmp("cli.vtu"));
+  snprintf(args, sizeof args, "mesh info %s", tb_test_tmp_path("cli.vtu"));
   TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
   snprintf(want, sizeof want, "vertices    %d\ntriangles   %d\ntets        %d\n", s.beam.nv + 4,
            s.beam.ntri + 2, s.beam.ntet);
@@ -425,8 +423,8 @@ static void test_vtu_cli(void) {
   TB_CHECK(tb_test_cli_run(args) == 2);
   snprintf(want, sizeof want, "%s:2: XML error", bad);
   TB_CHECK_MSG(strstr(tb_test_out, want), "%s", tb_test_out);
-  snprintf(args, sizeof args, "mesh beam --out %s && '%s' mesh info %s", tmp("cli.vtk"),
-           tb_test_cli(), tmp("cli.vtk"));
+  snprintf(args, sizeof args, "mesh beam --out %s && '%s' mesh info %s",
+           tb_test_tmp_path("cli.vtk"), tb_test_cli(), tb_test_tmp_path("cli.vtk"));
   TB_CHECK_MSG(tb_test_cli_run(args) == 0 && strstr(tb_test_out, "tets        480"), "%s",
                tb_test_out);
   scene_free(&s);
