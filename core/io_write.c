@@ -19,14 +19,11 @@ static int check(const char *path, const tb_mesh *m, tb_error *err) {
   for (int i = 0; i < m->nv; i++)
     if (!tb_isfinite3(m->x[i]))
       return tb_error_set(err, path, 0, "cannot write: vertex %d is not finite", i);
-  for (long i = 0; i < 3L * m->ntri; i++)
-    if (m->tri[i] < 0 || m->tri[i] >= m->nv)
-      return tb_error_set(err, path, 0, "cannot write: triangle %ld uses vertex %d of %d", i / 3,
-                          m->tri[i], m->nv);
-  for (long i = 0; i < 4L * m->ntet; i++)
-    if (m->tet[i] < 0 || m->tet[i] >= m->nv)
-      return tb_error_set(err, path, 0, "cannot write: tet %ld uses vertex %d of %d", i / 4,
-                          m->tet[i], m->nv);
+  int tet, v;
+  long e;
+  if (tb_mesh_bad_index(m, &tet, &e, &v))
+    return tb_error_set(err, path, 0, "cannot write: %s %ld uses vertex %d of %d",
+                        tet ? "tet" : "triangle", e, v, m->nv);
   return 0;
 }
 

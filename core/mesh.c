@@ -69,6 +69,19 @@ int tb_mesh_check_coords(const tb_mesh *m, const char *what, tb_error *err) {
   return 0;
 }
 
+int tb_mesh_bad_index(const tb_mesh *m, int *tet, long *elem, int *vertex) {
+  for (int k = 0; k < 2; k++) {
+    const int *ix = k ? m->tet : m->tri;
+    long n = k ? 4L * m->ntet : 3L * m->ntri;
+    for (long i = 0; i < n; i++)
+      if (ix[i] < 0 || ix[i] >= m->nv) {
+        *tet = k, *elem = i / (k ? 4 : 3), *vertex = ix[i];
+        return 1;
+      }
+  }
+  return 0;
+}
+
 double tb_mesh_volume(const tb_mesh *m) {
   double s = 0.0;
   if (m->ntet) {

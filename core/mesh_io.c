@@ -35,15 +35,12 @@ static const char *extension(const char *path) {
  * coordinate tb_coord_ok, every index in range. A failure is a reader bug,
  * reported rather than passed on. */
 static int check_read(const char *path, const tb_mesh *m, tb_error *err) {
+  int tet, v;
+  long e;
   if (tb_mesh_check_coords(m, path, err)) return -1;
-  for (long i = 0; i < 3L * m->ntri; i++)
-    if (m->tri[i] < 0 || m->tri[i] >= m->nv)
-      return tb_error_set(err, path, 0, "reader error: triangle %ld uses vertex %d of %d", i / 3,
-                          m->tri[i], m->nv);
-  for (long i = 0; i < 4L * m->ntet; i++)
-    if (m->tet[i] < 0 || m->tet[i] >= m->nv)
-      return tb_error_set(err, path, 0, "reader error: tetrahedron %ld uses vertex %d of %d", i / 4,
-                          m->tet[i], m->nv);
+  if (tb_mesh_bad_index(m, &tet, &e, &v))
+    return tb_error_set(err, path, 0, "reader error: %s %ld uses vertex %d of %d",
+                        tet ? "tetrahedron" : "triangle", e, v, m->nv);
   return 0;
 }
 

@@ -49,6 +49,11 @@ int tb_coord_ok(tb_vec3 x);
  * the first vertex that is not (0-based). */
 int tb_mesh_check_coords(const tb_mesh *m, const char *what, tb_error *err);
 
+/* 0 when every triangle and tet index is in [0, nv); else 1 with the first
+ * element holding one out of range: *tet (0 a triangle, 1 a tet), its
+ * number *elem and the index *vertex. */
+int tb_mesh_bad_index(const tb_mesh *m, int *tet, long *elem, int *vertex);
+
 void tb_mesh_bbox(const tb_mesh *m, tb_vec3 *lo, tb_vec3 *hi);
 /* Sum of signed tet volumes when the mesh has tets, else the volume the
  * triangles enclose (divergence theorem; meaningful when closed). */
