@@ -16,14 +16,14 @@
  * node follows its depth. Children are allocated in pairs (child, child+1).
  * Vertices must be finite and within TB_COORD_MAX (core/tb_mesh.h), else
  * the build is refused: beyond it squared distances of the sphere tests
- * could overflow (issue 16: 1e200 gave no pairs at all).
+ * could overflow (1e200 gave no pairs at all).
  * Everything is deterministic: ties go to the lower axis and, in sorts, to
  * the lower triangle number. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "tb_bvh.h"
-#include "tb_mesh.h"
+#include "core/tb_mesh.h"
 
 tb_bvh_def tb_bvh_default_def(void) {
   tb_bvh_def d;

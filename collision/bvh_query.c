@@ -35,7 +35,7 @@
 #include <string.h>
 
 #include "tb_bvh.h"
-#include "tb_threads.h"
+#include "core/tb_threads.h"
 
 /* ---- pair lists ---- */
 void tb_pairlist_free(tb_pairlist *p) {

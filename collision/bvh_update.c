@@ -37,8 +37,8 @@
 #include <string.h>
 
 #include "tb_bvh.h"
-#include "tb_mesh.h"
-#include "tb_threads.h"
+#include "core/tb_mesh.h"
+#include "core/tb_threads.h"
 
 /* Volumes moved beyond +-BV_SAFE (far past TB_COORD_MAX) become volumes
  * that meet everything: up to it, squared distances and radius sums of

@@ -9,9 +9,9 @@
 #ifndef TB_BVH_H
 #define TB_BVH_H
 
-#include "tb_error.h"
-#include "tb_math.h"
 #include "tb_tritri.h"
+#include "core/tb_error.h"
+#include "core/tb_math.h"
 
 /* ---- bounding volumes ---- */
 typedef struct tb_aabb {

@@ -7,8 +7,8 @@
 
 #include <stdio.h>
 
-#include "tb_error.h"
-#include "tb_math.h"
+#include "core/tb_error.h"
+#include "core/tb_math.h"
 
 typedef struct tb_tripair {
   tb_vec3 p[3], q[3];

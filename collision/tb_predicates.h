@@ -19,7 +19,7 @@
 
 #include <math.h>
 
-#include "tb_math.h"
+#include "core/tb_math.h"
 
 /* The filters' error bounds (predicates.c derives them; u = 2^-53):
  * |det| > TB_O2D_ERR * perm + TB_PRED_TINY decides the sign of orient2d, with

@@ -7,7 +7,7 @@
 #ifndef TB_TRITRI_H
 #define TB_TRITRI_H
 
-#include "tb_math.h"
+#include "core/tb_math.h"
 
 /* 1 when the closed triangles p and q intersect, else 0. */
 typedef int (*tb_tritri_fn)(const tb_vec3 p[3], const tb_vec3 q[3]);
@@ -19,9 +19,14 @@ typedef struct tb_tritri_method {
   int exact; /* claims the right answer on every input (checked against cgal) */
 } tb_tritri_method;
 
-/* The table: our methods, then the reference adapters (fcl, bullet, cgal). */
+/* The table: our methods, then those registered (the reference libraries'
+ * fcl, bullet and cgal: reference/tb_oracles.h), in the order registered. */
 const tb_tritri_method *tb_tritri_methods(int *count);
 const tb_tritri_method *tb_tritri_find(const char *name);
+/* Adds m (copied; its strings and function must outlive the table) after
+ * the methods there. Returns 0 (also when the same name and test are there
+ * already), -1 when its name names another test or the table is full. */
+int tb_tritri_register(const tb_tritri_method *m);
 
 /* ---- our methods (collision/tritri_*.c) ---- */
 int tb_tritri_moller(const tb_vec3 p[3], const tb_vec3 q[3]); /* Moller 1997 */
@@ -36,13 +41,5 @@ int tb_tritri_guigue_exact(const tb_vec3 p[3],
 int tb_tritri_exact(const tb_vec3 p[3], const tb_vec3 q[3]); /* ours: exact, filtered, fastest */
 /* Batched exact test for BVH leaves: out[i] = tb_tritri_exact(p + 3i, q + 3i). */
 void tb_tritri_exact_batch(const tb_vec3 *p, const tb_vec3 *q, int n, unsigned char *out);
-
-/* ---- reference adapters (reference/ref_*.cpp) ---- */
-int tb_tritri_fcl(const tb_vec3 p[3],
-                  const tb_vec3 q[3]); /* fcl::detail::Intersect::intersect_Triangle */
-int tb_tritri_bullet(const tb_vec3 p[3],
-                     const tb_vec3 q[3]); /* btPrimitiveTriangle clip method, margin 0 */
-int tb_tritri_cgal(const tb_vec3 p[3],
-                   const tb_vec3 q[3]); /* CGAL::do_intersect, exact predicates: the oracle */
 
 #endif

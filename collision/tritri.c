@@ -1,10 +1,13 @@
-/* The table of triangle-triangle tests: adding a method is one file and one
- * entry here. */
+/* The table of triangle-triangle tests: ours (adding one is one file and one
+ * entry here), then the ones registered at start-up (the reference
+ * libraries' adapters, reference/tb_oracles.h). */
 #include <string.h>
 
 #include "tb_tritri.h"
 
-static const tb_tritri_method methods[] = {
+#define MAX_METHODS 32
+
+static tb_tritri_method methods[MAX_METHODS] = {
     {"moller", "Moller 1997, interval overlap on the planes' line", tb_tritri_moller, 0},
     {"yuhe", "Yu & He 2013 projection test (V and H projections), as in thesis 4.4.2",
      tb_tritri_yuhe, 0},
@@ -16,15 +19,20 @@ static const tb_tritri_method methods[] = {
      tb_tritri_guigue_exact, 1},
     {"exact", "ours: filtered exact predicates, degenerate triangles as segments/points",
      tb_tritri_exact, 1},
-    {"fcl", "FCL 0.7 Intersect<double>::intersect_Triangle", tb_tritri_fcl, 0},
-    {"bullet", "Bullet 3.24 (double) btPrimitiveTriangle clip method, margin 0", tb_tritri_bullet,
-     0},
-    {"cgal", "CGAL do_intersect, exact predicates kernel: the oracle", tb_tritri_cgal, 1},
 };
+static int nmethods = 6; /* ours above */
 
 const tb_tritri_method *tb_tritri_methods(int *count) {
-  *count = (int)(sizeof methods / sizeof methods[0]);
+  *count = nmethods;
   return methods;
+}
+
+int tb_tritri_register(const tb_tritri_method *m) {
+  const tb_tritri_method *old = tb_tritri_find(m->name);
+  if (old) return old->test == m->test ? 0 : -1;
+  if (nmethods == MAX_METHODS || !m->test) return -1;
+  methods[nmethods++] = *m;
+  return 0;
 }
 
 const tb_tritri_method *tb_tritri_find(const char *name) {

@@ -17,7 +17,7 @@
 #ifndef TB_TRITRI_PROJ_H
 #define TB_TRITRI_PROJ_H
 
-#include "tb_math.h"
+#include "core/tb_math.h"
 
 typedef struct tb_proj {
   /* A in H, vertex order P0, P1, P2: ax = {x*P0, 0, |P1P2|}, ay = {y*P0, 0, 0}. */

@@ -1,7 +1,7 @@
 /* bullet-fem: Bullet's deformable FEM (btDeformableMultiBodyDynamicsWorld,
  * btDeformableBodySolver: one Newton iteration of backward Euler with its
  * CG solve and projections) as a peer deformation model, through
- * reference/tb_deformable.h (ref_deformable.cpp says what Bullet does).
+ * models/tb_deformable.h (ref_deformable.cpp says what Bullet does).
  *
  * force picks Bullet's element force: neohookean (btDeformableNeoHookeanForce),
  * linear (btDeformableLinearElasticityForce: despite its name corotated

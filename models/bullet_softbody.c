@@ -1,8 +1,8 @@
 /* bullet-softbody: Bullet's classic soft body (btSoftBody 3.24, double
- * precision) as a peer deformation model, through reference/tb_softbody.h:
+ * precision) as a peer deformation model, through models/tb_softbody.h:
  * one node per mesh node, one link (Bullet's distance constraint with
  * linear stiffness kLST, solved by its position solver, piterations
- * iterations a step) per tet edge; see reference/ref_softbody.cpp.
+ * iterations a step) per tet edge; see models/bullet_softbody_peer.cpp.
  *
  * Settings: stiffness is the links' kLST in (0, 1] and iterations the
  * position iterations: Bullet's links have no modulus, so E and nu are in
@@ -12,10 +12,14 @@
  * external node forces through btSoftBody::addForce, prescribed nodes as
  * Bullet's zero-mass nodes moved to their positions within the step.
  *
- * Ground: left to the scene (own_ground 0): Bullet meets the ground only
- * through a rigid convex body (ref_softbody.cpp's static box), built at
- * creation, before a scene's ground is known. Energy: NAN (Bullet's links
- * have no energy). */
+ * Ground: by default left to the scene (its contact and Coulomb friction,
+ * as for the other models that do not own it); contact=bullet gives it to
+ * Bullet, as a Bullet user has it: at the first step that has a ground, a
+ * static box whose top face is the ground plane
+ * (models/bullet_softbody_peer.cpp); a node nearer than the margin is a
+ * contact, moved the hardness's share of the way out per iteration, with
+ * the ground's kinetic friction as the links' kDF (Bullet has no static
+ * friction). Energy: NAN (Bullet's links have no energy). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,10 +30,15 @@
 typedef struct bsb_settings {
   double density, node_mass, E, nu, stiffness, damping;
   int iterations;
+  int contact; /* CONTACT_* */
+  double hardness, margin;
 } bsb_settings;
+
+enum { CONTACT_SCENE = 0, CONTACT_BULLET = 1 };
 
 typedef struct bsb {
   tb_softbody *b;
+  int own_ground; /* contact=bullet */
   int nv;
   double *mass;
   tb_vec3 *x, *v; /* copies of Bullet's node state, for the C side */
@@ -71,8 +80,13 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   d.stiffness = def->stiffness;
   d.iterations = def->iterations;
   d.damping = def->damping;
+  d.hardness = def->hardness;
+  tb_vec3 lo, hi;
+  tb_mesh_bbox(mesh, &lo, &hi);
+  d.margin = def->margin * tb_len(tb_sub(hi, lo));
   s->b = tb_softbody_create(mesh, &d, err);
   if (!s->b) goto fail;
+  s->own_ground = def->contact == CONTACT_BULLET;
   tb_softbody_positions(s->b, s->x);
   return s;
 fail:
@@ -82,6 +96,9 @@ fail:
 
 static int step(void *self, const tb_step *in, tb_error *err) {
   bsb *s = self;
+  if (s->own_ground && in->ground && !tb_softbody_has_ground(s->b) &&
+      tb_softbody_set_ground(s->b, in->ground->p, in->ground->n, in->ground->mu_k, err))
+    return -1;
   int rc = tb_softbody_step_nodes(s->b, in->dt, in->gravity, in->force, in->nfixed, in->fixed,
                                   in->fixed_x, err);
   tb_softbody_positions(s->b, s->x);
@@ -90,6 +107,7 @@ static int step(void *self, const tb_step *in, tb_error *err) {
 }
 
 static const tb_vec3 *positions(const void *self) { return ((const bsb *)self)->x; }
+static int owns_ground(const void *self) { return ((const bsb *)self)->own_ground; }
 static const tb_vec3 *velocities(const void *self) { return ((const bsb *)self)->v; }
 static const double *masses(const void *self) { return ((const bsb *)self)->mass; }
 static double energy(const void *self) {
@@ -115,6 +133,12 @@ static const tb_setting settings[] = {
                  "the links' linear stiffness, Bullet's Material::m_kLST"),
     TB_SETTING_I(S, iterations, 5, 1, 1000, "position solver iterations, Bullet's piterations"),
     TB_SETTING_R(S, damping, 0.0, 0.0, 1.0, 0, "Bullet's velocity damping kDP"),
+    TB_SETTING_C(S, contact, CONTACT_SCENE, 1, "scene|bullet",
+                 "the ground's contact: the scene's (Coulomb friction), or Bullet's own"),
+    TB_SETTING_R(S, hardness, 1.0, 0.0, 1.0, TB_OPEN_LO,
+                 "contact=bullet: share of a contact's depth corrected per iteration (kKHR)"),
+    TB_SETTING_R(S, margin, 1e-3, 0.0, 1.0, TB_OPEN_LO,
+                 "contact=bullet: contact margin, a share of the mesh's box diagonal"),
 };
 #undef S
 
@@ -133,4 +157,5 @@ const tb_model_class tb_model_bullet_softbody = {
     .destroy = destroy,
     .masses = masses,
     .correct = correct,
+    .owns_ground = owns_ground,
 };

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_butterfly.h"
-#include "tb_halfedge.h"
+#include "core/tb_butterfly.h"
+#include "core/tb_halfedge.h"
 
 void tb_lod_free(tb_lod *lod) {
   if (lod->tri)

@@ -1,5 +1,5 @@
 /* The patent's simplified meshless elasticity for the point set (metaball
- * hybrid cutting patent, step 3 (2) "点集驱动", eqs 4-8; issue 14 §3; after
+ * hybrid cutting patent, step 3 (2) "点集驱动", eqs 4-8; after
  * Müller et al. 2004, "Point based animation of elastic, plastic and
  * melting objects"). Energy is evaluated at the points only, each point's
  * energy density held over its volume V_i.
@@ -79,20 +79,20 @@
  * the trace term). The split: m_ib = m_b t_ib / T_b with t_ib = V_i S_i
  * |d_ib|, S_i = sum over i's free b of |d_ib|, T_b = sum_i t_ib; bounding
  * the bracket by kappa tr(G_i), kappa = 2 mu + 3 lambda, would give block
- * Gershgorin (Feingold & Varga 1962), omega^2 <= max_b kappa T_b / m_b, the
- * bound used until 2026-11, so this one is never looser (eigenvalue:
- * Smith 1961). A 6^3 lattice: 1.05 x the power-iterated omega against 1.65;
- * the liver's point set at the end of tools/metaball_cut_timing's cut, the
- * bound linearised there as below: 1.21 x (before: about 1.75). Away from rest the
+ * Gershgorin (Feingold & Varga 1962), omega^2 <= max_b kappa T_b / m_b, so
+ * this one is never looser (eigenvalue: Smith 1961). A 6^3 lattice: 1.05 x
+ * the power-iterated omega against block Gershgorin's 1.65; the liver's
+ * point set at the end of microbench/metaball_cut_timing's cut, the bound
+ * linearised there as below: 1.21 x (block Gershgorin: about 1.75). Away from rest the
  * bound is of the forces linearised at the current positions: the Hessian
  * of psi in J = F is 2 mu |sym(F^T H)|^2 + lambda (F : H)^2 + S : H^T H
  * (S = sigma, the second Piola-Kirchhoff stress), at most
  * sigma_max(F)^2 (2 mu |H|^2 + lambda (tr-like term)) + max(lambda_max(S),
  * 0) |H|^2, so stencil i's bound is multiplied by sigma_max(F_i)^2 +
  * max(lambda_max(S_i), 0) / (2 mu) (sigma_max^2 = 1 + 2 lambda_max(eps)):
- * 1 at rest. (Until 2026-11 a global sqrt(1 + 3 eps_max), the uniaxial
- * tangent, scaled omega; with the tighter bound the steak held at one end
- * and cut blew up under it.) The same Hessian at rest
+ * 1 at rest. (A global factor sqrt(1 + 3 eps_max), the uniaxial tangent,
+ * is not enough: with it the steak held at one end and cut blows up.) The
+ * same Hessian at rest
  * gives a group's stiffness under a common translation t of its
  * points (u_b = t for b in the group): H_i = t g_i^T, g_i = sum over the
  * group's points b in i's stencil of d_ib, |sym H_i| <= |t| |g_i| and

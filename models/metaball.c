@@ -166,7 +166,7 @@ static void skin(tb_metaball *m) {
  * colour in their old order. The sweeps stay Gauss-Seidel in this order;
  * consecutive links then share no sphere, so a projection need not wait
  * for the one before it (on the 570-sphere liver this more than halved
- * the sweeps' time; same convergence: tools/metaball_timing.c). */
+ * the sweeps' time; same convergence: microbench/metaball_timing.c). */
 static int colour_links(tb_metaball *m, int n) {
   int nl = m->nl, ncol = 0;
   int *col = malloc(sizeof(int) * (size_t)(nl > 0 ? nl : 1)), *start = NULL, *out = NULL;
@@ -623,6 +623,7 @@ int tb_metaball_count(const tb_metaball *m) { return m->n; }
 const tb_vec3 *tb_metaball_centres(const tb_metaball *m) { return m->c; }
 const tb_vec3 *tb_metaball_velocities(const tb_metaball *m) { return m->v; }
 const double *tb_metaball_radii(const tb_metaball *m) { return m->r; }
+const double *tb_metaball_masses(const tb_metaball *m) { return m->m; }
 int tb_metaball_links(const tb_metaball *m, const int **pairs) {
   *pairs = m->link;
   return m->nl;

@@ -1,5 +1,5 @@
 /* The volume side of the metaball patent's cut (CN doc. 12722810, step 3
- * (1)-(4), "从元球到点集再到元球"; issue 14 §3; tb_metaball.h):
+ * (1)-(4), "从元球到点集再到元球"; tb_metaball.h):
  *
  * (1) Spheres to points. Spheres the blade's folded plane touches
  * (tb_fold_sphere at their current centres) turn into points and are removed
@@ -25,8 +25,8 @@
  * positions by the whole fold (tb_meshless_relink). Spheres converted later
  * add their points to it (tb_meshless_add: the new links cut by the whole
  * fold, earlier points keep their state, new ones take their sphere's
- * velocity), keeping its support h; it is rebuilt over all points (as
- * before 2026-11, on every conversion: 0.5-1.6 ms a frame) only when the
+ * velocity), keeping its support h; it is rebuilt over all points (0.5-1.6
+ * ms a frame on every conversion) only when the
  * mean spacing a rebuild would take drifts more than 10% from h / 2, and a
  * rebuild links two old points only if they were linked (tb_meshless_unlink):
  * what the blade parted stays parted. The fold grows each frame:
@@ -66,12 +66,11 @@
  * substeps of at most cfl x 2 / omega, omega an upper bound of its largest
  * free frequency with the forces linearised at the frame's start
  * (tb_meshless_frequency_at: per stencil, no iteration; models/meshless.c's
- * head). (Until 2026-11 both came from finite differences of the forces,
- * 40 power iterations and one force evaluation per sphere: 80% of a frame;
- * then block Gershgorin, 1.7-2.5x the iterated omega, times a global
- * sqrt(1 + 3 eps) for the stiffening in tension; now 1.05-1.3x, and cfl
- * 0.7: at 0.9, dt omega up to 1.8 with omega taken at the frame's start,
- * the liver's cut in the metaball suite blew up.)
+ * head). Power iteration on finite differences of the forces (40
+ * iterations, one force evaluation per sphere) would take 80% of a frame;
+ * block Gershgorin is 1.7-2.5x the iterated omega, this bound 1.05-1.3x.
+ * cfl is 0.7: at 0.9, dt omega reaches 1.8 with omega taken at the frame's
+ * start, and the liver's cut in the metaball suite blows up.
  *
  * (4) Points back to spheres (cut_end). Boundary points: a point with no
  * neighbour inside the cone of half-angle boundary_angle about its normal
@@ -113,8 +112,8 @@
 #include <string.h>
 
 #include "metaball_priv.h"
-#include "tb_fold.h"
 #include "tb_meshless.h"
+#include "cutting/tb_fold.h"
 
 void tb_metaball_cut_settings_default(tb_metaball_cut_settings *s) {
   s->spacing = 0.3, s->per_sphere = 0, s->min_dist = 0.6;
@@ -564,3 +563,4 @@ int tb_metaball_cut_driver(const tb_metaball *m, int i) {
 }
 int tb_metaball_alive(const tb_metaball *m, int i) { return i >= 0 && i < m->n && m->alive[i]; }
 int tb_metaball_cut_substeps(const tb_metaball *m) { return m->cut ? m->cut->last_substeps : 0; }
+double tb_metaball_cut_omega(const tb_metaball *m) { return m->cut ? m->cut->omega : 0; }

@@ -1,7 +1,7 @@
-/* The metaball model behind the model interface (issue 14 §2; the metaball
+/* The metaball model behind the model interface (the metaball
  * patent's step 1 (SPH spheres from the OBJ surface by a Voronoi analysis)
  * and step 2 (PBD on the spheres, Gaussian skin); models/metaball.c does
- * the spheres and the skin, tools/sphpack.c the packing).
+ * the spheres and the skin, meshgen/sphpack.c the packing).
  *
  * Create: a closed triangle surface (surface_mesh), or a tet mesh whose
  * boundary triangles are that surface. The surface is packed with
@@ -75,7 +75,7 @@
 #include <string.h>
 
 #include "metaball_model_priv.h"
-#include "tb_sphpack.h"
+#include "meshgen/tb_sphpack.h"
 
 static void destroy(void *self) {
   mb_model *s = self;

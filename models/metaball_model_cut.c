@@ -2,7 +2,7 @@
  * patent's step 3): BEGIN starts the volume's cut (models/metaball_cut.c),
  * MOVE hands it the blade's folded plane so far, END re-packs the point set
  * into spheres (models/metaball_repack.c), splits and closes the skinned
- * surface with the same folded plane (models/cut_surface.c) and skins the
+ * surface with the same folded plane (cutting/cut_surface.c) and skins the
  * new and changed vertices anew on their side of the blade; the model's
  * points, masses and surface are replaced (npoints grows, the surface's
  * version changes). */
@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "metaball_model_priv.h"
-#include "tb_cut_surface.h"
 #include "tb_meshless.h"
+#include "cutting/tb_cut_surface.h"
 
 /* The point set's points within half its support of the folded plane
  * (malloc'ed into *out; their count, or -1): the crack's points (the

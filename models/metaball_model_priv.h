@@ -4,8 +4,8 @@
 #define TB_METABALL_MODEL_PRIV_H
 
 #include "metaball_priv.h"
-#include "tb_fold.h"
 #include "tb_model.h"
+#include "cutting/tb_fold.h"
 
 typedef struct mb_settings {
   double density, node_mass, stretch, unit, damping, sigma, overlap;

@@ -4,8 +4,8 @@
 #ifndef TB_METABALL_PRIV_H
 #define TB_METABALL_PRIV_H
 
-#include "tb_fold.h"
 #include "tb_metaball.h"
+#include "cutting/tb_fold.h"
 
 struct tb_metaball {
   tb_metaball_settings set;
@@ -56,7 +56,7 @@ typedef struct tb_metaball_cut {
   int dcap;
   tb_vec3 *fx0, *fx1, *fx, *fpts, *fsph, *fel;
   double *ks; /* per sphere: the stiffness of its coupling to the points */
-  /* appended (cutspeed): per-piece boxes of the fold, the first piece the
+  /* per-piece boxes of the fold, the first piece the
    * cut test looks at, and scratch for the stability bound */
   tb_vec3 *plo, *phi;
   int piece_from;

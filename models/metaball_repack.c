@@ -9,7 +9,7 @@
 
 #include "metaball_priv.h"
 #include "tb_meshless.h"
-#include "tb_sphpack.h"
+#include "meshgen/tb_sphpack.h"
 
 /* ---- points binned on a uniform grid, for range queries ---- */
 typedef struct pgrid {

@@ -318,6 +318,9 @@ int tb_model_cut(tb_model *m, const tb_cut_event *ev, tb_cut_stats *stats, tb_er
   return m->cls->cut(m->self, ev, stats, err);
 }
 int tb_model_can_cut(const tb_model *m) { return m->cls->cut != NULL; }
+int tb_model_owns_ground(const tb_model *m) {
+  return m->cls->owns_ground ? m->cls->owns_ground(m->self) : m->cls->own_ground;
+}
 void tb_model_destroy(tb_model *m) {
   if (m->cls && m->self) m->cls->destroy(m->self);
   free(m->tri);

@@ -55,7 +55,7 @@
 #include <string.h>
 
 #include "tb_model.h"
-#include "tb_threads.h"
+#include "core/tb_threads.h"
 
 /* Springs below which the step stays on one thread (a parallel region
  * costs more than it saves). */

@@ -35,7 +35,7 @@
 #include <string.h>
 
 #include "tb_sm.h"
-#include "tb_threads.h"
+#include "core/tb_threads.h"
 
 /* Cluster members below which the step stays on one thread. */
 #define SM_PARALLEL_MIN 4096
@@ -67,6 +67,7 @@ typedef struct sm {
    * 1 / sum of weights, length scale and A_qq^-1 (dim x dim) */
   tb_sm_clusters cl;
   double *w, *q, *inv_wsum, *scale, *aqq_inv;
+  int *group; /* per node: its first cluster (pictures) */
 } sm;
 
 /* ---- precomputation ---- */
@@ -163,6 +164,7 @@ static void destroy(void *self) {
   free(s->mass), free(s->inv_mass), free(s->inv_count);
   tb_sm_clusters_free(&s->cl);
   free(s->w), free(s->q), free(s->inv_wsum), free(s->scale), free(s->aqq_inv);
+  free(s->group);
   free(s);
 }
 
@@ -206,8 +208,10 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   s->inv_wsum = malloc(sizeof(double) * (size_t)nc);
   s->scale = malloc(sizeof(double) * (size_t)nc);
   s->aqq_inv = malloc(sizeof(double) * d * d * (size_t)nc);
+  s->group = malloc(sizeof(int) * (size_t)nv);
   if (!s->x || !s->v || !s->goal || !s->gm || !s->nstart || !s->nmember || !s->fixed || !s->mass ||
-      !s->inv_mass || !s->inv_count || !s->w || !s->q || !s->inv_wsum || !s->scale || !s->aqq_inv) {
+      !s->inv_mass || !s->inv_count || !s->w || !s->q || !s->inv_wsum || !s->scale || !s->aqq_inv ||
+      !s->group) {
     destroy(s);
     tb_error_set(err, "sm", 0, "out of memory");
     return NULL;
@@ -229,6 +233,9 @@ static void *create(const tb_mesh *mesh, const void *settings, tb_error *err) {
   for (int k = 0; k < nm; k++) s->nmember[s->nstart[s->cl.node[k]]++] = k;
   for (int i = nv; i > 0; i--) s->nstart[i] = s->nstart[i - 1];
   s->nstart[0] = 0;
+  for (int i = 0; i < nv; i++) s->group[i] = -1;
+  for (int c = nc - 1; c >= 0; c--) /* downwards: the first cluster is written last */
+    for (int k = s->cl.start[c]; k < s->cl.start[c + 1]; k++) s->group[s->cl.node[k]] = c;
   return s;
 }
 
@@ -421,6 +428,11 @@ int tb_sm_cluster_stats(const tb_model *m, int *nclusters, double *mean_members)
 
 static const double *masses(const void *self) { return ((const sm *)self)->mass; }
 
+static tb_model_groups groups(const void *self) {
+  const sm *s = self;
+  return (tb_model_groups){s->nv, s->cl.n, s->group};
+}
+
 static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
   sm *s = self;
   for (int k = 0; k < n; k++) {
@@ -462,4 +474,5 @@ const tb_model_class tb_model_sm = {
     .destroy = destroy,
     .masses = masses,
     .correct = correct,
+    .groups = groups,
 };

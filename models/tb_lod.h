@@ -23,8 +23,8 @@
 #ifndef TB_LOD_H
 #define TB_LOD_H
 
-#include "tb_error.h"
-#include "tb_mesh.h"
+#include "core/tb_error.h"
+#include "core/tb_mesh.h"
 
 enum { TB_LOD_OFF, TB_LOD_LEAF, TB_LOD_SPLIT };
 

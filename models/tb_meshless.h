@@ -1,12 +1,12 @@
-/* The point set of the metaball/meshless cutting patent (issue 14 §3, step
+/* The point set of the metaball/meshless cutting patent (step
  * 3 (2) "点集驱动", eqs 4-8; after Müller et al. 2004): a standalone
  * simplified meshless elastic body of n points. models/meshless.c documents
  * the kernel, the strain convention and the integrators. */
 #ifndef TB_MESHLESS_H
 #define TB_MESHLESS_H
 
-#include "tb_error.h"
-#include "tb_math.h"
+#include "core/tb_error.h"
+#include "core/tb_math.h"
 
 typedef struct tb_meshless tb_meshless;
 

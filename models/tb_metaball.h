@@ -7,8 +7,8 @@
 #ifndef TB_METABALL_H
 #define TB_METABALL_H
 
-#include "tb_error.h"
-#include "tb_mesh.h"
+#include "core/tb_error.h"
+#include "core/tb_mesh.h"
 
 typedef struct tb_metaball_settings {
   double density; /* mass per volume: a sphere's mass is density 4/3 pi r^3 */
@@ -51,6 +51,8 @@ int tb_metaball_count(const tb_metaball *m);
 const tb_vec3 *tb_metaball_centres(const tb_metaball *m);
 const tb_vec3 *tb_metaball_velocities(const tb_metaball *m);
 const double *tb_metaball_radii(const tb_metaball *m);
+/* Sphere masses: density x 4/3 pi r^3. */
+const double *tb_metaball_masses(const tb_metaball *m);
 /* Links between overlapping spheres still alive: 2 n sphere pairs. */
 int tb_metaball_links(const tb_metaball *m, const int **pairs);
 /* The skinned surface vertices (the surface's nv), and how many vertices
@@ -131,6 +133,9 @@ int tb_metaball_cut_points(const tb_metaball *m, const tb_vec3 **x);
 const struct tb_meshless *tb_metaball_cut_meshless(const tb_metaball *m);
 /* Meshless steps the last tb_metaball_cut_step took. */
 int tb_metaball_cut_substeps(const tb_metaball *m);
+/* The bound of the point set's largest free frequency (rad/s) its
+ * substeps follow (0 when not cutting). */
+double tb_metaball_cut_omega(const tb_metaball *m);
 /* Point i's sphere driving it (-1: free, -2: held where a fixed sphere was). */
 int tb_metaball_cut_driver(const tb_metaball *m, int i);
 /* 1 when sphere i has not been removed. */

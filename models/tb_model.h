@@ -17,8 +17,8 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#include "tb_error.h"
-#include "tb_mesh.h"
+#include "core/tb_error.h"
+#include "core/tb_mesh.h"
 
 /* ---- settings ----
  * A model declares its own settings as one table of tb_setting (key, type,
@@ -130,7 +130,7 @@ typedef struct tb_surface {
 
 /* ---- cutting ----
  * A scalpel whose edge has moved along path[0 .. npath) with the blade's
- * fixed depth vector (the folded plane of collision/tb_fold.h: piece k is
+ * fixed depth vector (the folded plane of cutting/tb_fold.h: piece k is
  * path[k] + s (path[k+1] - path[k]) + t depth, s, t in [0, 1]). BEGIN starts
  * a cut; MOVE gives the whole path so far (npath >= 2; the blade's position
  * last); the steps between MOVEs run the cut phase; END says the blade has
@@ -165,6 +165,14 @@ typedef struct tb_model_spheres {
   const int *links;
 } tb_model_spheres;
 
+/* Groups of a model's points, for pictures (shape matching's clusters):
+ * group[i] is point i's first group (ascending), -1 for none; n points,
+ * ngroups groups. */
+typedef struct tb_model_groups {
+  int n, ngroups;
+  const int *group;
+} tb_model_groups;
+
 typedef struct tb_model_class {
   const char *name;
   const char *summary;
@@ -196,16 +204,21 @@ typedef struct tb_model_class {
    * (contact response); x or v may be NULL to leave that one as it is. */
   void (*correct)(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v);
   /* 1: the step handles tb_step.ground itself (position-based models
-   * project it with their constraints). */
+   * project it with their constraints); owns_ground, when set, decides
+   * per instance instead (a setting of the model). */
   int own_ground;
+  int (*owns_ground)(const void *self);
   /* 1: create also takes a closed triangle surface without tets (the
    * surface models); scenes refuse a surface mesh for the others. */
   int surface_mesh;
   /* Cutting (NULL: the model cannot be cut): one event; stats (may be
    * NULL) is filled at END. */
   int (*cut)(void *self, const tb_cut_event *ev, tb_cut_stats *stats, tb_error *err);
-  /* The model's spheres (NULL: it has none), for pictures. */
+  /* What pictures of the model's structure show (render --structure):
+   * its spheres and their links, or its point groups (NULL: it has none;
+   * with neither, the tet edges). */
   tb_model_spheres (*spheres)(const void *self);
+  tb_model_groups (*groups)(const void *self);
   /* 1: another library's solver (Bullet), a peer in the tables, not ours */
   int peer;
 } tb_model_class;
@@ -257,6 +270,8 @@ void tb_model_correct(tb_model *m, int n, const int *ids, const tb_vec3 *x, cons
 int tb_model_cut(tb_model *m, const tb_cut_event *ev, tb_cut_stats *stats, tb_error *err);
 /* 1 when the model's class can be cut. */
 int tb_model_can_cut(const tb_model *m);
+/* 1 when the model's step handles the scene's ground itself (own_ground). */
+int tb_model_owns_ground(const tb_model *m);
 void tb_model_destroy(tb_model *m);
 
 /* ---- helpers the models share (models/model_util.c) ---- */

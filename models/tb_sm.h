@@ -3,9 +3,9 @@
 #ifndef TB_SM_H
 #define TB_SM_H
 
-#include "tb_error.h"
-#include "tb_mesh.h"
 #include "tb_model.h"
+#include "core/tb_error.h"
+#include "core/tb_mesh.h"
 
 /* Shape-matching variants (Müller et al. 2005; thesis §3.4.4): the index
  * of sm_mode's choices. */

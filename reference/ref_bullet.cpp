@@ -26,7 +26,7 @@
 #include <BulletCollision/Gimpact/btTriangleShapeEx.h>
 
 extern "C" {
-#include "tb_tritri.h"
+#include "tb_oracles.h"
 }
 
 static void bullet_triangle(btPrimitiveTriangle &t, const tb_vec3 v[3]) {

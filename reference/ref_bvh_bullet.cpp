@@ -64,7 +64,7 @@
 #include "refbvh_priv.h"
 
 extern "C" {
-#include "tb_tritri.h"
+#include "collision/tb_tritri.h"
 }
 
 namespace {

@@ -24,7 +24,7 @@
 #include <CGAL/Intersections_3/Triangle_3_Triangle_3.h>
 
 extern "C" {
-#include "tb_tritri.h"
+#include "tb_oracles.h"
 }
 
 namespace {

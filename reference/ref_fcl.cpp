@@ -16,7 +16,7 @@
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
 
 extern "C" {
-#include "tb_tritri.h"
+#include "tb_oracles.h"
 }
 
 static fcl::Vector3<double> fcl_point(tb_vec3 v) { return fcl::Vector3<double>(v.x, v.y, v.z); }

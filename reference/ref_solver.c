@@ -43,7 +43,7 @@
 #include <string.h>
 
 #include "ref_priv.h"
-#include "tb_results.h"
+#include "report/tb_results.h"
 
 void openblas_set_num_threads(int num_threads);
 

@@ -8,9 +8,9 @@
 #ifndef TB_REFBVH_H
 #define TB_REFBVH_H
 
-#include "tb_bvh.h"
-#include "tb_error.h"
-#include "tb_math.h"
+#include "collision/tb_bvh.h"
+#include "core/tb_error.h"
+#include "core/tb_math.h"
 
 typedef enum tb_ref_kind {
   TB_REF_FCL_AABB,

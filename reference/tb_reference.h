@@ -8,8 +8,8 @@
 #ifndef TB_REFERENCE_H
 #define TB_REFERENCE_H
 
-#include "tb_error.h"
-#include "tb_mesh.h"
+#include "core/tb_error.h"
+#include "core/tb_mesh.h"
 
 enum { TB_REF_NEOHOOKE = 0, TB_REF_STVK = 1, TB_REF_LINEAR = 2 };
 

@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_parse.h"
 #include "tb_render.h"
+#include "core/tb_parse.h"
 
 int tb_camera_preset(const char *name, tb_vec3 lo, tb_vec3 hi, tb_camera *out) {
   static const struct {

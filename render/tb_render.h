@@ -9,8 +9,8 @@
 #ifndef TB_RENDER_H
 #define TB_RENDER_H
 
-#include "tb_error.h"
-#include "tb_math.h"
+#include "core/tb_error.h"
+#include "core/tb_math.h"
 
 /* A camera: perspective (fov_deg > 0) or orthographic (half_height > 0,
  * half the view's height in scene units). */

@@ -49,12 +49,13 @@ static double winding(const tb_vec3 *x, const int *tri, int ntri, tb_vec3 p) {
 /* Inside the instrument at its current pose: the depth (distance to its
  * surface) and the closest surface point; 0 when outside. */
 static int inside_tool(const tb_sim *s, tb_vec3 p, double *depth, tb_vec3 *closest) {
-  const tb_mesh *t = &s->tool;
-  if (winding(s->tool_x, t->tri, t->ntri, p) < 0.5) return 0;
+  const tb_mesh *t = &s->priv->tool;
+  if (winding(s->priv->tool_x, t->tri, t->ntri, p) < 0.5) return 0;
   double best = INFINITY;
   for (int k = 0; k < t->ntri; k++) {
     const int *v = t->tri + 3 * k;
-    tb_vec3 q = tb_closest_on_triangle(p, s->tool_x[v[0]], s->tool_x[v[1]], s->tool_x[v[2]]);
+    tb_vec3 q = tb_closest_on_triangle(p, s->priv->tool_x[v[0]], s->priv->tool_x[v[1]],
+                                       s->priv->tool_x[v[2]]);
     double d = tb_dist(p, q);
     if (d < best) best = d, *closest = q;
   }
@@ -67,48 +68,49 @@ static int inside_tool(const tb_sim *s, tb_vec3 p, double *depth, tb_vec3 *close
  * point can lie inside another part, and the node then goes on along the
  * same direction until it is out (doubling steps, then bisection). */
 static tb_vec3 way_out(const tb_sim *s, tb_vec3 x, tb_vec3 q, tb_vec3 dir) {
-  const tb_mesh *t = &s->tool;
-  tb_vec3 p = tb_madd(q, s->tool_margin, dir);
-  if (winding(s->tool_x, t->tri, t->ntri, p) < 0.5) return p;
+  const tb_mesh *t = &s->priv->tool;
+  tb_vec3 p = tb_madd(q, s->priv->tool_margin, dir);
+  if (winding(s->priv->tool_x, t->tri, t->ntri, p) < 0.5) return p;
   double lo = tb_dist(x, p), hi = lo, step = 0.01 * s->size;
   for (int k = 0; k < 12; k++) {
     hi += step, step *= 2;
-    if (winding(s->tool_x, t->tri, t->ntri, tb_madd(x, hi, dir)) < 0.5) break;
+    if (winding(s->priv->tool_x, t->tri, t->ntri, tb_madd(x, hi, dir)) < 0.5) break;
   }
   for (int k = 0; k < 30; k++) {
     double mid = 0.5 * (lo + hi);
-    if (winding(s->tool_x, t->tri, t->ntri, tb_madd(x, mid, dir)) < 0.5)
+    if (winding(s->priv->tool_x, t->tri, t->ntri, tb_madd(x, mid, dir)) < 0.5)
       hi = mid;
     else
       lo = mid;
   }
-  return tb_madd(x, hi + s->tool_margin, dir);
+  return tb_madd(x, hi + s->priv->tool_margin, dir);
 }
 
 /* ---- the instrument's pose ---- */
 
 /* The instrument's pose at t: x = R x_local + tr. */
 static void pose_at(const tb_sim *s, double t, tb_mat3 *R, tb_vec3 *tr) {
-  tb_vec3 o = tb_sim_motion_apply(&s->tool_motion, t, tb_v3(0, 0, 0));
-  tb_vec3 ex = tb_sub(tb_sim_motion_apply(&s->tool_motion, t, tb_v3(1, 0, 0)), o);
-  tb_vec3 ey = tb_sub(tb_sim_motion_apply(&s->tool_motion, t, tb_v3(0, 1, 0)), o);
-  tb_vec3 ez = tb_sub(tb_sim_motion_apply(&s->tool_motion, t, tb_v3(0, 0, 1)), o);
+  tb_vec3 o = tb_sim_motion_apply(&s->priv->tool_motion, t, tb_v3(0, 0, 0));
+  tb_vec3 ex = tb_sub(tb_sim_motion_apply(&s->priv->tool_motion, t, tb_v3(1, 0, 0)), o);
+  tb_vec3 ey = tb_sub(tb_sim_motion_apply(&s->priv->tool_motion, t, tb_v3(0, 1, 0)), o);
+  tb_vec3 ez = tb_sub(tb_sim_motion_apply(&s->priv->tool_motion, t, tb_v3(0, 0, 1)), o);
   *R = (tb_mat3){{{ex.x, ey.x, ez.x}, {ex.y, ey.y, ez.y}, {ex.z, ey.z, ez.z}}};
-  *tr = tb_add(o, s->tool_origin);
+  *tr = tb_add(o, s->priv->tool_origin);
 }
 
 void tb_sim_tool_pose(tb_sim *s, double t, tb_mat3 *R, tb_vec3 *tr) {
   pose_at(s, t, R, tr);
-  for (int i = 0; i < s->tool.nv; i++) s->tool_x[i] = tb_add(tb_m3_mulv(*R, s->tool.x[i]), *tr);
+  for (int i = 0; i < s->priv->tool.nv; i++)
+    s->priv->tool_x[i] = tb_add(tb_m3_mulv(*R, s->priv->tool.x[i]), *tr);
 }
 
-/* World velocity of the instrument's material point now (pose s->tool_R,
- * s->tool_t) at world position p: where it was at t - dt, over dt. */
+/* World velocity of the instrument's material point now (pose s->priv->tool_R,
+ * s->priv->tool_t) at world position p: where it was at t - dt, over dt. */
 static tb_vec3 tool_velocity(const tb_sim *s, tb_vec3 p) {
   tb_mat3 R0;
   tb_vec3 t0;
   pose_at(s, s->t - s->def.dt, &R0, &t0);
-  tb_vec3 local = tb_m3_mulv(tb_m3_transpose(s->tool_R), tb_sub(p, s->tool_t));
+  tb_vec3 local = tb_m3_mulv(tb_m3_transpose(s->priv->tool_R), tb_sub(p, s->priv->tool_t));
   tb_vec3 before = tb_add(tb_m3_mulv(R0, local), t0);
   return tb_scale(tb_sub(p, before), 1.0 / s->def.dt);
 }
@@ -125,19 +127,20 @@ static int collider_for_surface(tb_sim *s, tb_error *err) {
                         "the model's surface has %d points, the scene %d: contact with a model "
                         "whose points change is not supported yet",
                         su.nv, s->mesh.nv);
-  tb_collider_free(s->collider);
-  s->collider = NULL;
-  s->tool_surface = (tb_mesh){su.nv, (tb_vec3 *)su.x, su.ntri, (int *)su.tri, 0, NULL, 0};
-  s->surface_version = su.version;
-  s->collider = tb_collider_new("composite", &s->tool_surface, &s->tool, NULL, NULL, NULL, err);
-  return s->collider ? 0 : -1;
+  tb_collider_free(s->priv->collider);
+  s->priv->collider = NULL;
+  s->priv->tool_surface = (tb_mesh){su.nv, (tb_vec3 *)su.x, su.ntri, (int *)su.tri, 0, NULL, 0};
+  s->priv->surface_version = su.version;
+  s->priv->collider =
+      tb_collider_new("composite", &s->priv->tool_surface, &s->priv->tool, NULL, NULL, NULL, err);
+  return s->priv->collider ? 0 : -1;
 }
 
 int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   const tb_scene_desc *d = &s->desc;
-  const double *P = s->param;
+  const double *P = s->priv->param;
   const char *path = d->path[0] ? d->path : d->name;
-  if (d->has_ground && s->param[TB_P_GROUND] != 0) {
+  if (d->has_ground && s->priv->param[TB_P_GROUND] != 0) {
     const tb_scene_ground *g = &d->ground;
     s->has_ground = 1;
     tb_ground *gr = &s->ground;
@@ -161,21 +164,21 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   if (!d->has_tool) return 0;
   const tb_scene_tool *t = &d->tool;
   s->has_tool = 1;
-  if (tb_sim_build_mesh(&t->mesh, path, P, 0, &s->tool, err)) return -1;
-  if (s->tool.ntri < 1)
+  if (tb_sim_build_mesh(&t->mesh, path, P, 0, &s->priv->tool, err)) return -1;
+  if (s->priv->tool.ntri < 1)
     return tb_error_set(err, path, t->line, "the instrument mesh has no triangles");
-  tb_mesh_topo topo = tb_mesh_topology(&s->tool);
+  tb_mesh_topo topo = tb_mesh_topology(&s->priv->tool);
   if (!topo.closed)
     return tb_error_set(
         err, path, t->line,
         "the instrument mesh is not closed (%d boundary edges): inside is undefined",
         topo.boundary_edges);
-  s->tool_x = malloc(sizeof(tb_vec3) * (size_t)s->tool.nv);
-  s->contact = calloc((size_t)s->mesh.nv, 1);
-  s->slot = malloc(sizeof(int) * (size_t)s->mesh.nv);
-  if (!s->tool_x || !s->contact || !s->slot)
+  s->priv->tool_x = malloc(sizeof(tb_vec3) * (size_t)s->priv->tool.nv);
+  s->priv->contact = calloc((size_t)s->mesh.nv, 1);
+  s->priv->slot = malloc(sizeof(int) * (size_t)s->mesh.nv);
+  if (!s->priv->tool_x || !s->priv->contact || !s->priv->slot)
     return tb_error_set(err, path, t->line, "out of memory");
-  for (int i = 0; i < s->mesh.nv; i++) s->slot[i] = -1;
+  for (int i = 0; i < s->mesh.nv; i++) s->priv->slot[i] = -1;
   tb_vec3 o = tb_expr_vec(t->origin, P);
   if (t->origin_extreme) {
     tb_vec3 dir = o;
@@ -185,22 +188,22 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
         best = s->mesh.tri[k];
     o = s->mesh.x[best];
   }
-  s->tool_origin = tb_add(o, tb_expr_vec(t->offset, P));
-  s->tool_margin = tb_expr_eval(t->margin, P);
-  s->tool_friction = tb_expr_eval(t->friction, P);
-  if (!(s->tool_margin >= 0) || !(s->tool_friction >= 0))
+  s->priv->tool_origin = tb_add(o, tb_expr_vec(t->offset, P));
+  s->priv->tool_margin = tb_expr_eval(t->margin, P);
+  s->priv->tool_friction = tb_expr_eval(t->friction, P);
+  if (!(s->priv->tool_margin >= 0) || !(s->priv->tool_friction >= 0))
     return tb_error_set(err, path, t->line, "[instrument] margin and friction must be >= 0");
-  if (tb_sim_motion_make(&t->motion, P, &s->tool_motion, err)) return -1;
+  if (tb_sim_motion_make(&t->motion, P, &s->priv->tool_motion, err)) return -1;
   return collider_for_surface(s, err);
 }
 
 void tb_sim_contact_free(tb_sim *s) {
-  tb_collider_free(s->collider);
+  tb_collider_free(s->priv->collider);
   tb_pairlist_free(&s->pairs);
-  tb_mesh_free(&s->tool);
-  tb_sim_motion_free(&s->tool_motion);
-  free(s->tool_x), free(s->contact), free(s->slot);
-  s->collider = NULL, s->tool_x = NULL, s->contact = NULL, s->slot = NULL;
+  tb_mesh_free(&s->priv->tool);
+  tb_sim_motion_free(&s->priv->tool_motion);
+  free(s->priv->tool_x), free(s->priv->contact), free(s->priv->slot);
+  s->priv->collider = NULL, s->priv->tool_x = NULL, s->priv->contact = NULL, s->priv->slot = NULL;
 }
 
 /* ---- after a step ---- */
@@ -212,22 +215,23 @@ static void ground(tb_sim *s, int *n) {
   for (int i = 0; i < s->mesh.nv; i++) { /* the contacts: each node below put on the plane */
     double h = tb_dot(tb_sub(x[i], g->p), g->n);
     if (h >= 0 || s->mark[i]) continue;
-    s->ids_buf[*n] = i, s->xc_buf[*n] = tb_madd(x[i], -h, g->n), s->depth_buf[*n] = -h;
+    s->priv->ids_buf[*n] = i, s->priv->xc_buf[*n] = tb_madd(x[i], -h, g->n),
+    s->priv->depth_buf[*n] = -h;
     (*n)++;
   }
-  tb_ground_friction(g, *n - first, s->ids_buf + first, s->depth_buf + first, s->x_prev, s->mass,
-                     s->xc_buf + first, s->keep_buf + first);
+  tb_ground_friction(g, *n - first, s->priv->ids_buf + first, s->priv->depth_buf + first,
+                     s->priv->x_prev, s->mass, s->priv->xc_buf + first, s->priv->keep_buf + first);
   for (int k = first; k < *n; k++) { /* velocity: friction's share, restitution */
-    tb_vec3 vi = v[s->ids_buf[k]];
+    tb_vec3 vi = v[s->priv->ids_buf[k]];
     double vn = tb_dot(vi, g->n);
-    tb_vec3 vt = tb_scale(tb_madd(vi, -vn, g->n), s->keep_buf[k]);
+    tb_vec3 vt = tb_scale(tb_madd(vi, -vn, g->n), s->priv->keep_buf[k]);
     if (vn < 0) vn = -g->restitution * vn;
-    s->vc_buf[k] = tb_madd(vt, vn, g->n);
+    s->priv->vc_buf[k] = tb_madd(vt, vn, g->n);
   }
 }
 
 /* The instrument's corrections for the body at positions x against the
- * instrument at its current pose, into s->ids_buf/xc_buf/vc_buf from *n
+ * instrument at its current pose, into s->priv->ids_buf/xc_buf/vc_buf from *n
  * (vc_buf: the push direction): nodes inside it go to its surface (plus
  * the margin); a surface triangle it pierces between its nodes (an
  * instrument vertex behind the triangle, over it) is moved behind that
@@ -235,27 +239,29 @@ static void ground(tb_sim *s, int *n) {
  * projection of position-based dynamics). *before: the largest depth of a
  * node inside the instrument. */
 static int tool_response(tb_sim *s, const tb_vec3 *x, int *n, double *before, tb_error *err) {
-  if (tb_model_surface(&s->model).version != s->surface_version && collider_for_surface(s, err))
+  if (tb_model_surface(&s->model).version != s->priv->surface_version &&
+      collider_for_surface(s, err))
     return -1;
-  const tb_mesh *surf = &s->tool_surface;
-  if (tb_collider_deform(s->collider, x, 0, err) ||
-      tb_collider_pose(s->collider, s->tool_R, s->tool_t, err) ||
-      tb_collider_query(s->collider, &s->pairs, NULL, err))
+  const tb_mesh *surf = &s->priv->tool_surface;
+  if (tb_collider_deform(s->priv->collider, x, 0, err) ||
+      tb_collider_pose(s->priv->collider, s->priv->tool_R, s->priv->tool_t, err) ||
+      tb_collider_query(s->priv->collider, &s->pairs, NULL, err))
     return -1;
   for (int k = 0; k < s->pairs.n; k++)
-    for (int c = 0; c < 3; c++) s->contact[surf->tri[3 * s->pairs.ij[2 * k] + c]] = 1;
+    for (int c = 0; c < 3; c++) s->priv->contact[surf->tri[3 * s->pairs.ij[2 * k] + c]] = 1;
   int first = *n;
   *before = 0;
   for (int i = 0; i < s->mesh.nv; i++) {
-    if (!s->contact[i]) continue;
-    s->contact[i] = 0;
+    if (!s->priv->contact[i]) continue;
+    s->priv->contact[i] = 0;
     double depth;
     tb_vec3 q;
     if (s->mark[i] || !inside_tool(s, x[i], &depth, &q)) continue;
     if (depth > *before) *before = depth;
     tb_vec3 dir = depth > 1e-12 * s->size ? tb_scale(tb_sub(q, x[i]), 1.0 / depth) : tb_v3(0, 0, 1);
-    s->slot[i] = *n;
-    s->ids_buf[*n] = i, s->xc_buf[*n] = way_out(s, x[i], q, dir), s->vc_buf[*n] = dir;
+    s->priv->slot[i] = *n;
+    s->priv->ids_buf[*n] = i, s->priv->xc_buf[*n] = way_out(s, x[i], q, dir),
+    s->priv->vc_buf[*n] = dir;
     (*n)++;
   }
   /* pierced triangles (a node put out of the instrument above keeps that place) */
@@ -263,14 +269,14 @@ static int tool_response(tb_sim *s, const tb_vec3 *x, int *n, double *before, tb
   double reach = 0.25 * s->size;
   for (int k = 0; k < s->pairs.n; k++) {
     const int *v = surf->tri + 3 * s->pairs.ij[2 * k],
-              *w = s->tool.tri + 3 * s->pairs.ij[2 * k + 1];
+              *w = s->priv->tool.tri + 3 * s->pairs.ij[2 * k + 1];
     tb_vec3 a = x[v[0]], b = x[v[1]], c = x[v[2]];
     tb_vec3 nrm = tb_cross(tb_sub(b, a), tb_sub(c, a));
     double area2 = tb_len(nrm);
     if (!(area2 > 0)) continue;
     nrm = tb_scale(nrm, 1.0 / area2);
     for (int e = 0; e < 3; e++) {
-      tb_vec3 p = s->tool_x[w[e]];
+      tb_vec3 p = s->priv->tool_x[w[e]];
       double h = tb_dot(tb_sub(p, a), nrm);
       if (h >= 0 || -h > reach) continue;
       tb_vec3 pp = tb_madd(p, -h, nrm);
@@ -278,17 +284,19 @@ static int tool_response(tb_sim *s, const tb_vec3 *x, int *n, double *before, tb
       double wb = tb_dot(tb_cross(tb_sub(c, pp), tb_sub(a, pp)), nrm) / area2, wc = 1 - wa - wb;
       if (wa < 0 || wb < 0 || wc < 0) continue;
       double wt[3] = {wa, wb, wc}, sw = wa * wa + wb * wb + wc * wc;
-      double push = h - s->tool_margin; /* < 0: along -nrm */
+      double push = h - s->priv->tool_margin; /* < 0: along -nrm */
       for (int q = 0; q < 3; q++) {
         int i = v[q];
         if (s->mark[i]) continue;
         tb_vec3 target = tb_madd(x[i], wt[q] / sw * push, nrm);
-        if (s->slot[i] < first) {
-          s->slot[i] = *n;
-          s->ids_buf[*n] = i, s->xc_buf[*n] = target, s->vc_buf[*n] = tb_scale(nrm, -1);
+        if (s->priv->slot[i] < first) {
+          s->priv->slot[i] = *n;
+          s->priv->ids_buf[*n] = i, s->priv->xc_buf[*n] = target,
+          s->priv->vc_buf[*n] = tb_scale(nrm, -1);
           (*n)++;
-        } else if (s->slot[i] >= pushes && tb_dot(tb_sub(target, s->xc_buf[s->slot[i]]), nrm) < 0)
-          s->xc_buf[s->slot[i]] = target; /* the deeper push */
+        } else if (s->priv->slot[i] >= pushes &&
+                   tb_dot(tb_sub(target, s->priv->xc_buf[s->priv->slot[i]]), nrm) < 0)
+          s->priv->xc_buf[s->priv->slot[i]] = target; /* the deeper push */
       }
     }
   }
@@ -296,12 +304,13 @@ static int tool_response(tb_sim *s, const tb_vec3 *x, int *n, double *before, tb
   for (int k = pushes; k < *n; k++) {
     double depth;
     tb_vec3 q;
-    if (!inside_tool(s, s->xc_buf[k], &depth, &q)) continue;
-    tb_vec3 dir =
-        depth > 1e-12 * s->size ? tb_scale(tb_sub(q, s->xc_buf[k]), 1.0 / depth) : s->vc_buf[k];
-    s->xc_buf[k] = way_out(s, s->xc_buf[k], q, dir);
+    if (!inside_tool(s, s->priv->xc_buf[k], &depth, &q)) continue;
+    tb_vec3 dir = depth > 1e-12 * s->size ? tb_scale(tb_sub(q, s->priv->xc_buf[k]), 1.0 / depth)
+                                          : s->priv->vc_buf[k];
+    s->priv->xc_buf[k] = way_out(s, s->priv->xc_buf[k], q, dir);
   }
-  for (int k = first; k < *n; k++) s->contact[s->ids_buf[k]] = 1, s->slot[s->ids_buf[k]] = -1;
+  for (int k = first; k < *n; k++)
+    s->priv->contact[s->priv->ids_buf[k]] = 1, s->priv->slot[s->priv->ids_buf[k]] = -1;
   return 0;
 }
 
@@ -310,13 +319,13 @@ static int tool_response(tb_sim *s, const tb_vec3 *x, int *n, double *before, tb
  * for the step (so every model, quasi-static ones too, feels it). */
 int tb_sim_contact_prestep(tb_sim *s, double t, tb_error *err) {
   if (!s->has_tool) return 0;
-  tb_sim_tool_pose(s, t, &s->tool_R, &s->tool_t);
+  tb_sim_tool_pose(s, t, &s->priv->tool_R, &s->priv->tool_t);
   int n = 0;
   double before;
   if (tool_response(s, tb_model_positions(&s->model), &n, &before, err)) return -1;
   for (int k = 0; k < n; k++) {
-    int i = s->ids_buf[k];
-    s->mark[i] = 1, s->target[i] = s->xc_buf[k];
+    int i = s->priv->ids_buf[k];
+    s->mark[i] = 1, s->target[i] = s->priv->xc_buf[k];
   }
   s->ncontact = n;
   return 0;
@@ -325,29 +334,30 @@ int tb_sim_contact_prestep(tb_sim *s, double t, tb_error *err) {
 /* After the step: what the step itself pushed inside is put back out, the
  * normal part of its velocity relative to the instrument removed. */
 static int tool(tb_sim *s, int *n, tb_error *err) {
-  tb_sim_tool_pose(s, s->t, &s->tool_R, &s->tool_t);
+  tb_sim_tool_pose(s, s->t, &s->priv->tool_R, &s->priv->tool_t);
   const tb_vec3 *x = tb_model_positions(&s->model), *v = tb_model_velocities(&s->model);
   int first = *n;
   double before, after = 0;
   if (tool_response(s, x, n, &before, err)) return -1;
   for (int k = first; k < *n; k++) {
-    int i = s->ids_buf[k];
-    tb_vec3 dir = s->vc_buf[k], vt = tool_velocity(s, s->xc_buf[k]), rel = tb_sub(v[i], vt);
+    int i = s->priv->ids_buf[k];
+    tb_vec3 dir = s->priv->vc_buf[k], vt = tool_velocity(s, s->priv->xc_buf[k]),
+            rel = tb_sub(v[i], vt);
     double vn = tb_dot(rel, dir);
     if (vn < 0) {
       rel = tb_madd(rel, -vn, dir);
-      if (s->tool_friction > 0) {
-        double lt = tb_len(rel), cut = s->tool_friction * -vn;
+      if (s->priv->tool_friction > 0) {
+        double lt = tb_len(rel), cut = s->priv->tool_friction * -vn;
         rel = lt > cut ? tb_scale(rel, 1 - cut / lt) : tb_v3(0, 0, 0);
       }
     }
-    s->vc_buf[k] = tb_add(vt, rel);
+    s->priv->vc_buf[k] = tb_add(vt, rel);
   }
   /* what is left inside after the response */
   for (int k = first; k < *n; k++) {
     double depth;
     tb_vec3 q;
-    if (inside_tool(s, s->xc_buf[k], &depth, &q) && depth > after) after = depth;
+    if (inside_tool(s, s->priv->xc_buf[k], &depth, &q) && depth > after) after = depth;
   }
   s->pen_tool = after;
   if (after > s->pen_tool_max) s->pen_tool_max = after;
@@ -357,10 +367,10 @@ static int tool(tb_sim *s, int *n, tb_error *err) {
 
 int tb_sim_contact(tb_sim *s, tb_error *err) {
   int n = 0;
-  if (s->has_ground && !s->model.cls->own_ground) ground(s, &n); /* else done in the step */
+  if (s->has_ground && !tb_model_owns_ground(&s->model)) ground(s, &n); /* else done in the step */
   /* a node caught by both keeps the instrument's answer (applied last) */
   if (s->has_tool && tool(s, &n, err)) return -1;
-  if (n) tb_model_correct(&s->model, n, s->ids_buf, s->xc_buf, s->vc_buf);
+  if (n) tb_model_correct(&s->model, n, s->priv->ids_buf, s->priv->xc_buf, s->priv->vc_buf);
   if (s->has_ground) {
     const tb_vec3 *x = tb_model_positions(&s->model);
     double worst = 0;
@@ -374,12 +384,26 @@ int tb_sim_contact(tb_sim *s, tb_error *err) {
   return 0;
 }
 
+int tb_sim_contact_triangles(const tb_sim *s, int **tri) {
+  *tri = NULL;
+  if (!s->has_tool || !s->pairs.n) return 0;
+  const tb_mesh *surf = &s->priv->tool_surface;
+  int *t = malloc(sizeof(int) * 3 * (size_t)s->pairs.n), n = 0;
+  if (!t) return -1;
+  for (int k = 0; k < s->pairs.n; k++) /* sorted: a triangle's pairs are adjacent */
+    if (!k || s->pairs.ij[2 * k] != s->pairs.ij[2 * k - 2])
+      memcpy(t + 3 * n++, surf->tri + 3 * s->pairs.ij[2 * k], sizeof(int) * 3);
+  *tri = t;
+  return n;
+}
+
 int tb_sim_instrument(tb_sim *s, tb_mesh *out) {
   memset(out, 0, sizeof *out);
   if (!s->has_tool) return 0;
   tb_mat3 R;
   tb_vec3 t;
   tb_sim_tool_pose(s, s->t, &R, &t);
-  out->nv = s->tool.nv, out->x = s->tool_x, out->ntri = s->tool.ntri, out->tri = s->tool.tri;
+  out->nv = s->priv->tool.nv, out->x = s->priv->tool_x, out->ntri = s->priv->tool.ntri,
+  out->tri = s->priv->tool.tri;
   return 1;
 }

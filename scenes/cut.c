@@ -19,69 +19,72 @@ int tb_sim_cut_setup(tb_sim *s, tb_error *err) {
     return tb_error_set(err, path, d->cut_line,
                         "[cut]: the %s model cannot be cut (models that can: metaball)",
                         s->model.cls->name);
-  s->cut_n = d->ncut_point;
-  s->cut_path = malloc(sizeof(tb_vec3) * (size_t)s->cut_n);
-  s->cut_now = malloc(sizeof(tb_vec3) * (size_t)s->cut_n);
-  if (!s->cut_path || !s->cut_now) return tb_error_set(err, path, 0, "out of memory");
-  for (int i = 0; i < s->cut_n; i++) s->cut_path[i] = tb_expr_vec(d->cut_point[i], s->param);
-  s->cut_depth = tb_expr_vec(d->cut_depth, s->param);
-  s->cut_start = tb_expr_eval(d->cut_start, s->param);
-  s->cut_stop = tb_expr_eval(d->cut_stop, s->param);
-  if (!(s->cut_stop > s->cut_start) || !(s->cut_start >= 0))
+  s->priv->cut_n = d->ncut_point;
+  s->priv->cut_path = malloc(sizeof(tb_vec3) * (size_t)s->priv->cut_n);
+  s->priv->cut_now = malloc(sizeof(tb_vec3) * (size_t)s->priv->cut_n);
+  if (!s->priv->cut_path || !s->priv->cut_now) return tb_error_set(err, path, 0, "out of memory");
+  for (int i = 0; i < s->priv->cut_n; i++)
+    s->priv->cut_path[i] = tb_expr_vec(d->cut_point[i], s->priv->param);
+  s->priv->cut_depth = tb_expr_vec(d->cut_depth, s->priv->param);
+  s->priv->cut_start = tb_expr_eval(d->cut_start, s->priv->param);
+  s->priv->cut_stop = tb_expr_eval(d->cut_stop, s->priv->param);
+  if (!(s->priv->cut_stop > s->priv->cut_start) || !(s->priv->cut_start >= 0))
     return tb_error_set(err, path, d->cut_line, "[cut]: need 0 <= start < stop (start %g, stop %g)",
-                        s->cut_start, s->cut_stop);
-  if (!(tb_len(s->cut_depth) > 0))
+                        s->priv->cut_start, s->priv->cut_stop);
+  if (!(tb_len(s->priv->cut_depth) > 0))
     return tb_error_set(err, path, d->cut_line, "[cut]: depth must not be zero");
-  for (int i = 0; i + 1 < s->cut_n; i++)
-    if (!(tb_dist(s->cut_path[i], s->cut_path[i + 1]) > 0))
+  for (int i = 0; i + 1 < s->priv->cut_n; i++)
+    if (!(tb_dist(s->priv->cut_path[i], s->priv->cut_path[i + 1]) > 0))
       return tb_error_set(err, path, d->cut_line, "[cut]: points %d and %d are the same", i + 1,
                           i + 2);
   return 0;
 }
 
-/* The path so far at time t into s->cut_now; returns its point count. */
+/* The path so far at time t into s->priv->cut_now; returns its point count. */
 static int path_at(tb_sim *s, double t) {
   double total = 0;
-  for (int i = 0; i + 1 < s->cut_n; i++) total += tb_dist(s->cut_path[i], s->cut_path[i + 1]);
-  double u = (t - s->cut_start) / (s->cut_stop - s->cut_start);
+  for (int i = 0; i + 1 < s->priv->cut_n; i++)
+    total += tb_dist(s->priv->cut_path[i], s->priv->cut_path[i + 1]);
+  double u = (t - s->priv->cut_start) / (s->priv->cut_stop - s->priv->cut_start);
   double left = (u < 0 ? 0 : u > 1 ? 1 : u) * total;
   int n = 0;
-  s->cut_now[n++] = s->cut_path[0];
-  for (int i = 0; i + 1 < s->cut_n; i++) {
-    double len = tb_dist(s->cut_path[i], s->cut_path[i + 1]);
+  s->priv->cut_now[n++] = s->priv->cut_path[0];
+  for (int i = 0; i + 1 < s->priv->cut_n; i++) {
+    double len = tb_dist(s->priv->cut_path[i], s->priv->cut_path[i + 1]);
     if (left >= len) {
-      s->cut_now[n++] = s->cut_path[i + 1], left -= len;
+      s->priv->cut_now[n++] = s->priv->cut_path[i + 1], left -= len;
       continue;
     }
     if (left > 1e-9 * len) /* the blade inside segment i */
-      s->cut_now[n++] =
-          tb_add(s->cut_path[i], tb_scale(tb_sub(s->cut_path[i + 1], s->cut_path[i]), left / len));
+      s->priv->cut_now[n++] =
+          tb_add(s->priv->cut_path[i],
+                 tb_scale(tb_sub(s->priv->cut_path[i + 1], s->priv->cut_path[i]), left / len));
     break;
   }
   return n;
 }
 
 int tb_sim_cut_before(tb_sim *s, double t, tb_error *err) {
-  if (!s->desc.has_cut || s->cut_state == 2 || t < s->cut_start) return 0;
-  if (s->cut_state == 0) {
-    tb_cut_event ev = {TB_CUT_BEGIN, 0, NULL, s->cut_depth};
+  if (!s->desc.has_cut || s->priv->cut_state == 2 || t < s->priv->cut_start) return 0;
+  if (s->priv->cut_state == 0) {
+    tb_cut_event ev = {TB_CUT_BEGIN, 0, NULL, s->priv->cut_depth};
     if (tb_model_cut(&s->model, &ev, NULL, err)) return -1;
-    s->cut_state = 1;
+    s->priv->cut_state = 1;
   }
   int n = path_at(s, t);
-  if (n < 2 ||
-      (n == s->cut_last_n && !memcmp(&s->cut_now[n - 1], &s->cut_last, sizeof s->cut_last)))
+  if (n < 2 || (n == s->priv->cut_last_n &&
+                !memcmp(&s->priv->cut_now[n - 1], &s->priv->cut_last, sizeof s->priv->cut_last)))
     return 0;
-  s->cut_last_n = n, s->cut_last = s->cut_now[n - 1];
-  tb_cut_event ev = {TB_CUT_MOVE, n, s->cut_now, s->cut_depth};
+  s->priv->cut_last_n = n, s->priv->cut_last = s->priv->cut_now[n - 1];
+  tb_cut_event ev = {TB_CUT_MOVE, n, s->priv->cut_now, s->priv->cut_depth};
   return tb_model_cut(&s->model, &ev, NULL, err);
 }
 
 int tb_sim_cut_after(tb_sim *s, double t, tb_error *err) {
-  if (s->cut_state != 1 || t < s->cut_stop) return 0;
-  tb_cut_event ev = {TB_CUT_END, 0, NULL, s->cut_depth};
-  if (tb_model_cut(&s->model, &ev, &s->cut_stats, err)) return -1;
-  s->cut_state = 2;
+  if (s->priv->cut_state != 1 || t < s->priv->cut_stop) return 0;
+  tb_cut_event ev = {TB_CUT_END, 0, NULL, s->priv->cut_depth};
+  if (tb_model_cut(&s->model, &ev, &s->priv->cut_stats, err)) return -1;
+  s->priv->cut_state = 2;
   int np = tb_model_npoints(&s->model);
   if (np > s->mesh.nv) { /* forces for the new points: none */
     tb_vec3 *f = realloc(s->force, sizeof(tb_vec3) * (size_t)np);
@@ -92,4 +95,4 @@ int tb_sim_cut_after(tb_sim *s, double t, tb_error *err) {
   return 0;
 }
 
-void tb_sim_cut_free(tb_sim *s) { free(s->cut_path), free(s->cut_now); }
+void tb_sim_cut_free(tb_sim *s) { free(s->priv->cut_path), free(s->priv->cut_now); }

@@ -19,7 +19,7 @@
 #include <sys/stat.h>
 
 #include "sim_priv.h"
-#include "tb_vtu.h"
+#include "core/tb_vtu.h"
 
 /* Green strain of one tet (rest positions X, current x). */
 static tb_mat3 green_strain(const tb_vec3 *X, const tb_vec3 *x, const int *e, int *ok) {
@@ -107,8 +107,8 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
   else /* a surface mesh: its triangles, point data alone */
     pieces[np++] = (tb_vtu_piece){m->nv, x, m->ntri, m->tri, 0, NULL, 2, arrays};
   if (s->has_tool)
-    pieces[np++] =
-        (tb_vtu_piece){s->tool.nv, s->tool_x, s->tool.ntri, s->tool.tri, 0, NULL, 0, NULL};
+    pieces[np++] = (tb_vtu_piece){
+        s->priv->tool.nv, s->priv->tool_x, s->priv->tool.ntri, s->priv->tool.tri, 0, NULL, 0, NULL};
   tb_vec3 quad[4];
   static const int quad_tri[6] = {0, 1, 2, 0, 2, 3};
   if (s->has_ground) {

@@ -6,9 +6,9 @@
 #include <string.h>
 
 #include "sim_priv.h"
-#include "tb_generators.h"
-#include "tb_mesh_io.h"
-#include "tb_meshgen.h"
+#include "core/tb_mesh_io.h"
+#include "meshgen/tb_generators.h"
+#include "meshgen/tb_meshgen.h"
 
 /* ---- meshes ---- */
 
@@ -147,7 +147,7 @@ static int extreme_surface_node(const tb_mesh *m, tb_vec3 dir) {
 
 static int picks(const tb_sim *s, const tb_selector *q, tb_vec3 lo, tb_vec3 hi, tb_vec3 patch,
                  double radius, tb_vec3 x) {
-  const double *P = s->param;
+  const double *P = s->priv->param;
   double v[6];
   for (int k = 0; k < 6; k++) v[k] = tb_expr_eval(q->v[k], P);
   switch (q->kind) {
@@ -204,19 +204,20 @@ int tb_sim_select(const tb_sim *s, const tb_selection *sel, const char *what, in
         free(on), free(*out), *out = NULL;
         return tb_error_set(err, path, e->line, "%s: patch needs a surface", what);
       }
-      tb_vec3 d = tb_v3(tb_expr_eval(e->v[0], s->param), tb_expr_eval(e->v[1], s->param),
-                        tb_expr_eval(e->v[2], s->param));
+      tb_vec3 d =
+          tb_v3(tb_expr_eval(e->v[0], s->priv->param), tb_expr_eval(e->v[1], s->priv->param),
+                tb_expr_eval(e->v[2], s->priv->param));
       patch = m->x[extreme_surface_node(m, d)];
-      radius = tb_expr_eval(e->v[3], s->param) * s->size;
+      radius = tb_expr_eval(e->v[3], s->priv->param) * s->size;
     }
     for (int i = 0; i < m->nv; i++)
-      if (!on[i] && (e->kind != TB_SEL_PATCH || s->on_surface[i]) &&
+      if (!on[i] && (e->kind != TB_SEL_PATCH || s->priv->on_surface[i]) &&
           picks(s, e, lo, hi, patch, radius, m->x[i]))
         on[i] = 1;
   }
   int n = 0;
   for (int i = 0; i < m->nv; i++)
-    if (on[i] && (!sel->surface_only || s->on_surface[i])) (*out)[n++] = i;
+    if (on[i] && (!sel->surface_only || s->priv->on_surface[i])) (*out)[n++] = i;
   free(on);
   if (!n) {
     free(*out), *out = NULL;

@@ -10,10 +10,10 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "tb_parse.h"
 #include "scene_priv.h"
-#include "tb_generators.h"
-#include "tb_model.h"
+#include "core/tb_parse.h"
+#include "meshgen/tb_generators.h"
+#include "models/tb_model.h"
 
 const char *const tb_scene_param_names[TB_P_COUNT] = {
     "dt",        "duration", "amplitude",     "release",      "nodes",      "gravity", "vmax",

@@ -131,11 +131,11 @@ int tb_sim_def_set(tb_sim_def *def, const char *kv, tb_error *err) {
 static int resolve_params(tb_sim *s, const tb_sim_def *def, tb_error *err) {
   const char *path = s->desc.path[0] ? s->desc.path : s->desc.name;
   for (int i = 0; i < TB_P_COUNT; i++) {
-    s->param[i] = s->desc.param[i];
+    s->priv->param[i] = s->desc.param[i];
     double o = def ? get_field(def, i) : NAN;
-    if (!isnan(o)) s->param[i] = o;
+    if (!isnan(o)) s->priv->param[i] = o;
   }
-  double dt = s->param[TB_P_DT], T = s->param[TB_P_DURATION];
+  double dt = s->priv->param[TB_P_DT], T = s->priv->param[TB_P_DURATION];
   if (!(dt > 0)) return tb_error_set(err, path, 0, "dt must be > 0 (got %g)", dt);
   if (!(T > 0)) return tb_error_set(err, path, 0, "duration must be > 0 (got %g)", T);
   if (T / dt > MAX_STEPS)
@@ -144,18 +144,18 @@ static int resolve_params(tb_sim *s, const tb_sim_def *def, tb_error *err) {
                         "or shorten the duration)",
                         T / dt, MAX_STEPS);
   int vmax_given = s->desc.param_given[TB_P_VMAX] || (def && !isnan(def->vmax));
-  if (vmax_given && !(s->param[TB_P_VMAX] > 0))
+  if (vmax_given && !(s->priv->param[TB_P_VMAX] > 0))
     return tb_error_set(err, path, 0, "vmax must be > 0 (leave it out for 100 x size / duration)");
-  if (s->param[TB_P_RELEASE] > T) s->param[TB_P_RELEASE] = T;
-  if (!(s->param[TB_P_ENERGY_FACTOR] > 0))
+  if (s->priv->param[TB_P_RELEASE] > T) s->priv->param[TB_P_RELEASE] = T;
+  if (!(s->priv->param[TB_P_ENERGY_FACTOR] > 0))
     return tb_error_set(err, path, 0, "energy_factor must be > 0");
-  if (!(s->param[TB_P_ENERGY_EVERY] >= 1))
+  if (!(s->priv->param[TB_P_ENERGY_EVERY] >= 1))
     return tb_error_set(err, path, 0, "energy_every must be >= 1");
-  if (s->param[TB_P_GROUND] != 0 && s->param[TB_P_GROUND] != 1)
+  if (s->priv->param[TB_P_GROUND] != 0 && s->priv->param[TB_P_GROUND] != 1)
     return tb_error_set(err, path, 0, "ground must be 0 (left out) or 1 (the file's)");
   /* the effective overrides, for callers that read s->def */
   tb_sim_def_init(&s->def);
-  for (int i = 0; i < TB_P_COUNT; i++) put_field(&s->def, i, s->param[i]);
+  for (int i = 0; i < TB_P_COUNT; i++) put_field(&s->def, i, s->priv->param[i]);
   s->def.seed = def && def->seed ? def->seed : s->desc.seed;
   return 0;
 }
@@ -175,7 +175,7 @@ static int merge(int *a, int na, const int *b, int nb, int **out) {
 /* Resolves [fix], [force] and [move] into node sets. */
 static int resolve_sets(tb_sim *s, tb_error *err) {
   const tb_scene_desc *d = &s->desc;
-  const double *P = s->param;
+  const double *P = s->priv->param;
   for (int i = 0; i < d->nfix; i++) {
     int *ids, n = tb_sim_select(s, &d->fix[i], "[fix]", &ids, err);
     if (n < 0) return -1;
@@ -185,12 +185,12 @@ static int resolve_sets(tb_sim *s, tb_error *err) {
   }
   if (d->probe.n && (s->nprobe = tb_sim_select(s, &d->probe, "[output]", &s->probe, err)) < 0)
     return -1;
-  s->forces = calloc((size_t)(d->nforce + 1), sizeof *s->forces);
-  s->moves = calloc((size_t)(d->nmove + 1), sizeof *s->moves);
-  if (!s->forces || !s->moves) return tb_error_set(err, "scene", 0, "out of memory");
+  s->priv->forces = calloc((size_t)(d->nforce + 1), sizeof *s->priv->forces);
+  s->priv->moves = calloc((size_t)(d->nmove + 1), sizeof *s->priv->moves);
+  if (!s->priv->forces || !s->priv->moves) return tb_error_set(err, "scene", 0, "out of memory");
   for (int i = 0; i < d->nforce; i++) {
     const tb_scene_force *f = &d->force[i];
-    tb_sim_group *g = &s->forces[s->nforce++];
+    tb_sim_group *g = &s->priv->forces[s->priv->nforce++];
     g->n = tb_sim_select(s, &f->where, "[force]", &g->ids, err);
     if (g->n < 0) return -1;
     tb_vec3 v = tb_v3(tb_expr_eval(f->value[0], P), tb_expr_eval(f->value[1], P),
@@ -202,14 +202,14 @@ static int resolve_sets(tb_sim *s, tb_error *err) {
   }
   for (int i = 0; i < d->nmove; i++) {
     const tb_scene_move *m = &d->move[i];
-    tb_sim_group *g = &s->moves[s->nmove++];
+    tb_sim_group *g = &s->priv->moves[s->priv->nmove++];
     g->n = tb_sim_select(s, &m->where, "[move]", &g->ids, err);
     if (g->n < 0 || tb_sim_motion_make(&m->motion, P, &g->motion, err)) return -1;
     g->release = m->has_release ? tb_expr_eval(m->release, P) : INFINITY;
   }
   for (int pass = 0; pass < 2; pass++)
-    for (int i = 0; i < (pass ? s->nmove : s->nforce); i++) {
-      tb_sim_group *g = pass ? &s->moves[i] : &s->forces[i];
+    for (int i = 0; i < (pass ? s->priv->nmove : s->priv->nforce); i++) {
+      tb_sim_group *g = pass ? &s->priv->moves[i] : &s->priv->forces[i];
       s->ndriven = merge(s->driven, s->ndriven, g->ids, g->n, &s->driven);
       if (s->ndriven < 0) return tb_error_set(err, "scene", 0, "out of memory");
     }
@@ -221,11 +221,17 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   memset(s, 0, sizeof *s);
   s->desc = *desc;
   memset(desc, 0, sizeof *desc);
+  s->priv = calloc(1, sizeof *s->priv);
+  if (!s->priv) {
+    tb_scene_desc_free(&s->desc);
+    return tb_error_set(err, s->desc.path, 0, "out of memory");
+  }
   s->name = s->desc.name;
   const char *path = s->desc.path[0] ? s->desc.path : s->desc.name;
   if (resolve_params(s, def, err)) goto fail;
-  int rc = mesh ? tb_mesh_copy(&s->mesh, mesh)
-                : tb_sim_build_mesh(&s->desc.mesh, path, s->param, s->def.seed, &s->mesh, err);
+  int rc = mesh
+               ? tb_mesh_copy(&s->mesh, mesh)
+               : tb_sim_build_mesh(&s->desc.mesh, path, s->priv->param, s->def.seed, &s->mesh, err);
   if (rc) {
     if (mesh) tb_error_set(err, path, 0, "out of memory");
     goto fail;
@@ -263,22 +269,22 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   s->force = calloc(n, sizeof(tb_vec3));
   s->mark = calloc(n, 1);
   s->target = calloc(n, sizeof(tb_vec3));
-  s->on_surface = calloc(n, 1);
-  s->x_prev = malloc(sizeof(tb_vec3) * n);
-  s->x_window = malloc(sizeof(tb_vec3) * n);
-  s->window_t0 = s->window_speed = NAN;
-  s->ids_buf = malloc(sizeof(int) * n);
-  s->xc_buf = malloc(sizeof(tb_vec3) * n);
-  s->vc_buf = malloc(sizeof(tb_vec3) * n);
-  s->depth_buf = malloc(sizeof(double) * n);
-  s->keep_buf = malloc(sizeof(double) * n);
-  if (!s->fixed || !s->fixed_x || !s->force || !s->mark || !s->target || !s->on_surface ||
-      !s->x_prev || !s->x_window || !s->ids_buf || !s->xc_buf || !s->vc_buf || !s->depth_buf ||
-      !s->keep_buf) {
+  s->priv->on_surface = calloc(n, 1);
+  s->priv->x_prev = malloc(sizeof(tb_vec3) * n);
+  s->priv->x_window = malloc(sizeof(tb_vec3) * n);
+  s->priv->window_t0 = s->priv->window_speed = NAN;
+  s->priv->ids_buf = malloc(sizeof(int) * n);
+  s->priv->xc_buf = malloc(sizeof(tb_vec3) * n);
+  s->priv->vc_buf = malloc(sizeof(tb_vec3) * n);
+  s->priv->depth_buf = malloc(sizeof(double) * n);
+  s->priv->keep_buf = malloc(sizeof(double) * n);
+  if (!s->fixed || !s->fixed_x || !s->force || !s->mark || !s->target || !s->priv->on_surface ||
+      !s->priv->x_prev || !s->priv->x_window || !s->priv->ids_buf || !s->priv->xc_buf ||
+      !s->priv->vc_buf || !s->priv->depth_buf || !s->priv->keep_buf) {
     tb_error_set(err, path, 0, "out of memory");
     goto fail;
   }
-  for (int k = 0; k < 3 * s->mesh.ntri; k++) s->on_surface[s->mesh.tri[k]] = 1;
+  for (int k = 0; k < 3 * s->mesh.ntri; k++) s->priv->on_surface[s->mesh.tri[k]] = 1;
   tb_vec3 lo, hi;
   tb_mesh_bbox(&s->mesh, &lo, &hi);
   s->size = tb_dist(lo, hi);
@@ -312,8 +318,8 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   s->settings = all;
   s->mass = tb_model_masses(&s->model);
   if (resolve_sets(s, err) || tb_sim_contact_setup(s, err) || tb_sim_cut_setup(s, err)) goto fail;
-  for (int i = 0; i < s->mesh.nv; i++) s->total_mass += s->mass[i];
-  s->energy0 = s->energy = tb_model_energy(&s->model);
+  for (int i = 0; i < s->mesh.nv; i++) s->priv->total_mass += s->mass[i];
+  s->priv->energy0 = s->energy = tb_model_energy(&s->model);
   s->health.ok = 1;
   return 0;
 fail:
@@ -335,10 +341,13 @@ int tb_sim_mesh(const char *scene, const tb_sim_def *def, tb_mesh *out, tb_error
   char path[1024];
   tb_sim_scene_path(scene, path, sizeof path);
   tb_sim s;
+  tb_sim_priv p;
   memset(&s, 0, sizeof s);
+  memset(&p, 0, sizeof p);
+  s.priv = &p;
   if (tb_scene_desc_load(&s.desc, path, err)) return -1;
   int rc = resolve_params(&s, def, err) ||
-           tb_sim_build_mesh(&s.desc.mesh, path, s.param, s.def.seed, out, err);
+           tb_sim_build_mesh(&s.desc.mesh, path, p.param, s.def.seed, out, err);
   tb_scene_desc_free(&s.desc);
   return rc ? -1 : 0;
 }
@@ -355,13 +364,13 @@ static int loads(tb_sim *s, double t, int contact, tb_error *err) {
     int i = s->anchor[k];
     s->mark[i] = 1, s->target[i] = s->mesh.x[i];
   }
-  for (int g = 0; g < s->nforce; g++) {
-    const tb_sim_group *f = &s->forces[g];
+  for (int g = 0; g < s->priv->nforce; g++) {
+    const tb_sim_group *f = &s->priv->forces[g];
     if (t < f->start || t > f->stop) continue;
     for (int k = 0; k < f->n; k++) s->force[f->ids[k]] = tb_add(s->force[f->ids[k]], f->value);
   }
-  for (int g = 0; g < s->nmove; g++) {
-    const tb_sim_group *m = &s->moves[g];
+  for (int g = 0; g < s->priv->nmove; g++) {
+    const tb_sim_group *m = &s->priv->moves[g];
     if (!s->hold && t > m->release + 1e-12 * s->def.dt) continue; /* let go */
     for (int k = 0; k < m->n; k++) {
       int i = m->ids[k];
@@ -379,7 +388,7 @@ int tb_sim_loads(tb_sim *s, double t, tb_error *err) { return loads(s, t, 0, err
 
 void tb_sim_let_go(tb_sim *s) {
   s->hold = 0;
-  for (int g = 0; g < s->nmove; g++) s->moves[g].release = s->t;
+  for (int g = 0; g < s->priv->nmove; g++) s->priv->moves[g].release = s->t;
 }
 
 /* ---- the energy-growth detector ----
@@ -418,24 +427,25 @@ static int prescribed_moving(const tb_sim *s) {
 }
 
 static void track_loads(tb_sim *s) {
-  double p = s->total_mass * tb_len(s->gravity);
+  double p = s->priv->total_mass * tb_len(s->gravity);
   for (int i = 0; i < s->mesh.nv; i++) p += tb_len(s->force[i]);
-  if (p > s->load_max) s->load_max = p;
+  if (p > s->priv->load_max) s->priv->load_max = p;
 }
 
 static int energy_check(tb_sim *s) {
   double e = tb_model_energy(&s->model);
   s->energy = e, s->energy_bound = 0;
   if (isnan(e)) return 0; /* the model has no energy (sm) */
-  if (s->moving) {
-    s->moving = 0;
-    if (e > s->energy_driven) s->energy_driven = e;
+  if (s->priv->moving) {
+    s->priv->moving = 0;
+    if (e > s->priv->energy_driven) s->priv->energy_driven = e;
     return 0;
   }
-  double m = s->total_mass > 0 ? s->total_mass : 1, T = s->def.duration, p = s->load_max;
+  double m = s->priv->total_mass > 0 ? s->priv->total_mass : 1, T = s->def.duration,
+         p = s->priv->load_max;
   double ref = 0.5 * m * (s->size / T) * (s->size / T) + p * s->size + 0.5 * (p * T) * (p * T) / m;
-  if (s->energy0 > ref) ref = s->energy0;
-  if (s->energy_driven > ref) ref = s->energy_driven;
+  if (s->priv->energy0 > ref) ref = s->priv->energy0;
+  if (s->priv->energy_driven > ref) ref = s->priv->energy_driven;
   s->energy_bound = s->def.energy_factor * ref;
   if (e <= s->energy_bound) return 0;
   s->health.ok = 0;
@@ -448,12 +458,12 @@ static int energy_check(tb_sim *s) {
 static void rest_window(tb_sim *s) {
   const tb_vec3 *x = tb_model_positions(&s->model);
   size_t bytes = sizeof(tb_vec3) * (size_t)s->mesh.nv;
-  double len = s->t - s->window_t0;
+  double len = s->t - s->priv->window_t0;
   if (len < TB_SIM_REST_WINDOW * (1 - 1e-9)) return;
   double d = 0;
-  for (int i = 0; i < s->mesh.nv; i++) d = fmax(d, tb_dist(x[i], s->x_window[i]));
-  s->window_speed = d / len, s->window_t0 = s->t;
-  memcpy(s->x_window, x, bytes);
+  for (int i = 0; i < s->mesh.nv; i++) d = fmax(d, tb_dist(x[i], s->priv->x_window[i]));
+  s->priv->window_speed = d / len, s->priv->window_t0 = s->t;
+  memcpy(s->priv->x_window, x, bytes);
 }
 
 /* After a step: the largest mean displacement of the probe nodes so far. */
@@ -469,21 +479,21 @@ static void probe_track(tb_sim *s) {
 
 int tb_sim_step(tb_sim *s, tb_error *err) {
   double t = s->t + s->def.dt;
-  if (isnan(s->window_t0)) {
-    memcpy(s->x_window, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
-    s->window_t0 = s->t;
+  if (isnan(s->priv->window_t0)) {
+    memcpy(s->priv->x_window, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
+    s->priv->window_t0 = s->t;
   }
   if (loads(s, t, 1, err)) return -1;
   int every = s->def.energy_every;
   int check = s->steps < every || (s->steps + 1) % every == 0;
   if (check) track_loads(s);
-  if (!s->moving) s->moving = prescribed_moving(s);
+  if (!s->priv->moving) s->priv->moving = prescribed_moving(s);
   const tb_vec3 *v = tb_model_velocities(&s->model);
   if (s->def.drag > 0)
     for (int i = 0; i < s->mesh.nv; i++)
       s->force[i] = tb_madd(s->force[i], -s->def.drag * s->mass[i], v[i]);
-  if (s->has_ground && !s->model.cls->own_ground) /* the ground's friction (contact.c) */
-    memcpy(s->x_prev, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
+  if (s->has_ground && !tb_model_owns_ground(&s->model)) /* the ground's friction (contact.c) */
+    memcpy(s->priv->x_prev, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
   tb_step in = {0};
   in.dt = s->def.dt;
   in.gravity = s->gravity;
@@ -524,20 +534,23 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
 
 void tb_sim_destroy(tb_sim *s) {
   tb_model_destroy(&s->model);
-  tb_sim_contact_free(s);
-  tb_sim_cut_free(s);
+  tb_sim_priv *p = s->priv;
+  if (p) {
+    tb_sim_contact_free(s);
+    tb_sim_cut_free(s);
+    free(p->on_surface), free(p->x_prev), free(p->x_window), free(p->ids_buf), free(p->xc_buf),
+        free(p->vc_buf), free(p->depth_buf), free(p->keep_buf);
+    for (int i = 0; p->forces && i < p->nforce; i++) free(p->forces[i].ids);
+    for (int i = 0; p->moves && i < p->nmove; i++) {
+      free(p->moves[i].ids);
+      tb_sim_motion_free(&p->moves[i].motion);
+    }
+    free(p->forces), free(p->moves);
+    free(p);
+  }
   tb_mesh_free(&s->mesh);
   free(s->fixed), free(s->fixed_x), free(s->force), free(s->mark), free(s->target);
-  free(s->on_surface), free(s->x_prev), free(s->x_window), free(s->ids_buf), free(s->xc_buf),
-      free(s->vc_buf);
-  free(s->depth_buf), free(s->keep_buf);
   free(s->anchor), free(s->driven), free(s->probe);
-  for (int i = 0; s->forces && i < s->nforce; i++) free(s->forces[i].ids);
-  for (int i = 0; s->moves && i < s->nmove; i++) {
-    free(s->moves[i].ids);
-    tb_sim_motion_free(&s->moves[i].motion);
-  }
-  free(s->forces), free(s->moves);
   tb_scene_desc_free(&s->desc);
   memset(s, 0, sizeof *s);
 }
@@ -576,7 +589,7 @@ tb_sim_metrics tb_sim_measure(const tb_sim *s) {
 }
 
 int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol) {
-  double m = s->window_speed;
+  double m = s->priv->window_speed;
   if (isnan(m)) {
     const tb_vec3 *v = tb_model_velocities(&s->model);
     m = 0;

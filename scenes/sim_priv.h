@@ -3,7 +3,70 @@
 #ifndef TB_SIM_PRIV_H
 #define TB_SIM_PRIV_H
 
+#include "tb_collider.h"
 #include "tb_sim.h"
+
+/* A prescribed rigid motion resolved to numbers (keyframes evaluated). */
+typedef struct tb_sim_motion {
+  int nkey;
+  double *t;     /* keyframe times */
+  tb_vec3 *move; /* translation (or (distance, 0, 0) with a direction) */
+  tb_vec3 *axis; /* unit rotation axis */
+  double *angle; /* radians */
+  int has_direction;
+  tb_vec3 direction, centre;
+} tb_sim_motion;
+
+/* A selected node set with what acts on it. */
+typedef struct tb_sim_group {
+  int n, *ids;
+  tb_vec3 value;        /* force per node */
+  double start, stop;   /* force: active window */
+  double release;       /* move: let go after (INFINITY: never) */
+  tb_sim_motion motion; /* move */
+} tb_sim_group;
+
+/* The driver's own state of a simulation (tb_sim.priv). */
+typedef struct tb_sim_priv {
+  double param[TB_P_COUNT]; /* the scene's parameters, resolved */
+  char *on_surface;         /* per node: used by a surface triangle */
+  int nforce, nmove;
+  tb_sim_group *forces, *moves;
+  /* the instrument: its mesh in its own frame, pose per step, contact */
+  tb_mesh tool;        /* local coordinates */
+  tb_vec3 *tool_x;     /* world positions at the current pose */
+  tb_vec3 tool_origin; /* origin + offset */
+  tb_sim_motion tool_motion;
+  double tool_margin, tool_friction;
+  tb_mat3 tool_R; /* the current pose: x = R x_local + t */
+  tb_vec3 tool_t;
+  tb_mesh tool_surface; /* the model's surface the collider was built on (not owned) */
+  unsigned long surface_version;
+  int *slot; /* per node: its entry in the correction buffers, or -1 */
+  tb_collider *collider;
+  char *contact;   /* per node: in contact with the tool last step */
+  tb_vec3 *x_prev; /* positions before the step (friction) */
+  /* rest: positions at the start of the current window (TB_SIM_REST_WINDOW s),
+   * its start time (NAN before the first step), and the largest node
+   * speed averaged over the last completed window (NAN before one) */
+  tb_vec3 *x_window;
+  double window_t0, window_speed;
+  int *ids_buf; /* scratch for contact corrections */
+  tb_vec3 *xc_buf, *vc_buf;
+  double *depth_buf, *keep_buf;
+  /* the scalpel ([cut], scenes/cut.c): path, depth, times; state 0 before,
+   * 1 cutting, 2 done; the path handed last; what the cut did */
+  int cut_n, cut_state, cut_last_n;
+  tb_vec3 *cut_path, *cut_now, cut_depth, cut_last;
+  double cut_start, cut_stop;
+  tb_cut_stats cut_stats;
+  /* the energy-growth detector (tb_sim_step) */
+  double total_mass;
+  double load_max;
+  double energy0;
+  double energy_driven;
+  int moving;
+} tb_sim_priv;
 
 /* The mesh a source names, with the scene's parameters (file, or generator
  * with settings; the liver's `nodes` and the beam's `cells` shorthands). */

@@ -13,8 +13,8 @@
 #ifndef TB_SCENE_FILE_H
 #define TB_SCENE_FILE_H
 
-#include "tb_error.h"
-#include "tb_math.h"
+#include "core/tb_error.h"
+#include "core/tb_math.h"
 
 /* A number: k * parameter (param < 0: the constant k). */
 typedef struct tb_expr {

@@ -11,8 +11,8 @@
 #include <stdint.h>
 
 #include "tb_collider.h"
-#include "tb_model.h"
 #include "tb_scene_file.h"
+#include "models/tb_model.h"
 
 /* Overrides of a scene file's [scene] parameters. tb_sim_def_init leaves
  * every field unset (the file's value is used); a set field is used as it
@@ -50,40 +50,21 @@ const char *tb_sim_scene_summary(const char *name);
 /* The file of a scene: a built-in name, or the path itself. */
 void tb_sim_scene_path(const char *scene, char *out, size_t cap);
 
-/* A prescribed rigid motion resolved to numbers (keyframes evaluated). */
-typedef struct tb_sim_motion {
-  int nkey;
-  double *t;     /* keyframe times */
-  tb_vec3 *move; /* translation (or (distance, 0, 0) with a direction) */
-  tb_vec3 *axis; /* unit rotation axis */
-  double *angle; /* radians */
-  int has_direction;
-  tb_vec3 direction, centre;
-} tb_sim_motion;
-
-/* A selected node set with what acts on it. */
-typedef struct tb_sim_group {
-  int n, *ids;
-  tb_vec3 value;        /* force per node */
-  double start, stop;   /* force: active window */
-  double release;       /* move: let go after (INFINITY: never) */
-  tb_sim_motion motion; /* move */
-} tb_sim_group;
-
-/* State of one simulation. The hot arrays belong to the model; the rest is
- * the scene's bookkeeping. */
+/* State of one simulation: what callers read (the hot arrays belong to
+ * the model); the driver's own bookkeeping (the instrument's pose and
+ * collider, contact buffers, the scalpel, the rest and energy detectors)
+ * is behind priv (scenes/sim_priv.h). */
 typedef struct tb_sim {
   tb_scene_desc desc; /* the scene as read */
   const char *name;   /* desc.name */
   tb_sim_def def;     /* effective parameters */
-  double param[TB_P_COUNT];
-  tb_mesh mesh; /* rest mesh (boundary triangles included) */
+  tb_mesh mesh;       /* rest mesh (boundary triangles included) */
   tb_model model;
   tb_settings settings; /* the model's settings: the file's, then the caller's */
   double t;
   long steps;
   double size; /* diagonal of the rest bounding box */
-  /* what the next step receives */
+  /* what the next step receives (tb_sim_loads) */
   tb_vec3 gravity;
   int nfixed;
   int *fixed;
@@ -92,62 +73,27 @@ typedef struct tb_sim {
   char *mark;         /* per node: prescribed this step */
   tb_vec3 *target;    /* per node: its prescribed position */
   const double *mass; /* the model's lumped node masses */
-  char *on_surface;   /* per node: used by a surface triangle */
   /* the scene's node sets */
   int nanchor, *anchor;            /* fixed nodes, ascending */
   int ndriven, *driven;            /* nodes of [move] and [force] sections, ascending */
   int nprobe, *probe;              /* [output]'s nodes (the summary reports their displacement) */
   double probe_peak, probe_peak_t; /* largest |mean probe displacement| over the run, when */
-  int nforce, nmove;
-  tb_sim_group *forces, *moves;
   int hold; /* 1: moves are not let go at their release (held until cleared) */
   /* ground: a plane with Coulomb friction and restitution */
   int has_ground;
   tb_ground ground;
-  /* the instrument: its mesh in its own frame, pose per step, contact */
+  /* the instrument (tb_sim_instrument poses it); its contacts at the last step */
   int has_tool;
-  tb_mesh tool;        /* local coordinates */
-  tb_vec3 *tool_x;     /* world positions at the current pose */
-  tb_vec3 tool_origin; /* origin + offset */
-  tb_sim_motion tool_motion;
-  double tool_margin, tool_friction;
-  tb_mat3 tool_R; /* the current pose: x = R x_local + t */
-  tb_vec3 tool_t;
-  tb_mesh tool_surface; /* the model's surface the collider was built on (not owned) */
-  unsigned long surface_version;
-  int *slot; /* per node: its entry in the correction buffers, or -1 */
-  tb_collider *collider;
-  tb_pairlist pairs;
-  char *contact; /* per node: in contact with the tool last step */
-  int ncontact;
-  tb_vec3 *x_prev; /* positions before the step (friction) */
-  /* rest: positions at the start of the current window (TB_SIM_REST_WINDOW s),
-   * its start time (NAN before the first step), and the largest node
-   * speed averaged over the last completed window (NAN before one) */
-  tb_vec3 *x_window;
-  double window_t0, window_speed;
-  int *ids_buf; /* scratch for contact corrections */
-  tb_vec3 *xc_buf, *vc_buf;
-  double *depth_buf, *keep_buf;
+  tb_pairlist pairs; /* (body surface triangle, instrument triangle), sorted */
+  int ncontact;      /* body nodes in contact with it */
   /* penetration: of the last step (after the contact response) and the largest over the run */
   double pen_ground, pen_tool, pen_ground_max, pen_tool_max;
   double pen_tool_before_max; /* largest depth inside the tool before the response */
-  /* the scalpel ([cut], scenes/cut.c): path, depth, times; state 0 before,
-   * 1 cutting, 2 done; the path handed last; what the cut did */
-  int cut_n, cut_state, cut_last_n;
-  tb_vec3 *cut_path, *cut_now, cut_depth, cut_last;
-  double cut_start, cut_stop;
-  tb_cut_stats cut_stats;
-  /* health of the last step */
+  /* health of the last step, the model's energy and its bound */
   tb_health health;
-  /* the energy-growth detector (tb_sim_step) */
-  double total_mass;
-  double load_max;
-  double energy0;
-  double energy_driven;
-  int moving;
   double energy;
   double energy_bound;
+  struct tb_sim_priv *priv;
 } tb_sim;
 
 /* Builds scene `scene` (a built-in name or a scene file) with overrides
@@ -176,6 +122,10 @@ int tb_sim_loads(tb_sim *s, double t, tb_error *err);
 /* The instrument at the current time in world coordinates (posed now);
  * 0 when the scene has none. */
 int tb_sim_instrument(tb_sim *s, tb_mesh *out);
+/* The body's surface triangles crossing the instrument at the last step
+ * (each once, ascending), malloc'ed into *tri (3 per triangle): returns
+ * how many, 0 without an instrument, or -1 out of memory. */
+int tb_sim_contact_triangles(const tb_sim *s, int **tri);
 
 /* Lets every prescribed motion go now (clears hold): the next step's
  * nodes are free. */

@@ -14,8 +14,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "tb_mesh_io.h"
 #include "tb_test.h"
+#include "core/tb_mesh_io.h"
+#include "reference/tb_oracles.h"
 
 #define SKIP_CODE 77
 
@@ -175,6 +176,7 @@ static const struct {
   const char *name;
   const tb_test_case *cases;
 } suites[] = {
+    {"layers", tb_tests_layers},
     {"core", tb_tests_core},
     {"io", tb_tests_io},
     {"io_hostile", tb_tests_io_hostile},
@@ -266,6 +268,7 @@ static int list_cases(int argc, char **argv, int print) {
 }
 
 int main(int argc, char **argv) {
+  tb_oracles_register();
   int list = 0, k = 1; /* drop --list from the filters */
   for (int i = 1; i < argc; i++) {
     if (strcmp(argv[i], "--list") == 0)

@@ -3,7 +3,7 @@
 #ifndef TB_TEST_MODELS_H
 #define TB_TEST_MODELS_H
 
-#include "tb_model.h"
+#include "models/tb_model.h"
 
 /* The settings kvs lists (space separated; "" for the defaults); a bad
  * entry fails the calling test. Defined in tests/test_models.c. */

@@ -1,6 +1,6 @@
 /* The Bullet peers as models (models/bullet_fem.c over
- * reference/ref_deformable.cpp, models/bullet_softbody.c over
- * reference/ref_softbody.cpp): free fall against the integrators' exact
+ * models/bullet_fem_peer.cpp, models/bullet_softbody.c over
+ * models/bullet_softbody_peer.cpp): free fall against the integrators' exact
  * discrete recurrence and its O(dt) error against g t^2 / 2, prescribed
  * nodes (held and moved), refused settings, the E/nu -> Lamé conversion
  * (formula and, through Bullet's own energy under a uniform stretch, what
@@ -9,11 +9,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_deformable.h"
-#include "tb_meshgen.h"
-#include "tb_model.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_deformable.h"
+#include "models/tb_model.h"
 
 /* every force of bullet-fem, then bullet-softbody; corotated with a soft
  * material (E 10), inside its explicit stability limit (see

@@ -8,10 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_butterfly.h"
-#include "tb_mesh_io.h"
-#include "tb_meshgen.h"
 #include "tb_test.h"
+#include "core/tb_butterfly.h"
+#include "core/tb_mesh_io.h"
+#include "meshgen/tb_meshgen.h"
 
 /* ---- meshes with known structure ---- */
 static void alloc_mesh(tb_mesh *m, int nv, int nf) {

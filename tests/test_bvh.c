@@ -12,12 +12,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_bvh.h"
-#include "tb_mesh_io.h"
-#include "tb_meshgen.h"
-#include "tb_rng.h"
 #include "tb_test.h"
-#include "tb_threads.h"
+#include "collision/tb_bvh.h"
+#include "core/tb_mesh_io.h"
+#include "core/tb_rng.h"
+#include "core/tb_threads.h"
+#include "meshgen/tb_meshgen.h"
 
 /* ---- helpers ---- */
 static tb_mat3 random_rotation(tb_rng *r) {
@@ -168,7 +168,7 @@ static void soup(tb_mesh *m, int n, uint64_t seed) {
   }
 }
 
-/* Meshes from tools/ (the error goes to the test log). */
+/* Meshes from meshgen/ (the error goes to the test log). */
 static int made(int rc, const char *what, const tb_error *err) {
   TB_CHECK_MSG(rc == 0, "%s: %s", what, err->msg);
   return rc;
@@ -1118,7 +1118,7 @@ static void errors_and_edges(void) {
   tb_pairlist_free(&p);
 }
 
-/* ---- coordinates over the whole range readers accept (issue 16, item 1) ---- */
+/* ---- coordinates over the whole range readers accept ---- */
 static void scaled_copy(const tb_vec3 *x, int nv, int e, tb_vec3 *y) {
   for (int v = 0; v < nv; v++) y[v] = tb_v3(ldexp(x[v].x, e), ldexp(x[v].y, e), ldexp(x[v].z, e));
 }

@@ -4,10 +4,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_cli.h"
-#include "tb_fidelity.h"
-#include "tb_pairs.h"
 #include "tb_test.h"
+#include "collision/tb_pairs.h"
+#include "commands/tb_cli.h"
+#include "suites/tb_fidelity.h"
+#include "suites/tb_points.h"
 
 static void help_lists_commands(void) {
   TB_CHECK(tb_test_cli_run("help") == 0);
@@ -161,7 +162,7 @@ static void reproduce_meshes_suite(void) {
   report_of_meshes();
 }
 
-/* tools/setup.sh with fake dpkg-query and id on PATH: a missing package as
+/* scripts/setup.sh with fake dpkg-query and id on PATH: a missing package as
  * non-root prints the apt-get line and fails; all present succeeds. */
 static void setup_script(void) {
   const char *dir = tb_test_tmpdir();
@@ -172,13 +173,13 @@ static void setup_script(void) {
            "echo \"install ok installed\"\n' > %s/fakebin/dpkg-query && chmod +x %s/fakebin/*",
            dir, dir, dir, dir);
   TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
-  snprintf(cmd, sizeof cmd, "PATH=%s/fakebin:$PATH sh %s/tools/setup.sh", dir,
+  snprintf(cmd, sizeof cmd, "PATH=%s/fakebin:$PATH sh %s/scripts/setup.sh", dir,
            tb_test_source_root());
   TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) != 0);
   TB_CHECK_MSG(strstr(tb_test_out, "apt-get install -y libcgal-dev") != NULL, "%s", tb_test_out);
   snprintf(cmd, sizeof cmd, "sed -i 's/libcgal-dev/none-such/' %s/fakebin/dpkg-query", dir);
   TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
-  snprintf(cmd, sizeof cmd, "PATH=%s/fakebin:$PATH sh %s/tools/setup.sh", dir,
+  snprintf(cmd, sizeof cmd, "PATH=%s/fakebin:$PATH sh %s/scripts/setup.sh", dir,
            tb_test_source_root());
   TB_CHECK_MSG(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0, "%s", tb_test_out);
 }
@@ -210,7 +211,7 @@ static void test_runner_list_and_no_match(void) {
   TB_CHECK(strstr(tb_test_out, "passed") == NULL);
 }
 
-/* ---- issue 16: hostile command lines ---- */
+/* ---- hostile command lines ---- */
 
 /* A sanitizer build's LeakSanitizer turns a leak into exit 23 and a report: the exit codes
  * below and the absence of the report both catch it. */

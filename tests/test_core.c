@@ -3,10 +3,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_error.h"
-#include "tb_mesh.h"
-#include "tb_rng.h"
 #include "tb_test.h"
+#include "core/tb_error.h"
+#include "core/tb_mesh.h"
+#include "core/tb_rng.h"
 
 static void math_basics(void) {
   tb_vec3 a = tb_v3(1, 2, 3), b = tb_v3(-4, 5, 0.5);

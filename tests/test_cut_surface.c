@@ -1,4 +1,4 @@
-/* Tests of the surface cut (models/tb_cut_surface.h; the metaball patent's
+/* Tests of the surface cut (cutting/tb_cut_surface.h; the metaball patent's
  * step 3 (5): surface splitting and the crack): straight and folded cuts
  * through a slab and a geodesic sphere, cuts stopping inside, degenerate
  * blades (along an edge, through a vertex, tangent, missing), determinism
@@ -11,9 +11,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_cut_surface.h"
-#include "tb_meshgen.h"
 #include "tb_test.h"
+#include "cutting/tb_cut_surface.h"
+#include "meshgen/tb_meshgen.h"
 
 /* A closed box [0,lx]x[0,ly]x[0,lz], its faces gridded n? cells, outward. */
 typedef struct surf {

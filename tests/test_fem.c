@@ -10,11 +10,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_fem.h"
-#include "tb_meshgen.h"
-#include "tb_model.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_fem.h"
+#include "models/tb_model.h"
 
 static const char *const models[] = {"fem", "fem-corot"};
 

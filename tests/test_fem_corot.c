@@ -10,12 +10,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_fem.h"
-#include "tb_meshgen.h"
-#include "tb_model.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
-#include "tb_threads.h"
+#include "core/tb_threads.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_fem.h"
+#include "models/tb_model.h"
 
 #define STEPS 80
 #define TURN (2 * M_PI / 3) /* the end face's final turn */

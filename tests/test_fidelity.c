@@ -1,5 +1,5 @@
-/* Tests of the fidelity work: the metrics (bench/fidelity.c), the Pareto
- * front, the points file and advise's choice (bench/cmd_advise.c) on
+/* Tests of the fidelity work: the metrics (suites/fidelity.c), the Pareto
+ * front, the points file and advise's choice (commands/cmd_advise.c) on
  * synthetic tables, and the pareto, calibration and advise commands on the
  * smoke variants (tiny meshes). */
 #include <math.h>
@@ -7,10 +7,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_fidelity.h"
-#include "tb_meshgen.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
+#include "commands/tb_cli.h"
+#include "meshgen/tb_meshgen.h"
+#include "suites/tb_fidelity.h"
+#include "suites/tb_points.h"
 
 /* ---- metrics on arrays ---- */
 

@@ -1,4 +1,4 @@
-/* Tests of the scalpel's folded plane (collision/tb_fold.h; the metaball
+/* Tests of the scalpel's folded plane (cutting/tb_fold.h; the metaball
  * hybrid cutting patent, step 3 (1) and (5), fig. 5). Oracles independent of
  * the code under test: the sphere test against the distance to densely
  * sampled pieces; the segment test against an exact solve in GMP rationals
@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "tb_fold.h"
-#include "tb_rng.h"
 #include "tb_test.h"
+#include "core/tb_rng.h"
+#include "cutting/tb_fold.h"
 
 /* Fold A: two vertical pieces, y = 0 for x in [0, 2], then y = x - 2 for x
  * in [2, 4]; z in [0, 2]. */

@@ -1,4 +1,4 @@
-/* Tests of the triangle against the folded plane (collision/fold_tri.c; the
+/* Tests of the triangle against the folded plane (cutting/fold_tri.c; the
  * metaball hybrid cutting patent, step 3 (5), fig. 5: through one piece,
  * across a fold, the cut starting or ending inside the triangle, none), and
  * of its degenerate inputs. Every expected point is computed by hand in the
@@ -8,8 +8,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "tb_fold.h"
 #include "tb_test.h"
+#include "cutting/tb_fold.h"
 
 typedef struct want {
   double x, y, z, b0, b1, b2;

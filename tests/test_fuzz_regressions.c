@@ -1,4 +1,4 @@
-/* The fuzzing harnesses' inputs in the normal test suite (issue 16): every
+/* The fuzzing harnesses' inputs in the normal test suite: every
  * file of tests/fuzz/regressions (named HARNESS-NAME, an input a harness
  * once broke the contract with) and of tests/fuzz/seeds/HARNESS/ goes
  * through the same reader and the same contract checks as the libFuzzer
@@ -10,9 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fuzz/fuzz_check.h"
-#include "tb_scene_file.h"
 #include "tb_test.h"
+#include "fuzz/fuzz_check.h"
+#include "scenes/tb_scene_file.h"
+#include "suites/tb_points.h"
 
 static int by_name(const void *a, const void *b) {
   return strcmp(*(char *const *)a, *(char *const *)b);

@@ -8,9 +8,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "tb_mesh_io.h"
-#include "tb_meshgen.h"
 #include "tb_test.h"
+#include "core/tb_mesh_io.h"
+#include "meshgen/tb_meshgen.h"
 
 /* ---- helpers ---- */
 

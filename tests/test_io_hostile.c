@@ -1,4 +1,4 @@
-/* Mesh readers against hostile input (issue 16, items 1, 2, 5-8): the
+/* Mesh readers against hostile input: the
  * coordinate bound in every format, a second $Elements, upper-case TetGen
  * extensions, byte-order marks, a "solid" binary STL with a wrong count,
  * paths that are not regular files, mixed legacy/new .msh, escaped message
@@ -12,10 +12,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "tb_mesh_io.h"
-#include "tb_spheres.h"
 #include "tb_test.h"
-#include "tb_vtu.h"
+#include "core/tb_mesh_io.h"
+#include "core/tb_spheres.h"
+#include "core/tb_vtu.h"
 
 /* Reads path expecting success and the contract; returns the mesh (caller frees). */
 static tb_mesh read_good(const char *path, int nv, int ntri, int ntet) {
@@ -44,7 +44,7 @@ static tb_mesh read_good(const char *path, int nv, int ntri, int ntet) {
   "\n"                                                                                 \
   "  endloop\n endfacet\n"
 
-/* ---- item 1 and 2: coordinates beyond TB_COORD_MAX in every format ---- */
+/* ---- coordinates beyond TB_COORD_MAX in every format ---- */
 static void test_coord_bound(void) {
   static const tb_test_bad_file c[] = {
       {"c_item1.obj", "v 1e200 0 0\nv 0 1e200 0\nv 0 0 1e200\nf 1 2 3\n", 1, "beyond +-1e+90"},
@@ -58,7 +58,7 @@ static void test_coord_bound(void) {
        "beyond +-1e+90"},
       {0, 0, 0, 0}};
   tb_test_expect_read_errors(c);
-  /* item 2: a closed tetrahedron at +-1e300, as TetGen files */
+  /* a closed tetrahedron at +-1e300, as TetGen files */
   tb_test_file("c_tet.node",
                "4 3 0 0\n1 1e300 1e300 1e300\n2 -1e300 -1e300 1e300\n"
                "3 -1e300 1e300 -1e300\n4 1e300 -1e300 -1e300\n",
@@ -92,7 +92,7 @@ static void test_coord_bound(void) {
                "%s: %s", args, tb_test_out);
 }
 
-/* ---- item 5: a second $Elements section ---- */
+/* ---- a second $Elements section ---- */
 static void test_msh_second_elements(void) {
   static const tb_test_bad_file c[] = {
       {"e2.msh", MSH2 NODES3 ELEMS1 ELEMS1, 14, "second element section"},
@@ -109,7 +109,7 @@ static void test_msh_second_elements(void) {
   tb_mesh_free(&m);
 }
 
-/* ---- item 6: upper-case TetGen extensions ---- */
+/* ---- upper-case TetGen extensions ---- */
 static void test_tetgen_upper_case(void) {
   const char *node = "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
   tb_test_file("UP.NODE", node, -1);
@@ -132,7 +132,7 @@ static void test_tetgen_upper_case(void) {
   tb_test_expect_read_error(tb_test_tmp_path("NOPE.ELE"), 0, "NOPE.NODE");
 }
 
-/* ---- item 7: byte-order marks ---- */
+/* ---- byte-order marks ---- */
 #define BOM "\xEF\xBB\xBF"
 static void test_bom(void) {
   tb_mesh m;
@@ -172,7 +172,7 @@ static void test_bom(void) {
   TB_CHECK(tb_spheres_read(p, &s, &err) != 0 && strstr(err.msg, "b_mid.sph:2: byte-order mark"));
 }
 
-/* ---- item 7: a binary STL whose header starts with "solid", wrong count ---- */
+/* ---- a binary STL whose header starts with "solid", wrong count ---- */
 static void test_stl_solid_binary(void) {
   unsigned char buf[84 + 50 * 2];
   memset(buf, 0, sizeof buf);
@@ -188,7 +188,7 @@ static void test_stl_solid_binary(void) {
   tb_mesh_free(&m);
 }
 
-/* ---- item 7: paths that are not regular files ---- */
+/* ---- paths that are not regular files ---- */
 static void test_not_regular(void) {
   static const char *const names[] = {"d.stl", "d.obj", "d.off", "d.msh",
                                       "d.vtk", "d.vtu", "d.node"};
@@ -214,7 +214,7 @@ static void test_not_regular(void) {
                                "is a directory");
 }
 
-/* ---- item 7: the legacy and the new .msh format mixed ---- */
+/* ---- the legacy and the new .msh format mixed ---- */
 static void test_msh_mixed(void) {
   static const tb_test_bad_file c[] = {
       {"mx1.msh", NOD3 MSH2, 7, "the legacy (version 1) and the new format mixed"},
@@ -225,7 +225,7 @@ static void test_msh_mixed(void) {
   tb_test_expect_read_error(tb_test_file("mx4.msh", MSH2 MSH2, -1), 4, "second $MeshFormat");
 }
 
-/* ---- item 7: file text in messages is escaped ---- */
+/* ---- file text in messages is escaped ---- */
 static void test_escaped_messages(void) {
   static const tb_test_bad_file c[] = {
       {"x_esc.obj", TRI3 "\x1b[31mred 1 2 3\n", 4, "unknown OBJ statement '\\x1B[31mred'"},
@@ -251,7 +251,7 @@ static void test_escaped_messages(void) {
                err.msg);
 }
 
-/* ---- item 7: errors at end of file cite the last line, not one past it ---- */
+/* ---- errors at end of file cite the last line, not one past it ---- */
 static void test_eof_line(void) {
   static const tb_test_bad_file c[] = {
       {"z_nl.off", "OFF\n3 1 0\n0 0 0\n", 3, "unexpected end of file (expected vertex 2 of 3)"},
@@ -273,7 +273,7 @@ static void test_eof_line(void) {
   tb_test_expect_read_errors(c);
 }
 
-/* ---- item 8: inputs once silently accepted ---- */
+/* ---- inputs once silently accepted ---- */
 static void test_off_counts(void) {
   static const tb_test_bad_file c[] = {
       {"o_ne.off", "OFF\n3 1 -1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", 2, "edge count -1 out of range"},

@@ -5,10 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_lod.h"
-#include "tb_meshgen.h"
-#include "tb_rng.h"
 #include "tb_test.h"
+#include "core/tb_rng.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_lod.h"
 
 static int sphere_lod(tb_lod *lod, int levels) {
   tb_mesh s;

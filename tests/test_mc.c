@@ -1,13 +1,13 @@
-/* Tests of marching cubes (tools/mc.c), the surface clean-up
- * (tools/remesh.c) and the synthetic liver surface (tools/liver.c). */
+/* Tests of marching cubes (meshgen/mc.c), the surface clean-up
+ * (meshgen/remesh.c) and the synthetic liver surface (meshgen/liver.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "tb_meshgen.h"
-#include "tb_rng.h"
 #include "tb_test.h"
+#include "core/tb_rng.h"
+#include "meshgen/tb_meshgen.h"
 
 #define PI 3.14159265358979323846
 

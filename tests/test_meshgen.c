@@ -5,10 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_generators.h"
-#include "tb_meshgen.h"
-#include "tb_model.h"
 #include "tb_test.h"
+#include "meshgen/tb_generators.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_model.h"
 
 static void spheres_bao2006(void) {
   static const int nv[2] = {252, 1002}, nt[2] = {500, 2000};

@@ -8,11 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_meshless.h"
-#include "tb_rng.h"
 #include "tb_test.h"
-#include "tb_threads.h"
-#include "tb_timer.h"
+#include "core/tb_rng.h"
+#include "core/tb_threads.h"
+#include "core/tb_timer.h"
+#include "models/tb_meshless.h"
 
 #define S 0.01 /* sample spacing (m) */
 

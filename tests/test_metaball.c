@@ -9,10 +9,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_metaball.h"
-#include "tb_model.h"
-#include "tb_rng.h"
 #include "tb_test.h"
+#include "core/tb_rng.h"
+#include "models/tb_metaball.h"
+#include "models/tb_model.h"
 
 enum { NX = 9, NY = 5, NZ = 5 };
 #define H 0.25 /* grid spacing */

@@ -14,13 +14,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_fold.h"
-#include "tb_meshgen.h"
-#include "tb_meshless.h"
-#include "tb_metaball.h"
-#include "tb_sphpack.h"
 #include "tb_test.h"
-#include "tb_timer.h"
+#include "core/tb_timer.h"
+#include "cutting/tb_fold.h"
+#include "meshgen/tb_meshgen.h"
+#include "meshgen/tb_sphpack.h"
+#include "models/tb_meshless.h"
+#include "models/tb_metaball.h"
 
 enum { NX = 9, NY = 5, NZ = 5 };
 #define H 0.25   /* centre spacing */
@@ -488,9 +488,9 @@ static int link_keys(const tb_meshless *ml, uint64_t **out) {
  * spheres' radii vary, so the spacing drifts): the steak held at one end
  * and cut across under gravity, its free end falling below the fold while
  * the blade goes on; in every frame each link between points that existed
- * the frame before was a link then. (Before 2026-11 a rebuild linked anew
- * every pair the whole fold did not separate at the current positions, and
- * the fallen half came back: strain energy x 18, then a blow-up.) */
+ * the frame before was a link then. (A rebuild that links anew every pair
+ * the whole fold does not separate at the current positions brings the
+ * fallen half back: strain energy x 18, then a blow-up.) */
 static void parted_stay_parted(void) {
   tb_mesh surf = {0};
   tb_spheres sp = {0};

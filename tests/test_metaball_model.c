@@ -5,12 +5,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_meshgen.h"
-#include "tb_metaball.h"
-#include "tb_model.h"
-#include "tb_sphpack.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
+#include "meshgen/tb_meshgen.h"
+#include "meshgen/tb_sphpack.h"
+#include "models/tb_metaball.h"
+#include "models/tb_model.h"
 
 /* The 252-vertex sphere of radius 1 as a metaball model. */
 static int ball(tb_model *m, tb_mesh *mesh, const char *kv) {

@@ -1,5 +1,5 @@
-/* The `metaball` suite (bench/suite_metaball.c, the metaball patent's
- * tables and figures, issue 14 §4) run small (--scale 0.01: the steak
+/* The `metaball` suite (suites/suite_metaball.c, the metaball patent's
+ * tables and figures) run small (--scale 0.01: the steak
  * alone, few frames), twice: its tables carry the patent's figures beside
  * ours, the steak has exactly its 1266 vertices and 539 spheres and the cut
  * leaves two pieces of a closed 2-manifold, table 2's tet steaks are within

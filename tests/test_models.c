@@ -5,12 +5,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_meshgen.h"
-#include "tb_model.h"
-#include "tb_rng.h"
-#include "tb_sim.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
+#include "core/tb_rng.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_model.h"
+#include "scenes/tb_sim.h"
 
 static double m3_diff(tb_mat3 a, tb_mat3 b) {
   double d = 0;

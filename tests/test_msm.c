@@ -7,11 +7,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_meshgen.h"
-#include "tb_model.h"
-#include "tb_rng.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
+#include "core/tb_rng.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_model.h"
 
 /* The 4x1x1 beam split into 8x2x2 cubes (81 nodes, 576 tets, spacing 0.5). */
 static int beam(tb_mesh *m) {

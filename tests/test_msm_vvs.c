@@ -9,11 +9,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_meshgen.h"
-#include "tb_model.h"
-#include "tb_sim.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_model.h"
+#include "scenes/tb_sim.h"
 
 static int create(tb_model *m, const tb_mesh *mesh, const char *kvs) {
   tb_error err;

@@ -1,4 +1,4 @@
-/* Cutting an organ through the model interface (issue 14's tests): the
+/* Cutting an organ through the model interface: the
  * metaball model (models/metaball_model.c) cut by a scalpel's folded plane
  * with tb_model_cut, the volume (spheres -> points -> spheres) and the
  * surface (split, crack) together. A straight cut through the patent's
@@ -11,14 +11,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_cut_surface.h"
-#include "tb_fold.h"
-#include "tb_meshgen.h"
-#include "tb_model.h"
-#include "tb_rng.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
-#include "tb_threads.h"
+#include "core/tb_rng.h"
+#include "core/tb_threads.h"
+#include "cutting/tb_cut_surface.h"
+#include "cutting/tb_fold.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_model.h"
 
 #define DT 0.01
 

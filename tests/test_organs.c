@@ -1,5 +1,5 @@
-/* The metaball patent's organs (tools/organs.c) and the exact vertex count
- * (tools/remesh_count.c): each organ a closed, oriented, sphere-like
+/* The metaball patent's organs (meshgen/organs.c) and the exact vertex count
+ * (meshgen/remesh_count.c): each organ a closed, oriented, sphere-like
  * 2-manifold with exactly the patent's table-1 vertex count, positive
  * volume, its documented size, the same bytes for the same seed; packed to
  * the patent's sphere count with every centre inside and most of the volume
@@ -9,10 +9,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "tb_halfedge.h"
-#include "tb_meshgen.h"
-#include "tb_sphpack.h"
 #include "tb_test.h"
+#include "core/tb_halfedge.h"
+#include "meshgen/tb_meshgen.h"
+#include "meshgen/tb_sphpack.h"
 
 /* Closed, oriented, one component, Euler 2, and half-edges build. */
 static void check_sphere_like(const tb_mesh *m, const char *what) {

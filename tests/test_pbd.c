@@ -9,12 +9,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pbd_priv.h"
-#include "tb_meshgen.h"
-#include "tb_sim.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
-#include "tb_threads.h"
+#include "core/tb_threads.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/pbd_priv.h"
+#include "scenes/tb_sim.h"
 
 /* V psi(F) of the tet a, b, c, d (rest A..D) and its gradient, from pbd_energy. */
 static double tet_energy(int kind, double mu, double lam, const tb_vec3 rest[4], const tb_vec3 x[4],
@@ -263,11 +263,12 @@ static void damping_damps(void) {
       }
       tb_sim_destroy(&s);
     }
-    printf("  %s, beam let go from 50%% stretch, mean kinetic energy over 2-3 s: %.4g undamped, "
-           "%.4g damped\n",
-           models[k], ke[0], ke[1]);
-    TB_CHECK_MSG(ke[1] < 0.5 * ke[0], "%s: kinetic energy %g damped, %g undamped", models[k],
-                 ke[1], ke[0]);
+    printf(
+        "  %s, beam let go from 50%% stretch, mean kinetic energy over 2-3 s: %.4g undamped, "
+        "%.4g damped\n",
+        models[k], ke[0], ke[1]);
+    TB_CHECK_MSG(ke[1] < 0.5 * ke[0], "%s: kinetic energy %g damped, %g undamped", models[k], ke[1],
+                 ke[0]);
   }
 }
 

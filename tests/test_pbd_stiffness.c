@@ -1,4 +1,4 @@
-/* Tests of the claims of `figure pbd-stiffness` (bench/tb_pbd_stiffness.h):
+/* Tests of the claims of `figure pbd-stiffness` (suites/tb_pbd_stiffness.h):
  * the beam's settled tip sag under gravity, pbd-stvk and xpbd-stvk, beside
  * the static sag of the same material on the same mesh (the reference
  * solver, St. Venant-Kirchhoff on the linear tets). XPBD's sag reaches the
@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "tb_pbd_stiffness.h"
 #include "tb_test.h"
-#include "tb_threads.h"
+#include "core/tb_threads.h"
+#include "suites/tb_pbd_stiffness.h"
 
 /* The settled sag of model at dt and iterations (E: 0 for the default
  * 3000); NAN after a failed check. */
@@ -86,8 +86,8 @@ static void damping_keeps_rest(void) {
   d.rayleigh = 0.02;
   TB_CHECK(tb_sag_run(&d, NULL, &r1, &err) == 0);
   TB_CHECK_MSG(r1.settled && r0.settled, "damped: %s; undamped: %s", r1.state, r0.state);
-  printf("  beam: undamped sag %.7g (%s, %g s), damped %.7g (%s, %g s)\n", r0.sag,
-         r0.state, r0.settle_time, r1.sag, r1.state, r1.settle_time);
+  printf("  beam: undamped sag %.7g (%s, %g s), damped %.7g (%s, %g s)\n", r0.sag, r0.state,
+         r0.settle_time, r1.sag, r1.state, r1.settle_time);
   TB_CHECK_MSG(fabs(r1.sag / r0.sag - 1) < 1e-4, "damped sag %g, undamped %g", r1.sag, r0.sag);
 }
 

@@ -15,11 +15,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_generators.h"
-#include "tb_refbvh.h"
-#include "tb_rng.h"
 #include "tb_test.h"
-#include "tb_tritri.h"
+#include "collision/tb_tritri.h"
+#include "core/tb_rng.h"
+#include "meshgen/tb_generators.h"
+#include "reference/tb_oracles.h"
+#include "reference/tb_refbvh.h"
 
 static const tb_ref_kind kinds[] = {TB_REF_FCL_AABB, TB_REF_FCL_OBBRSS, TB_REF_BULLET_GIMPACT,
                                     TB_REF_BULLET_GIMPACT_EXACT};
@@ -295,7 +296,7 @@ done:
 /* The spheres of test_spheres (partial overlap) scaled by exact powers of
  * two across the coordinates readers accept (TB_COORD_MAX = 1e90 ~ 2^299,
  * down to 2^-290): the reference hierarchies stay equal to brute force
- * (issue 16, item 1: every hierarchy, not only ours); at 2^290 FCL's own
+ * (every hierarchy, not only ours); at 2^290 FCL's own
  * triangle test loses pairs to overflow (counted, see the correctness
  * table's scaled rows), and FCL's hierarchies equal brute force under it. */
 static void test_scaled(void) {
@@ -399,7 +400,7 @@ out:
 }
 
 /* The thesis scene: the liver's tet faces and the instrument moved along
- * x into it (as bench/scene.c's path), plus two seeded random poses. */
+ * x into it (as suites/collision_scene.c's path), plus two seeded random poses. */
 static void test_liver(void) {
   tb_mesh liver = {0}, inst = {0};
   tb_error err = {""};

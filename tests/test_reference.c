@@ -9,11 +9,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ref_priv.h"
-#include "tb_meshgen.h"
-#include "tb_reference.h"
-#include "tb_rng.h"
 #include "tb_test.h"
+#include "core/tb_rng.h"
+#include "meshgen/tb_meshgen.h"
+#include "reference/ref_priv.h"
+#include "reference/tb_reference.h"
 
 static tb_mesh beam(double lx, double ly, double lz, int nx, int ny, int nz) {
   tb_mesh m;

@@ -12,9 +12,10 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "tb_pairs.h"
 #include "tb_test.h"
-#include "tb_tritri.h"
+#include "collision/tb_pairs.h"
+#include "collision/tb_tritri.h"
+#include "reference/tb_oracles.h"
 
 #define NA (-1)                      /* not asserted */
 #define ONE_ZERO 2                   /* 1 for (p, q) but 0 for (q, p) */

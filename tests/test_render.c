@@ -7,9 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_meshgen.h"
-#include "tb_render.h"
 #include "tb_test.h"
+#include "meshgen/tb_meshgen.h"
+#include "render/tb_render.h"
 
 /* The silhouette of a unit sphere (10242-vertex geodesic) seen along -z by
  * an orthographic camera of half height 1.25 on a 400 x 400 image: a disc

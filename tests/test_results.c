@@ -1,4 +1,4 @@
-/* Tests of the results pipeline (core/tb_results.h): statistics on known
+/* Tests of the results pipeline (report/tb_results.h): statistics on known
  * samples, the files of a suite run (table.md, one tidy CSV per table with
  * quoting and bare numbers, data.json with counters checked by a small JSON
  * validator below), the run context,
@@ -16,9 +16,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "tb_cli.h"
-#include "tb_results.h"
 #include "tb_test.h"
+#include "commands/tb_cli.h"
+#include "report/tb_results.h"
 
 /* ---- helpers ---- */
 
@@ -574,7 +574,7 @@ static void test_chart_errors(void) {
   tb_error err = {{0}};
   TB_CHECK(tb_suite_chart(s, "no_such_script.gp", "lines.csv", "x", &err) != 0);
   TB_CHECK_MSG(strstr(err.msg, "no_such_script.gp: no such gnuplot script"), "%s", err.msg);
-  TB_CHECK(tb_suite_chart(s, "../tools/chart_lines.gp", "lines.csv", "x", &err) != 0);
+  TB_CHECK(tb_suite_chart(s, "../scripts/chart_lines.gp", "lines.csv", "x", &err) != 0);
   TB_CHECK(tb_suite_chart(s, "chart_lines.gp", "missing.csv", "x", &err) != 0);
   TB_CHECK_MSG(strstr(err.msg, "missing.csv: chart data file not found"), "%s", err.msg);
   /* a failing script: a syntax error in the variables */
@@ -650,12 +650,12 @@ static void test_svg_series_checker(void) {
   TB_CHECK(svg_series(none, why, sizeof why) == -1 && strstr(why, "no colour"));
 }
 
-/* tools/palette.gp: tb_colours[N] holds N distinct colours, enough for the
+/* scripts/palette.gp: tb_colours[N] holds N distinct colours, enough for the
  * largest chart (table 4.2: 10 series of ours, 3 of the thesis); every other
  * script loads it and spells no colour of its own. */
 static void test_chart_palette(void) {
   char path[1200];
-  snprintf(path, sizeof path, "%s/tools/palette.gp", tb_test_source_root());
+  snprintf(path, sizeof path, "%s/scripts/palette.gp", tb_test_source_root());
   char *pal = tb_test_slurp(path);
   TB_CHECK_MSG(pal, "cannot read %s", path);
   if (!pal) return;
@@ -672,9 +672,9 @@ static void test_chart_palette(void) {
       n++;
     }
   TB_CHECK_MSG(n == declared && n >= 13, "%d colours listed, %d declared", n, declared);
-  TB_CHECK_MSG(distinct, "two colours of tools/palette.gp are the same");
+  TB_CHECK_MSG(distinct, "two colours of scripts/palette.gp are the same");
   free(pal);
-  snprintf(path, sizeof path, "%s/tools", tb_test_source_root());
+  snprintf(path, sizeof path, "%s/scripts", tb_test_source_root());
   DIR *d = opendir(path);
   TB_CHECK(d != NULL);
   int scripts = 0;
@@ -692,7 +692,7 @@ static void test_chart_palette(void) {
     scripts++;
   }
   if (d) closedir(d);
-  TB_CHECK_MSG(scripts >= 3, "%d chart scripts in tools/", scripts);
+  TB_CHECK_MSG(scripts >= 3, "%d chart scripts in scripts/", scripts);
 }
 
 /* The chart path of a suite at a small scale: the papers' series in the

@@ -1,11 +1,11 @@
-/* Threads and the scaling suite (issue 15, parts 3 and 4): msm and sm give
+/* Threads and the scaling suite: msm and sm give
  * bit-identical positions and velocities on 1 and 2 threads (every sm mode,
  * overlapping regions and per-node tet clusters) on a beam large enough
  * that both threads get work (the models stay on one thread below 4096
  * springs or cluster members), msm on 3 threads too; msm's spatial node
  * order splits a beam into halves across its length; the blow-up check
  * reports the same on 1 and 2 threads; the `scaling` suite run tiny
- * (bench/suite_scaling.c, --scale 0.01: livers of 600, 1200 and 2500
+ * (suites/suite_scaling.c, --scale 0.01: livers of 600, 1200 and 2500
  * tets) writes its tables with their columns, a finite slope, a 30 Hz
  * limit and a peak RSS per tet for every model of the table, finite
  * collision slopes, bit-identical threads and its charts. */
@@ -14,11 +14,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_meshgen.h"
-#include "tb_model.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
-#include "tb_threads.h"
+#include "core/tb_threads.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_model.h"
 
 /* A 3 x 0.8 x 0.8 beam of 30 x 8 x 8 cubes (2511 nodes, 11520 tets,
  * about 17000 springs) held at x = 0, under gravity and a sideways force

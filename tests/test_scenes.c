@@ -9,10 +9,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "tb_mesh_io.h"
-#include "tb_sim.h"
 #include "tb_test.h"
-#include "tb_vtu.h"
+#include "core/tb_mesh_io.h"
+#include "core/tb_vtu.h"
+#include "scenes/sim_priv.h"
+#include "scenes/tb_sim.h"
 
 static const char *scene_file(const char *name, const char *text) {
   return tb_test_file(name, text, -1);
@@ -472,7 +473,7 @@ static void builtin_match_old(void) {
     if (m->x[m->tri[k]].x > m->x[best].x) best = m->tri[k];
   for (int i = 0; i < m->nv; i++) {
     if (m->x[i].x < lo.x + 0.15 * (hi.x - lo.x)) TB_CHECK(na < s.nanchor && s.anchor[na++] == i);
-    if (s.on_surface[i] && tb_dist(m->x[i], m->x[best]) < 0.1 * tb_dist(lo, hi))
+    if (s.priv->on_surface[i] && tb_dist(m->x[i], m->x[best]) < 0.1 * tb_dist(lo, hi))
       TB_CHECK(nd < s.ndriven && s.driven[nd++] == i);
   }
   TB_CHECK(na == s.nanchor && nd == s.ndriven && nd > 3);

@@ -1,6 +1,6 @@
-/* Sweeps across machines: `reproduce --shard k/N` and `merge` (bench/cmd_merge.c,
- * core/results_shard.c). Three shards run by GNU parallel through
- * tools/slurm-array.sh, merged, give every non-timing column of an unsharded
+/* Sweeps across machines: `reproduce --shard k/N` and `merge` (commands/cmd_merge.c,
+ * report/results_shard.c). Three shards run by GNU parallel through
+ * scripts/slurm-array.sh, merged, give every non-timing column of an unsharded
  * run; cases.ini keeps every bit of a number and every character of a text;
  * folders that are not the shards of one run are refused. */
 #include <math.h>
@@ -9,8 +9,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "tb_results.h"
 #include "tb_test.h"
+#include "report/tb_results.h"
 
 /* The columns of a CSV line (at most 32, each < 256 characters). */
 static int fields(const char *line, char out[32][256]) {
@@ -74,8 +74,8 @@ static void merge_equals_unsharded(void) {
   snprintf(cmd, sizeof cmd,
            "cd '%s' && export TB_SHARDS='%s/shards' TB_BUILD_DIR='%s' && "
            "parallel --will-cite SLURM_ARRAY_TASK_ID={} SLURM_ARRAY_TASK_MIN=0 "
-           "SLURM_ARRAY_TASK_COUNT=3 tools/slurm-array.sh %s ::: 0 1 2 && "
-           "tools/slurm-array.sh --merge 3 --out '%s/m' 2>&1",
+           "SLURM_ARRAY_TASK_COUNT=3 scripts/slurm-array.sh %s ::: 0 1 2 && "
+           "scripts/slurm-array.sh --merge 3 --out '%s/m' 2>&1",
            root, tmp, TB_BUILD_ROOT, args, tmp);
   int rc = tb_test_run(cmd, out, sizeof out);
   TB_CHECK_MSG(rc == 0, "%s", out);

@@ -9,12 +9,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_meshgen.h"
-#include "tb_model.h"
-#include "tb_rng.h"
-#include "tb_sm.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
+#include "core/tb_rng.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_model.h"
+#include "models/tb_sm.h"
 
 static const char *const mode_name[] = {"rigid", "linear", "quadratic"};
 

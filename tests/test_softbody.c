@@ -1,4 +1,4 @@
-/* Bullet's btSoftBody behind reference/tb_softbody.h (the pbd suite's
+/* Bullet's btSoftBody behind models/tb_softbody.h (the pbd suite's
  * peer): a block of tets dropped onto the static ground falls, lands and
  * stays above the ground plane within a small tolerance; its mass is the
  * density times the volume; bad settings are refused. */
@@ -6,9 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_meshgen.h"
-#include "tb_softbody.h"
 #include "tb_test.h"
+#include "meshgen/tb_meshgen.h"
+#include "models/tb_softbody.h"
 
 /* A 2 x 2 x 1 block of 4 x 4 x 2 cubes (192 tets), bottom at height h. */
 static int block(double h, tb_mesh *m) {

@@ -1,6 +1,6 @@
 /* Tests for sphere sets (core/tb_spheres.h: SOFA's .sph files), the packing
  * of a closed surface from inner Voronoi poles and its coverage
- * (tools/tb_sphpack.h), and `tissuebench mesh spheres`; SOFA's liver.sph
+ * (meshgen/tb_sphpack.h), and `tissuebench mesh spheres`; SOFA's liver.sph
  * when ../shared/data is present. */
 #include <float.h>
 #include <math.h>
@@ -8,11 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_mesh_io.h"
-#include "tb_meshgen.h"
-#include "tb_spheres.h"
-#include "tb_sphpack.h"
 #include "tb_test.h"
+#include "core/tb_mesh_io.h"
+#include "core/tb_spheres.h"
+#include "meshgen/tb_meshgen.h"
+#include "meshgen/tb_sphpack.h"
 
 /* ---- .sph files ---- */
 static void round_trip(void) {

@@ -2,15 +2,15 @@
  * (bench/sim.c tb_sim_step: NaN/inf, velocity, inversion, energy growth)
  * on known-unstable and known-stable runs, the large-deformation scenes
  * (bench/scene_deform.c), points and edges of msm-vvs's map over ks x kd
- * (bench/tb_stab_vvs.h), and the `figure stability` suite's smoke run. */
+ * (suites/tb_stab_vvs.h), and the `figure stability` suite's smoke run. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "tb_sim.h"
-#include "tb_stab_vvs.h"
 #include "tb_test.h"
 #include "tb_test_models.h"
+#include "scenes/tb_sim.h"
+#include "suites/tb_stab_vvs.h"
 
 /* A sim of `scene` with unit node masses; model settings from kv pairs. */
 static int make(tb_sim *s, const char *scene, const char *model, tb_sim_def *sd,

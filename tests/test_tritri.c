@@ -7,10 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_pairgen.h"
-#include "tb_pairs.h"
 #include "tb_test.h"
-#include "tb_tritri.h"
+#include "collision/tb_pairs.h"
+#include "collision/tb_tritri.h"
+#include "suites/tb_pairgen.h"
 
 #define DESIGNED TB_SOURCE_ROOT "/tests/data/designed40.txt"
 
@@ -203,7 +203,7 @@ static void tables_end_to_end(void) {
   TB_CHECK(strstr(tb_test_out, "| exact |") && strstr(tb_test_out, "near-miss") &&
            strstr(tb_test_out, "designed 40"));
   TB_CHECK(strstr(tb_test_out, "agrees with the labels of designed 40 on 40 of 40"));
-  /* the scaled family (issue 16): a row per scale, the oracle's column 0 */
+  /* the scaled family: a row per scale, the oracle's column 0 */
   static const char *const scaled[] = {"| 2^-600 |", "| 2^-500 |", "| 2^-300 |", "| 2^0 |",
                                        "| 2^300 |",  "| 2^500 |",  "| 2^600 |"};
   TB_CHECK(strstr(tb_test_out, "| scale | pairs | moller |") && strstr(tb_test_out, "| cgal |\n") &&

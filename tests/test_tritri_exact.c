@@ -16,12 +16,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_pairgen.h"
-#include "tb_pairs.h"
-#include "tb_predicates.h"
-#include "tb_rng.h"
 #include "tb_test.h"
-#include "tb_tritri.h"
+#include "collision/tb_pairs.h"
+#include "collision/tb_predicates.h"
+#include "collision/tb_tritri.h"
+#include "core/tb_rng.h"
+#include "suites/tb_pairgen.h"
 
 /* ---- oracles ---- */
 
@@ -455,7 +455,7 @@ static void families(void) {
   TB_CHECK(total_bad == 0);
 }
 
-/* The correctness table's own families (bench/pairgen.c), through our oracle. */
+/* The correctness table's own families (suites/pairgen.c), through our oracle. */
 static void table_families(void) {
   int nf, printed = 0;
   const tb_pair_family *fam = tb_pair_families(&nf);
@@ -571,7 +571,7 @@ static void jgt_pairs(void) {
  * (CGAL, the table's, and the rationals above) and the tests that claim
  * exactness give the same answers on the correctness table's families
  * scaled by 2^k (tb_pairs_scaled keeps the pairs that scale exactly), as
- * the scaled rows of the correctness table assume (issue 16, item 9). */
+ * the scaled rows of the correctness table assume. */
 static void scaled_invariance(void) {
   static const int scales[] = {-1000, -600, -500, -300, -40, 40, 300, 500, 600, 900};
   const tb_tritri_method *cgal = tb_tritri_find("cgal"), *ex = tb_tritri_find("exact"),

@@ -10,9 +10,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "tb_rng.h"
 #include "tb_test.h"
-#include "tb_tritri.h"
+#include "collision/tb_tritri.h"
+#include "core/tb_rng.h"
 
 typedef struct method {
   const char *name;

@@ -8,10 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_mesh_io.h"
-#include "tb_meshgen.h"
 #include "tb_test.h"
-#include "tb_vtu.h"
+#include "core/tb_mesh_io.h"
+#include "core/tb_vtu.h"
+#include "meshgen/tb_meshgen.h"
 
 /* 1-based line of the first occurrence of needle in s (0 if absent). */
 static long line_of(const char *s, const char *needle) {

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_sim.h"
 #include "tb_test.h"
+#include "scenes/tb_sim.h"
 
 static int sim_open(tb_sim *s, const char *settings) {
   tb_sim_def def;

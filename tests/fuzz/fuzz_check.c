@@ -1,6 +1,5 @@
-/* The readers' contract, checked after every read (issue 16 "Fuzzing in
- * CI"): see fuzz_check.h. One rule per check; a rule another change adds to
- * the readers is one more line here. */
+/* The readers' contract, checked after every read: see fuzz_check.h. One rule per check; a rule
+ * another change adds to the readers is one more line here. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -47,7 +46,7 @@ int tb_fuzz_check_error(const char *path, const tb_error *err, char *why, size_t
     s++;
   }
   if (*s != ' ' || !s[1]) return broke(why, cap, "error message '%s': no reason after the name", m);
-  /* issue 16 item 7: bytes from the file are printed escaped (\xNN) */
+  /* bytes from the file are printed escaped (\xNN) */
   for (const unsigned char *c = (const unsigned char *)m; *c; c++)
     if (*c < 0x20 || *c == 0x7f)
       return broke(why, cap, "error message has the control byte 0x%02x", *c);
@@ -70,7 +69,7 @@ int tb_fuzz_check_mesh(const char *path, int rc, const tb_mesh *m, const tb_erro
   for (int i = 0; i < m->nv; i++) {
     if (!finite3(m->x[i]))
       return broke(why, cap, "vertex %d is (%g, %g, %g)", i, m->x[i].x, m->x[i].y, m->x[i].z);
-    if (!tb_coord_ok(m->x[i])) /* issue 16: the readers refuse beyond TB_COORD_MAX */
+    if (!tb_coord_ok(m->x[i])) /* the readers refuse beyond TB_COORD_MAX */
       return broke(why, cap, "vertex %d at (%g, %g, %g) beyond +-%g", i, m->x[i].x, m->x[i].y,
                    m->x[i].z, TB_COORD_MAX);
   }

@@ -1,5 +1,5 @@
 /* The readers' contract that the libFuzzer harnesses (tests/fuzz/) and the
- * regression test (tests/test_fuzz_regressions.c) check, issue 16: on error
+ * regression test (tests/test_fuzz_regressions.c) check, on error
  * the result is empty and the message starts with the file's name ("FILE: "
  * or "FILE:LINE: "); on success every coordinate is finite and every index
  * is in range. Each check returns 0 when it holds, else -1 with `why` saying
@@ -10,11 +10,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "tb_error.h"
-#include "tb_fidelity.h"
-#include "tb_mesh.h"
-#include "tb_pairs.h"
-#include "tb_spheres.h"
+#include "collision/tb_pairs.h"
+#include "core/tb_error.h"
+#include "core/tb_mesh.h"
+#include "core/tb_spheres.h"
+#include "suites/tb_points.h"
 
 /* The message of a failed read of `path` (for a TetGen .node, the .ele or
  * .face read beside it may be the file named instead). */

@@ -1,4 +1,4 @@
-/* One libFuzzer harness (issue 16): the entry of fuzz_targets.c named by
+/* One libFuzzer harness: the entry of fuzz_targets.c named by
  * TB_FUZZ_TARGET at compile time. A broken contract prints what broke and
  * aborts, so libFuzzer saves the input as crash-*. */
 #include <stdio.h>

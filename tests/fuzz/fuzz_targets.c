@@ -1,4 +1,4 @@
-/* The harnesses' table (issue 16 "Fuzzing in CI"): each reader the CLI uses,
+/* The harnesses' table: each reader the CLI uses,
  * fed through its real entry point with a file of the process's own
  * temporary folder, and its result checked against the contract of
  * fuzz_check.c. Used by fuzz_main.c (one libFuzzer binary per entry) and by
@@ -10,10 +10,11 @@
 #include <unistd.h>
 
 #include "fuzz_check.h"
-#include "tb_cli.h"
-#include "tb_mesh_io.h"
-#include "tb_results.h"
-#include "tb_scene_file.h"
+#include "commands/tb_cli.h"
+#include "core/tb_mesh_io.h"
+#include "report/tb_results.h"
+#include "scenes/tb_scene_file.h"
+#include "suites/tb_points.h"
 
 /* ---- the process's temporary folder ---- */
 
@@ -184,9 +185,9 @@ static const tb_fuzz_target targets[] = {
     {"scene", "ini", "scene files (scenes/scene_file.c)", run_scene},
     {"pairs", "txt", "tritri pair lines (collision/pairs.c)", run_pairs},
     {"jgt", "txt", "JGT Shen-2003 pair files (collision/pairs.c)", run_jgt},
-    {"points", "csv", "advise's points.csv (bench/cmd_advise.c)", run_points},
-    {"cases", "ini", "a shard's cases.ini (core/results_shard.c)", run_cases},
-    {"shardinfo", "ini", "a shard's shard.ini (bench/cmd_merge.c)", run_shardinfo},
+    {"points", "csv", "advise's points.csv (commands/cmd_advise.c)", run_points},
+    {"cases", "ini", "a shard's cases.ini (report/results_shard.c)", run_cases},
+    {"shardinfo", "ini", "a shard's shard.ini (commands/cmd_merge.c)", run_shardinfo},
 };
 
 const tb_fuzz_target *tb_fuzz_targets(int *n) {

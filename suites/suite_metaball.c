@@ -1,0 +1,603 @@
+/* The metaball patent's tables and figures (a metaball-based hybrid cutting
+ * method, ../shared/seeds/patent-metaball-hybrid-cutting.txt):
+ * the `metaball` model (models/metaball_model.c) on the patent's organs
+ * (meshgen/organs.c: liver 8128, spleen 1480, gallbladder 1415, steak 1266
+ * surface vertices, packed to 570, 466, 452, 539 spheres) and on SOFA's
+ * liver-smooth when ../shared/data is present.
+ *  1. Table 1: per organ, vertices, spheres, the packing's time and
+ *     coverage, ms per frame to deform (gravity, both ends held) and to cut
+ *     (the blade's frames: MOVE + step), the cut's END, the patent's beside.
+ *  2. Table 2 and the convergence after a push: suites/suite_metaball_cmp.c.
+ *  3. The re-packing claim: spheres removed vs created and their radii (the
+ *     patent: about twice as many, half the size), points left uncovered.
+ *  4. The speed goal (§5): deform <= 1 ms and cut <= 2 ms a frame on the
+ *     8128-vertex liver with 570 spheres.
+ *  5. Figs 7-10: per organ, before and after the cut, the spheres and their
+ *     links above the surface.
+ * Every organ is run `reps` times from scratch (same seed, same run): the
+ * timings are medians over all repetitions; the surfaces after the cut
+ * must be bit-identical. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "suite_metaball.h"
+#include "tb_draw.h"
+#include "core/tb_mesh_io.h"
+#include "core/tb_threads.h"
+#include "core/tb_timer.h"
+#include "cutting/tb_cut_surface.h"
+#include "meshgen/tb_meshgen.h"
+#include "meshgen/tb_sphpack.h"
+#include "render/tb_render.h"
+
+#define CUT_FRAMES 20   /* the blade crosses the organ in this many frames */
+#define AFTER_FRAMES 50 /* frames after the cut before the "after" picture */
+#define GOAL_DEFORM 1.0 /* §5: ms per frame on the 8128-vertex liver, 570 spheres */
+#define GOAL_CUT 2.0
+#define W 640 /* pictures */
+#define H 480
+#define SOFA_SURF TB_SHARED_DATA "/sofa/liver-smooth.obj"
+#define SOFA_SPH TB_SHARED_DATA "/sofa/liver.sph"
+#define NMAX (TB_NORGANS + 1)
+#define SPHERE_SCALE 0.35 /* the pictures draw the spheres at this share of their radius */
+
+/* One organ: its surface (z up) and sphere count, the patent's figures;
+ * given: spheres to use instead of packing (SOFA's liver.sph), else n 0. */
+typedef struct organ {
+  char name[32], source[96];
+  int spheres;
+  double deform_ms, cut_ms; /* the patent's (NAN: none) */
+  tb_mesh surf;
+  tb_spheres given;
+} organ;
+
+/* What an organ's runs give. */
+typedef struct row {
+  int ok, identical, closed, components, links, nsph;
+  char why[200];
+  double *pack, *deform, *cut, *end; /* samples: reps, reps * nblocks, reps * CUT_FRAMES, reps */
+  double *move, *cstep;              /* a cut frame's MOVE and step apart (reps * CUT_FRAMES) */
+  int npack, ndeform, ncut, nend;
+  tb_sphere_coverage cov;
+  tb_cut_stats st;
+  double sag; /* largest point displacement before the cut */
+  int nv_after, ntri_after;
+  tb_vec3 *x_after; /* rep 0's surface after the cut, to compare */
+  int *tri_after;
+} row;
+
+int tb_mbs_finite(const tb_model *m) {
+  const tb_vec3 *x = tb_model_positions(m);
+  for (int i = 0, n = tb_model_npoints(m); i < n; i++)
+    if (!isfinite(x[i].x + x[i].y + x[i].z)) return 0;
+  return 1;
+}
+
+static void bbox(const tb_vec3 *x, int n, tb_vec3 *lo, tb_vec3 *hi) {
+  *lo = tb_v3(INFINITY, INFINITY, INFINITY), *hi = tb_v3(-INFINITY, -INFINITY, -INFINITY);
+  for (int i = 0; i < n; i++) {
+    lo->x = fmin(lo->x, x[i].x), lo->y = fmin(lo->y, x[i].y), lo->z = fmin(lo->z, x[i].z);
+    hi->x = fmax(hi->x, x[i].x), hi->y = fmax(hi->y, x[i].y), hi->z = fmax(hi->z, x[i].z);
+  }
+}
+
+int tb_mbs_end_holds(const tb_vec3 *x, int n, int **ids, tb_vec3 **at, tb_error *err) {
+  tb_vec3 lo, hi;
+  bbox(x, n, &lo, &hi);
+  int ax = hi.x - lo.x >= hi.y - lo.y ? 0 : 1;
+  double a0 = ax ? lo.y : lo.x, a1 = ax ? hi.y : hi.x, band = TB_MBS_END_SHARE * (a1 - a0);
+  *ids = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+  *at = malloc(sizeof(tb_vec3) * (size_t)(n > 0 ? n : 1));
+  if (!*ids || !*at)
+    return free(*ids), free(*at), tb_error_set(err, "metaball", 0, "out of memory");
+  int k = 0;
+  for (int i = 0; i < n; i++) {
+    double a = ax ? x[i].y : x[i].x;
+    if (a <= a0 + band || a >= a1 - band) (*ids)[k] = i, (*at)[k++] = x[i];
+  }
+  return k;
+}
+
+int tb_mbs_deform(tb_model *m, const tb_step *in, const tb_mbs_plan *p, double *block_ms,
+                  tb_error *err) {
+  int n = p->warm + p->block * p->nblocks;
+  uint64_t acc = 0;
+  for (int k = 0; k < n; k++) {
+    uint64_t t0 = tb_time_ns();
+    if (tb_model_step(m, in, err)) return -1;
+    uint64_t t1 = tb_time_ns();
+    if (k >= p->warm) {
+      acc += t1 - t0;
+      if ((k + 1 - p->warm) % p->block == 0)
+        block_ms[(k - p->warm) / p->block] = (double)acc * 1e-6 / p->block, acc = 0;
+    }
+  }
+  if (!tb_mbs_finite(m)) return tb_error_set(err, "metaball", 0, "NaN or inf after %d frames", n);
+  return 0;
+}
+
+/* The organs: ours, then SOFA's liver-smooth with liver.sph's spheres (both
+ * rotated so that SOFA's up, y, is z) when the data is there (*sofa_why
+ * says why not otherwise). */
+static int organs(int only_steak, uint64_t seed, organ *o, char *sofa_why, size_t cap) {
+  int n = 0;
+  tb_error err;
+  for (int k = 0; k < TB_NORGANS; k++) {
+    const tb_organ_info *in = &tb_organs[k];
+    if (only_steak && strcmp(in->name, "steak")) continue;
+    organ *g = &o[n];
+    memset(g, 0, sizeof *g);
+    snprintf(g->name, sizeof g->name, "%s", in->name);
+    snprintf(g->source, sizeof g->source, "ours (meshgen/organs.c, seed %llu)",
+             (unsigned long long)seed);
+    g->spheres = in->spheres, g->deform_ms = in->deform_ms, g->cut_ms = in->cut_ms;
+    if (tb_organ_surface(in->name, 0, seed, &g->surf, &err))
+      snprintf(g->source, sizeof g->source, "%.90s", err.msg);
+    n++;
+  }
+  sofa_why[0] = 0;
+  if (only_steak) return snprintf(sofa_why, cap, "left out at --scale < 1"), n;
+  organ *g = &o[n];
+  memset(g, 0, sizeof *g);
+  if (tb_mesh_read(SOFA_SURF, &g->surf, &err) || tb_spheres_read(SOFA_SPH, &g->given, &err)) {
+    tb_mesh_free(&g->surf), tb_spheres_free(&g->given);
+    snprintf(sofa_why, cap, "not run: %.150s", err.msg);
+    return n;
+  }
+  for (int i = 0; i < g->surf.nv; i++) /* a rotation about x: y -> z, z -> -y */
+    g->surf.x[i] = tb_v3(g->surf.x[i].x, -g->surf.x[i].z, g->surf.x[i].y);
+  for (int i = 0; i < g->given.n; i++)
+    g->given.c[i] = tb_v3(g->given.c[i].x, -g->given.c[i].z, g->given.c[i].y);
+  snprintf(g->name, sizeof g->name, "SOFA liver-smooth");
+  snprintf(g->source, sizeof g->source, "SOFA liver-smooth.obj and liver.sph");
+  g->spheres = g->given.n, g->deform_ms = g->cut_ms = NAN;
+  return n + 1;
+}
+
+/* The spheres above (lifted by dz; created at the cut, index >= nold, in
+ * orange) and the surface below, from the left front of box lo..hi. */
+static int picture(tb_renderer *r, tb_model *m, int nold, tb_vec3 lo, tb_vec3 hi, const char *path,
+                   tb_error *err) {
+  double dz = 1.2 * (hi.z - lo.z) + 0.5 * (hi.y - lo.y); /* clear of the surface in view */
+  tb_camera cam;
+  tb_camera_preset("left-front", lo, tb_add(hi, tb_v3(0, 0, dz)), &cam);
+  tb_renderer_begin(r, &cam, (const float[3]){1, 1, 1});
+  tb_surface su = tb_model_surface(m);
+  tb_render_mesh rm = {.nv = su.nv, .ntri = su.ntri, .x = su.x, .tri = su.tri};
+  memcpy(rm.rgb, tb_draw_body_rgb, sizeof rm.rgb);
+  tb_renderer_mesh(r, &rm);
+  tb_model_spheres sp = m->cls->spheres(m->self);
+  tb_vec3 *c = malloc(sizeof(tb_vec3) * (size_t)sp.n);
+  unsigned char *show = malloc((size_t)sp.n);
+  if (!c || !show) return free(c), free(show), tb_error_set(err, "metaball", 0, "out of memory");
+  for (int i = 0; i < sp.n; i++) c[i] = tb_add(sp.c[i], tb_v3(0, 0, dz));
+  int rc = 0;
+  for (int pass = 0; pass < 2 && !rc; pass++) {
+    for (int i = 0; i < sp.n; i++) show[i] = sp.alive[i] && (i >= nold) == pass;
+    rc = tb_draw_spheres(
+        r, sp.n, c, sp.r, show, SPHERE_SCALE,
+        pass ? (const float[3]){0.95f, 0.55f, 0.15f} : (const float[3]){0.55f, 0.65f, 0.85f}, err);
+  }
+  tb_draw_links(r, sp.nlinks, sp.links, c, (const float[3]){0.15f, 0.15f, 0.2f}, 1.0f);
+  free(c), free(show);
+  return rc ? -1 : tb_renderer_write_png(r, path, err);
+}
+
+/* The blade across the organ's shorter horizontal extent through its
+ * middle, its depth through the whole thickness, over CUT_FRAMES frames
+ * (each MOVE + step timed), then END (timed). */
+static int cut(tb_model *m, const tb_step *in, row *w, tb_error *err) {
+  tb_vec3 lo, hi;
+  bbox(tb_model_positions(m), tb_model_npoints(m), &lo, &hi);
+  int ax = hi.x - lo.x >= hi.y - lo.y ? 0 : 1; /* the long axis; the blade goes along the other */
+  double mz = 0.1 * (hi.z - lo.z), z0 = lo.z - mz;
+  tb_vec3 c = tb_scale(tb_add(lo, hi), 0.5), p[2];
+  if (ax == 0) {
+    double m = 0.1 * (hi.y - lo.y);
+    p[0] = tb_v3(c.x, lo.y - m, z0), p[1] = tb_v3(c.x, hi.y + m, z0);
+  } else {
+    double m = 0.1 * (hi.x - lo.x);
+    p[0] = tb_v3(lo.x - m, c.y, z0), p[1] = tb_v3(hi.x + m, c.y, z0);
+  }
+  tb_vec3 depth = tb_v3(0, 0, hi.z - lo.z + 2 * mz), path[2] = {p[0], p[0]};
+  tb_cut_event ev = {TB_CUT_BEGIN, 0, NULL, depth};
+  if (tb_model_cut(m, &ev, NULL, err)) return -1;
+  for (int f = 1; f <= CUT_FRAMES; f++) {
+    path[1] = tb_add(p[0], tb_scale(tb_sub(p[1], p[0]), (double)f / CUT_FRAMES));
+    ev = (tb_cut_event){TB_CUT_MOVE, 2, path, depth};
+    uint64_t t0 = tb_time_ns();
+    if (tb_model_cut(m, &ev, NULL, err)) return -1;
+    uint64_t t1 = tb_time_ns();
+    if (tb_model_step(m, in, err)) return -1;
+    uint64_t t2 = tb_time_ns();
+    w->move[w->ncut] = (double)(t1 - t0) * 1e-6, w->cstep[w->ncut] = (double)(t2 - t1) * 1e-6;
+    w->cut[w->ncut++] = (double)(t2 - t0) * 1e-6;
+  }
+  ev = (tb_cut_event){TB_CUT_END, 0, NULL, depth};
+  tb_cut_stats st;
+  memset(&st, 0, sizeof st);
+  uint64_t t0 = tb_time_ns();
+  if (tb_model_cut(m, &ev, &st, err)) return -1;
+  w->end[w->nend++] = (double)(tb_time_ns() - t0) * 1e-6;
+  w->st = st;
+  return 0;
+}
+
+/* One repetition on organ g: pack (timed), create, deform, cut, settle;
+ * rep 0 also measures coverage and draws; later ones must end identical. */
+static int run(const organ *g, int rep, const tb_mbs_plan *p, int grid, uint64_t seed,
+               tb_renderer *r, const char *dir, const char *stem, row *w, tb_error *err) {
+  tb_sphpack_def pd = tb_sphpack_default_def(g->spheres);
+  pd.seed = seed % 2147483647u;
+  tb_spheres sp = {0};
+  char sph[1100] = "";
+  if (g->given.n) { /* the model reads them from a file: the rotated ones, written here */
+    snprintf(sph, sizeof sph, "%s/%s-z-up.sph", dir, stem);
+    if (rep == 0 && tb_spheres_write(sph, &g->given, err)) return -1;
+  } else {
+    uint64_t t0 = tb_time_ns();
+    if (tb_sphere_pack(&g->surf, g->name, &pd, &sp, NULL, err)) return -1;
+    w->pack[w->npack++] = (double)(tb_time_ns() - t0) * 1e-6;
+  }
+  if (rep == 0 &&
+      tb_sphere_coverage_of(&g->surf, g->name, g->given.n ? &g->given : &sp, grid, &w->cov, err))
+    return tb_spheres_free(&sp), -1;
+  tb_spheres_free(&sp);
+  tb_settings set;
+  tb_settings_init(&set);
+  if (g->given.n) {
+    char kv[1200];
+    snprintf(kv, sizeof kv, "spheres_file=%s", sph);
+    if (tb_settings_set(&set, kv, err)) return -1;
+  } else {
+    tb_settings_setd(&set, "spheres", g->spheres, NULL);
+    tb_settings_setd(&set, "seed", (double)pd.seed, NULL);
+  }
+  tb_model m;
+  if (tb_model_create(&m, "metaball", &g->surf, &set, err)) return -1;
+  tb_model_spheres ms = m.cls->spheres(m.self);
+  w->nsph = ms.n, w->links = ms.nlinks;
+  int *ids = NULL, rc = 0;
+  tb_vec3 *at = NULL, lo, hi;
+  bbox(g->surf.x, g->surf.nv, &lo, &hi);
+  int nf = tb_mbs_end_holds(tb_model_positions(&m), tb_model_npoints(&m), &ids, &at, err);
+  if (nf < 0) return tb_model_destroy(&m), -1;
+  tb_step in = {.dt = TB_MBS_DT, .gravity = tb_v3(0, 0, -TB_MBS_G)};
+  in.nfixed = nf, in.fixed = ids, in.fixed_x = at;
+  if ((rc = tb_mbs_deform(&m, &in, p, w->deform + w->ndeform, err))) goto done;
+  w->ndeform += p->nblocks;
+  const tb_vec3 *x = tb_model_positions(&m);
+  w->sag = 0;
+  for (int i = 0; i < g->surf.nv; i++) w->sag = fmax(w->sag, tb_dist(x[i], g->surf.x[i]));
+  char path[1200];
+  if (rep == 0) {
+    snprintf(path, sizeof path, "%s/%s-before.png", dir, stem);
+    if ((rc = picture(r, &m, ms.n, lo, hi, path, err))) goto done;
+  }
+  if ((rc = cut(&m, &in, w, err))) goto done;
+  for (int k = 0; k < AFTER_FRAMES && !rc; k++) rc = tb_model_step(&m, &in, err);
+  if (rc) goto done;
+  if (!tb_mbs_finite(&m)) {
+    rc = tb_error_set(err, "metaball", 0, "NaN or inf after the cut");
+    goto done;
+  }
+  tb_surface su = tb_model_surface(&m);
+  if (rep == 0) {
+    w->closed = tb_cut_is_closed_manifold(su.nv, su.ntri, su.tri);
+    w->components = tb_cut_components(su.nv, su.ntri, su.tri);
+    w->nv_after = su.nv, w->ntri_after = su.ntri, w->identical = 1;
+    w->x_after = malloc(sizeof(tb_vec3) * (size_t)su.nv);
+    w->tri_after = malloc(sizeof(int) * 3 * (size_t)su.ntri);
+    if (!w->x_after || !w->tri_after) {
+      rc = tb_error_set(err, "metaball", 0, "out of memory");
+      goto done;
+    }
+    memcpy(w->x_after, su.x, sizeof(tb_vec3) * (size_t)su.nv);
+    memcpy(w->tri_after, su.tri, sizeof(int) * 3 * (size_t)su.ntri);
+    snprintf(path, sizeof path, "%s/%s-after.png", dir, stem);
+    rc = picture(r, &m, ms.n, lo, hi, path, err);
+  } else {
+    w->identical &= su.nv == w->nv_after && su.ntri == w->ntri_after &&
+                    !memcmp(su.x, w->x_after, sizeof(tb_vec3) * (size_t)su.nv) &&
+                    !memcmp(su.tri, w->tri_after, sizeof(int) * 3 * (size_t)su.ntri);
+  }
+done:
+  free(ids), free(at);
+  tb_model_destroy(&m);
+  return rc ? -1 : 0;
+}
+
+static double med(const double *s, int n) { return n ? tb_stats_of(s, n).median : NAN; }
+
+static void table1(tb_suite *su, const organ *g, const row *w, int n) {
+  static const char *cols[] = {"organ",
+                               "surface",
+                               "vertices",
+                               "spheres (ours)",
+                               "spheres (patent)",
+                               "links",
+                               "packing (ms)",
+                               "volume in spheres (%)",
+                               "vertices in skin reach (%)",
+                               "deform (ms/frame, ours)",
+                               "deform (ms/frame, patent)",
+                               "cut (ms/frame, ours)",
+                               "cut (ms/frame, patent)",
+                               "cut's END (ms)",
+                               "largest sag before the cut",
+                               "pieces after",
+                               "closed 2-manifold after"};
+  tb_table *t = tb_table_new("table1",
+                             "Patent table 1: per organ, ms per frame to deform and to cut "
+                             "(metaball model, dt 0.01, gravity, both ends held)",
+                             17, cols);
+  for (int k = 0; k < n; k++) {
+    tb_table_row(t);
+    tb_table_cell(t, "%s", g[k].name);
+    tb_table_cell(t, "%s", g[k].source);
+    tb_table_num(t, g[k].surf.nv ? g[k].surf.nv : NAN, "%.0f");
+    if (!w[k].ok) {
+      tb_table_cell(t, "failed: %s", w[k].why);
+      for (int c = 4; c < 17; c++) tb_table_cell(t, "-");
+      continue;
+    }
+    tb_table_num(t, w[k].nsph, "%.0f");
+    tb_table_num(t, k < TB_NORGANS && isfinite(g[k].deform_ms) ? g[k].spheres : NAN, "%.0f");
+    tb_table_num(t, w[k].links, "%.0f");
+    tb_table_num(t, med(w[k].pack, w[k].npack), "%.0f");
+    tb_table_num(t, 100 * w[k].cov.volume, "%.1f");
+    tb_table_num(t, 100 * w[k].cov.reach, "%.1f");
+    tb_table_num(t, med(w[k].deform, w[k].ndeform), "%.3f");
+    tb_table_num(t, g[k].deform_ms, "%.2f");
+    tb_table_num(t, med(w[k].cut, w[k].ncut), "%.3f");
+    tb_table_num(t, g[k].cut_ms, "%.2f");
+    tb_table_num(t, med(w[k].end, w[k].nend), "%.1f");
+    tb_table_num(t, w[k].sag, "%.3f");
+    tb_table_num(t, w[k].components, "%.0f");
+    tb_table_cell(t, "%s", w[k].closed ? "yes" : "NO");
+  }
+  tb_suite_table(su, t);
+}
+
+static void repack_table(tb_suite *su, const organ *g, const row *w, int n) {
+  static const char *cols[] = {"organ",
+                               "spheres removed",
+                               "spheres created",
+                               "created / removed",
+                               "mean radius removed",
+                               "mean radius created",
+                               "radius created / removed",
+                               "points of the point set",
+                               "points no new sphere covers",
+                               "surface triangles split",
+                               "crack triangles",
+                               "surface points added"};
+  tb_table *t = tb_table_new("repack",
+                             "The re-packing claim: spheres the blade removed against those made "
+                             "anew from the point set (the patent: about twice as many, half the "
+                             "size)",
+                             12, cols);
+  for (int k = 0; k < n; k++) {
+    if (!w[k].ok) continue;
+    const tb_cut_stats *s = &w[k].st;
+    tb_table_row(t);
+    tb_table_cell(t, "%s", g[k].name);
+    tb_table_num(t, s->removed, "%.0f"), tb_table_num(t, s->created, "%.0f");
+    tb_table_num(t, s->removed ? (double)s->created / s->removed : NAN, "%.2f");
+    tb_table_num(t, s->removed_r, "%.4f"), tb_table_num(t, s->created_r, "%.4f");
+    tb_table_num(t, s->removed_r > 0 ? s->created_r / s->removed_r : NAN, "%.2f");
+    tb_table_num(t, s->points, "%.0f"), tb_table_num(t, s->uncovered, "%.0f");
+    tb_table_num(t, s->split_tris, "%.0f"), tb_table_num(t, s->crack_tris, "%.0f");
+    tb_table_num(t, s->new_points, "%.0f");
+  }
+  tb_suite_table(su, t);
+}
+
+/* §5 on the liver row (the first organ). */
+static void goal_table(tb_suite *su, const organ *g, const row *w) {
+  static const char *cols[] = {"organ",
+                               "vertices",
+                               "spheres",
+                               "deform (ms/frame)",
+                               "goal (ms)",
+                               "deform goal",
+                               "cut (ms/frame)",
+                               "goal (ms)",
+                               "cut goal",
+                               "of a cut frame: MOVE (ms, median)",
+                               "of a cut frame: step (ms, median)",
+                               "patent deform / cut (ms)"};
+  tb_table *t = tb_table_new("goal",
+                             "Speed goal: deform <= 1 ms and cut <= 2 ms per frame "
+                             "on the 8128-vertex liver with 570 spheres",
+                             12, cols);
+  tb_table_row(t);
+  tb_table_cell(t, "%s", g->name);
+  tb_table_num(t, g->surf.nv, "%.0f");
+  tb_table_num(t, w->ok ? w->nsph : NAN, "%.0f");
+  double d = w->ok ? med(w->deform, w->ndeform) : NAN, c = w->ok ? med(w->cut, w->ncut) : NAN;
+  tb_table_num(t, d, "%.3f"), tb_table_num(t, GOAL_DEFORM, "%.0f");
+  tb_table_cell(t, "%s", d <= GOAL_DEFORM ? "met" : "not met");
+  tb_table_num(t, c, "%.3f"), tb_table_num(t, GOAL_CUT, "%.0f");
+  tb_table_cell(t, "%s", c <= GOAL_CUT ? "met" : "not met");
+  tb_table_num(t, w->ok ? med(w->move, w->ncut) : NAN, "%.3f");
+  tb_table_num(t, w->ok ? med(w->cstep, w->ncut) : NAN, "%.3f");
+  tb_table_cell(t, "%.2f / %.2f", g->deform_ms, g->cut_ms);
+  tb_suite_table(su, t);
+  tb_suite_counter(su, "metaball/goal", "deform_ms", d);
+  tb_suite_counter(su, "metaball/goal", "cut_ms", c);
+  tb_suite_counter(su, "metaball/goal", "deform_met", d <= GOAL_DEFORM);
+  tb_suite_counter(su, "metaball/goal", "cut_met", c <= GOAL_CUT);
+}
+
+static void record(tb_suite *su, const organ *g, const row *w, const char *stem) {
+  char name[96];
+  snprintf(name, sizeof name, "metaball/%s/deform", stem);
+  tb_suite_bench(su, name, w->deform, NULL, w->ndeform, "ms");
+  tb_suite_counter(su, name, "vertices", g->surf.nv);
+  tb_suite_counter(su, name, "spheres", w->nsph);
+  tb_suite_counter(su, name, "links", w->links);
+  tb_suite_counter(su, name, "largest_sag", w->sag);
+  if (isfinite(g->deform_ms)) tb_suite_counter(su, name, "patent_ms", g->deform_ms);
+  snprintf(name, sizeof name, "metaball/%s/cut_frame", stem);
+  tb_suite_bench(su, name, w->cut, NULL, w->ncut, "ms");
+  if (isfinite(g->cut_ms)) tb_suite_counter(su, name, "patent_ms", g->cut_ms);
+  tb_suite_counter(su, name, "move_median_ms", med(w->move, w->ncut));
+  tb_suite_counter(su, name, "step_median_ms", med(w->cstep, w->ncut));
+  snprintf(name, sizeof name, "metaball/%s/cut_end", stem);
+  tb_suite_bench(su, name, w->end, NULL, w->nend, "ms");
+  const tb_cut_stats *s = &w->st;
+  tb_suite_counter(su, name, "spheres_removed", s->removed);
+  tb_suite_counter(su, name, "spheres_created", s->created);
+  tb_suite_counter(su, name, "mean_radius_removed", s->removed_r);
+  tb_suite_counter(su, name, "mean_radius_created", s->created_r);
+  tb_suite_counter(su, name, "points", s->points);
+  tb_suite_counter(su, name, "points_uncovered", s->uncovered);
+  tb_suite_counter(su, name, "split_triangles", s->split_tris);
+  tb_suite_counter(su, name, "crack_triangles", s->crack_tris);
+  tb_suite_counter(su, name, "surface_points_added", s->new_points);
+  tb_suite_counter(su, name, "pieces", w->components);
+  tb_suite_counter(su, name, "closed_manifold", w->closed);
+  tb_suite_counter(su, name, "identical_repetitions", w->identical);
+  snprintf(name, sizeof name, "metaball/%s/pack", stem);
+  if (w->npack) tb_suite_bench(su, name, w->pack, NULL, w->npack, "ms"); /* given spheres: none */
+  tb_suite_counter(su, name, "volume_covered", w->cov.volume);
+  tb_suite_counter(su, name, "skin_reach", w->cov.reach);
+}
+
+/* The file stem of an organ: its name, spaces and capitals made plain. */
+static void stem_of(const char *name, char *out, size_t cap) {
+  size_t k = 0;
+  for (; name[k] && k + 1 < cap; k++)
+    out[k] = name[k] == ' '                     ? '-'
+             : name[k] >= 'A' && name[k] <= 'Z' ? name[k] - 'A' + 'a'
+                                                : name[k];
+  out[k] = 0;
+}
+
+int tb_suite_metaball(const tb_suite_opts *o) {
+  uint64_t t0 = tb_time_ns();
+  char dir[900], why[200];
+  tb_error err;
+  if (snprintf(dir, sizeof dir, "%s/metaball", o->results) >= (int)sizeof dir) return 1;
+  tb_suite *su = tb_suite_begin(dir, "metaball",
+                                "The metaball patent: organs of overlapping spheres driven by PBD, "
+                                "cut by the hybrid sphere - point set - sphere method",
+                                o->seed, &err);
+  if (!su) return fprintf(stderr, "metaball: %s\n", err.msg), 1;
+  int smoke = o->scale < 1, reps = smoke ? 2 : o->full ? 5 : 2, failed = 0;
+  tb_mbs_plan p = smoke     ? (tb_mbs_plan){5, 5, 2}
+                  : o->full ? (tb_mbs_plan){20, 50, 10}
+                            : (tb_mbs_plan){20, 25, 4};
+  int grid = o->full ? 64 : 40;
+  tb_renderer *r = tb_renderer_new(W, H, 2, &err);
+  if (!r) {
+    fprintf(stderr, "metaball: %s\n", err.msg);
+    tb_suite_end(su, &err);
+    return 1;
+  }
+  organ g[NMAX];
+  row w[NMAX];
+  memset(w, 0, sizeof w);
+  int n = organs(smoke, o->seed, g, why, sizeof why);
+  for (int k = 0; k < n; k++) {
+    row *x = &w[k];
+    char stem[40];
+    stem_of(g[k].name, stem, sizeof stem);
+    x->pack = malloc(sizeof(double) * (size_t)reps), x->end = malloc(sizeof(double) * (size_t)reps);
+    x->deform = malloc(sizeof(double) * (size_t)(reps * p.nblocks));
+    x->cut = malloc(sizeof(double) * (size_t)(reps * CUT_FRAMES));
+    x->move = malloc(sizeof(double) * (size_t)(reps * CUT_FRAMES));
+    x->cstep = malloc(sizeof(double) * (size_t)(reps * CUT_FRAMES));
+    int rc = !x->pack || !x->end || !x->deform || !x->cut || !x->move || !x->cstep
+                 ? tb_error_set(&err, "metaball", 0, "out of memory")
+             : !g[k].surf.nv ? tb_error_set(&err, "metaball", 0, "%s", g[k].source)
+                             : 0;
+    for (int q = 0; q < reps && !rc; q++) {
+      tb_progress("metaball", k * reps + q, n * reps + 1);
+      rc = run(&g[k], q, &p, grid, o->seed, r, dir, stem, x, &err);
+    }
+    x->ok = !rc;
+    if (rc) {
+      snprintf(x->why, sizeof x->why, "%.190s", err.msg);
+      fprintf(stderr, "metaball: %s: %s\n", g[k].name, err.msg), failed = 1;
+      continue;
+    }
+    failed |= !x->identical || !x->closed;
+    record(su, &g[k], x, stem);
+  }
+  const tb_context *cx = tb_suite_context(su);
+  tb_suite_note(
+      su,
+      "The patent's table 1 gives, per organ, its surface vertices and spheres and the time per "
+      "frame to deform and to cut (its machine not named). Ours: the organ's closed surface "
+      "(meshgen/organs.c: synthetic grey-value volumes, marching cubes, exactly the patent's "
+      "vertex "
+      "count) packed by tb_sphere_pack (inner Voronoi poles, CGAL) to the patent's sphere count, "
+      "the metaball model at its defaults (models/metaball_model.c) with that count; packing: "
+      "tb_sphere_pack alone (the model packs again when it is created); coverage on a %d-point "
+      "grid along the longest side (tb_sphere_coverage_of). Deform: dt %g, gravity %g along -z, "
+      "the points within %g of the long extent of each end held; %d warm frames, then %d blocks "
+      "of %d frames, each block's mean one sample; the model's step alone timed. Cut: after "
+      "those frames, a straight blade across the shorter horizontal extent at the middle of the "
+      "longer, its depth through the whole thickness (+10%% each side), crossing in %d frames; "
+      "a frame is the MOVE event (the blade's path so far) and the step (the same gravity and "
+      "holds), each frame one sample; END (the spheres re-made from the point set, the surface "
+      "split and closed) timed apart. Then %d frames more before the after picture. Medians over "
+      "%d repetitions, each from scratch (packing, model, frames, cut); every repetition's "
+      "surface after the cut is bit-identical to the first's: %s. SOFA liver-smooth: %s. This "
+      "machine: %s (%d cores), %d threads (the skin, the point set's forces and bound; the "
+      "same bits on any count), load average %.2f at the start.",
+      grid, TB_MBS_DT, TB_MBS_G, TB_MBS_END_SHARE, p.warm, p.nblocks, p.block, CUT_FRAMES,
+      AFTER_FRAMES, reps, failed ? "NO (or a run failed)" : "yes",
+      why[0] ? why
+             : "liver.sph's spheres (34) and the surface rotated so that SOFA's up (y) is z, the "
+               "spheres written to sofa-liver-smooth-z-up.sph and given to the model "
+               "(spheres_file); no packing, so no packing time",
+      cx->cpu, cx->cores, tb_threads(), cx->have_load ? cx->load[0] : NAN);
+  table1(su, g, w, n);
+  repack_table(su, g, w, n);
+  tb_suite_note(su,
+                "From the cut's END (tb_cut_stats): the spheres the blade touched became a point "
+                "set (cut_points per sphere); when the blade left, new spheres were placed on the "
+                "medial axis of the point set's boundary points; the points no new sphere covers "
+                "are dropped. Radii in the organ's units (the liver about 10 long).");
+  if (!smoke) goal_table(su, &g[0], &w[0]);
+  for (int k = 0; k < n; k++) {
+    if (!w[k].ok) continue;
+    char stem[40], f[64];
+    stem_of(g[k].name, stem, sizeof stem);
+    for (int a = 0; a < 2; a++) {
+      snprintf(f, sizeof f, "%s-%s.png", stem, a ? "after" : "before");
+      tb_suite_figure(
+          su, f,
+          "Figs 7-10: the %s %s the cut (%s): above, the spheres (drawn at %.2f of their "
+          "radius; orange: made at the cut) and their links; below, the skinned "
+          "surface",
+          g[k].name, a ? "after" : "before",
+          a ? "50 frames after the blade left, both ends held" : "hanging by its ends",
+          SPHERE_SCALE);
+    }
+  }
+  tb_mbs_steak st = {0, 0, NAN, NAN};
+  for (int k = 0; k < n; k++)
+    if (!strcmp(g[k].name, "steak") && w[k].ok)
+      st = (tb_mbs_steak){1, w[k].nsph, med(w[k].deform, w[k].ndeform), med(w[k].cut, w[k].ncut)};
+  tb_progress("metaball", n * reps, n * reps + 1);
+  failed |= tb_mbs_compare(su, o, &st);
+  tb_progress_done();
+  double wall = (double)(tb_time_ns() - t0) * 1e-9;
+  tb_suite_counter(su, "suite", "wall_time_s", wall);
+  tb_suite_note(su, "The suite took %.1f s in all.", wall);
+  for (int k = 0; k < n; k++) {
+    free(w[k].pack), free(w[k].deform), free(w[k].cut), free(w[k].end), free(w[k].move);
+    free(w[k].cstep);
+    free(w[k].x_after), free(w[k].tri_after), tb_mesh_free(&g[k].surf),
+        tb_spheres_free(&g[k].given);
+  }
+  tb_renderer_free(r);
+  if (tb_suite_end(su, &err)) fprintf(stderr, "metaball: %s\n", err.msg), failed = 1;
+  return failed;
+}

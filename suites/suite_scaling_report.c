@@ -1,0 +1,383 @@
+/* The scaling suite's tables, notes and log-log charts (the measurements:
+ * suites/suite_scaling.c). Exponents are least-squares lines through
+ * log10(ms) against log10(size) over the sizes a model ran healthy on; the
+ * interactive limits are where those lines reach 33.3 ms (30 Hz) and
+ * 3.33 ms (300 Hz), marked "extrapolated" outside the sizes measured. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scaling_priv.h"
+#include "core/tb_threads.h"
+#include "models/tb_model.h"
+
+/* The thread table's speed goals: the model on all cores at least this many
+ * times its one-thread speed, at the size of the thread table. */
+static const struct {
+  const char *model;
+  double speedup;
+} thread_goals[] = {{"msm", 1.7}, {"sm", 1.7}};
+
+/* A least-squares line log10(y) = a + b log10(x). */
+typedef struct fit {
+  int n;
+  double a, b, xlo, xhi;
+} fit;
+
+static fit fit_loglog(int n, const double *x, const double *y) {
+  fit f = {0, NAN, NAN, INFINITY, -INFINITY};
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (int k = 0; k < n; k++) {
+    if (!(x[k] > 0) || !(y[k] > 0) || !isfinite(y[k])) continue;
+    double lx = log10(x[k]), ly = log10(y[k]);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly, f.n++;
+    f.xlo = fmin(f.xlo, x[k]), f.xhi = fmax(f.xhi, x[k]);
+  }
+  double d = f.n * sxx - sx * sx;
+  if (f.n < 2 || !(d > 0)) return f;
+  f.b = (f.n * sxy - sx * sy) / d;
+  f.a = (sy - f.b * sx) / f.n;
+  return f;
+}
+
+static double fit_y(fit f, double x) { return pow(10, f.a + f.b * log10(x)); }
+/* The x where the line reaches y (NAN when it does not rise). */
+static double fit_x(fit f, double y) { return f.b > 0 ? pow(10, (log10(y) - f.a) / f.b) : NAN; }
+
+/* A model's line through its healthy sizes. */
+static fit model_fit(const scaling_run *sr, int k) {
+  double x[SCALING_MAX_SIZES], y[SCALING_MAX_SIZES];
+  for (int r = 0; r < sr->nsizes; r++) {
+    x[r] = sr->rows[r].ntet;
+    y[r] = sr->rows[r].ok && sr->cells[k][r].ok ? sr->cells[k][r].ms : NAN;
+  }
+  return fit_loglog(sr->nsizes, x, y);
+}
+
+/* what: 0 refit, 1 query, 2 both; against triangles. */
+static fit collision_fit(const scaling_run *sr, int what) {
+  double x[SCALING_MAX_SIZES], y[SCALING_MAX_SIZES];
+  for (int r = 0; r < sr->nsizes; r++) {
+    const size_row *w = &sr->rows[r];
+    x[r] = w->ntri;
+    y[r] = !w->ok      ? NAN
+           : what == 0 ? w->refit_ms
+           : what == 1 ? w->query_ms
+                       : w->refit_ms + w->query_ms;
+  }
+  return fit_loglog(sr->nsizes, x, y);
+}
+
+/* The interactive limit cell: the x on the line, "extrapolated" outside the
+ * sizes measured. */
+static void limit_cell(tb_table *t, fit f, double ms) {
+  double x = fit_x(f, ms);
+  if (!isfinite(x)) {
+    tb_table_cell(t, "-");
+    return;
+  }
+  if (x > 100 * f.xhi)
+    tb_table_numf(t, x, "> 100x the largest (extrapolated: %.2g)", x);
+  else
+    tb_table_numf(t, x, "%.0f%s", x, x < f.xlo || x > f.xhi ? " (extrapolated)" : "");
+}
+
+static void time_table(tb_suite *su, const scaling_run *sr) {
+  static const char *cols[] = {"model",
+                               "tets",
+                               "nodes",
+                               "ms/step",
+                               "steps timed",
+                               "peak RSS added (MiB)",
+                               "RSS per tet (KiB)",
+                               "status"};
+  tb_table *t = tb_table_new("time",
+                             "Median ms per step against tets, one thread, liver-stretch; peak "
+                             "memory the model added",
+                             8, cols);
+  for (int k = 0; k < sr->nm; k++)
+    for (int r = 0; r < sr->nsizes; r++) {
+      const size_row *w = &sr->rows[r];
+      const cell *c = &sr->cells[k][r];
+      if (!w->ok) continue;
+      tb_table_row(t);
+      tb_table_cell(t, "%s", tb_model_classes[k]->name);
+      tb_table_num(t, w->ntet, "%.0f");
+      tb_table_num(t, w->nv, "%.0f");
+      tb_table_num(t, c->ok ? c->ms : NAN, "%.4g");
+      tb_table_num(t, c->ok ? c->steps : NAN, "%.0f");
+      tb_table_num(t, c->rss / 1024, "%.1f");
+      tb_table_num(t, c->rss / w->ntet, "%.2f");
+      tb_table_cell(t, "%s", c->ok ? "ok" : c->why);
+    }
+  tb_suite_table(su, t);
+}
+
+/* The largest healthy size of model k (-1: none). */
+static int largest_ok(const scaling_run *sr, int k) {
+  int best = -1;
+  for (int r = 0; r < sr->nsizes; r++)
+    if (sr->rows[r].ok && sr->cells[k][r].ok) best = r;
+  return best;
+}
+
+static void fit_table(tb_suite *su, const scaling_run *sr) {
+  static const char *cols[] = {"series",
+                               "x",
+                               "sizes fitted",
+                               "slope (log-log)",
+                               "ms at the largest x (fitted)",
+                               "largest x at 33.3 ms (30 Hz)",
+                               "largest x at 3.33 ms (300 Hz)",
+                               "RSS per tet at the largest (KiB)",
+                               "note"};
+  tb_table *t = tb_table_new("fit",
+                             "Least-squares lines log(ms) = a + slope log(x); where each model "
+                             "stops being interactive",
+                             9, cols);
+  for (int k = 0; k < sr->nm; k++) {
+    fit f = model_fit(sr, k);
+    int r = largest_ok(sr, k);
+    tb_table_row(t);
+    tb_table_cell(t, "%s", tb_model_classes[k]->name);
+    tb_table_cell(t, "tets");
+    tb_table_num(t, f.n, "%.0f");
+    tb_table_num(t, f.b, "%.3f");
+    tb_table_num(t, f.n >= 2 ? fit_y(f, f.xhi) : NAN, "%.4g");
+    limit_cell(t, f, MS_30HZ);
+    limit_cell(t, f, MS_300HZ);
+    tb_table_num(t, r >= 0 ? sr->cells[k][r].rss / sr->rows[r].ntet : NAN, "%.2f");
+    if (r < 0) { /* never ran: the reason of the first size */
+      const cell *c = &sr->cells[k][0];
+      tb_table_cell(t, "skipped: %s", c->why[0] ? c->why : "no mesh");
+    } else if (f.n < sr->nsizes) {
+      tb_table_cell(t, "%d of %d sizes healthy", f.n, sr->nsizes);
+    } else {
+      tb_table_cell(t, "-");
+    }
+  }
+  static const char *names[] = {"collision: refit", "collision: query", "collision: refit + query"};
+  for (int w = 0; w < 3; w++) {
+    fit f = collision_fit(sr, w);
+    tb_table_row(t);
+    tb_table_cell(t, "%s", names[w]);
+    tb_table_cell(t, "triangles");
+    tb_table_num(t, f.n, "%.0f");
+    tb_table_num(t, f.b, "%.3f");
+    tb_table_num(t, f.n >= 2 ? fit_y(f, f.xhi) : NAN, "%.4g");
+    limit_cell(t, f, MS_30HZ);
+    limit_cell(t, f, MS_300HZ);
+    tb_table_cell(t, "-");
+    tb_table_cell(t, "-");
+  }
+  tb_suite_table(su, t);
+}
+
+/* The threads table; returns 1 when a count changed a bit. */
+static int thread_table(tb_suite *su, const scaling_run *sr) {
+  static const char *cols[] = {"model",   "tets",     "ms/step, 1 thread", "ms/step, all threads",
+                               "threads", "speed-up", "identical"};
+  char title[200];
+  int r = sr->rows[sr->threads_row].ok ? sr->threads_row : -1, bad = 0;
+  snprintf(title, sizeof title,
+           "One thread against all %d cores on the %d-tet liver: the same steps, positions and "
+           "velocities bit-identical?",
+           sr->cores, r >= 0 ? sr->rows[r].ntet : 0);
+  tb_table *t = tb_table_new("threads", title, 7, cols);
+  for (int k = 0; k < sr->nm && r >= 0; k++) {
+    const cell *one = &sr->cells[k][r], *all = &sr->all[k];
+    tb_table_row(t);
+    tb_table_cell(t, "%s", tb_model_classes[k]->name);
+    tb_table_num(t, sr->rows[r].ntet, "%.0f");
+    tb_table_num(t, one->ok ? one->ms : NAN, "%.4g");
+    tb_table_num(t, all->ok ? all->ms : NAN, "%.4g");
+    tb_table_num(t, sr->cores, "%.0f");
+    tb_table_num(t, one->ok && all->ok ? one->ms / all->ms : NAN, "%.2fx");
+    if (!one->ok || !all->ok) {
+      tb_table_cell(t, "%s", !one->ok ? "-" : all->why);
+      continue;
+    }
+    tb_table_cell(t, "%s", one->sum == all->sum ? "yes" : "NO");
+    bad |= one->sum != all->sum;
+  }
+  tb_suite_table(su, t);
+  return bad;
+}
+
+static void collision_table(tb_suite *su, const scaling_run *sr) {
+  static const char *cols[] = {
+      "tets",       "triangles (all tet faces)", "pairs (last frame)", "refit (ms)",
+      "query (ms)", "refit + query (ms)",        "mesh made (s)"};
+  tb_table *t = tb_table_new("collision",
+                             "Composite hierarchy: refit (delta 0) and all-pairs query against "
+                             "the instrument, per deformed frame (median), one thread",
+                             7, cols);
+  for (int r = 0; r < sr->nsizes; r++) {
+    const size_row *w = &sr->rows[r];
+    tb_table_row(t);
+    if (!w->ok) {
+      tb_table_num(t, w->target, "%.0f");
+      tb_table_cell(t, "%s", w->why);
+      for (int c = 2; c < 7; c++) tb_table_cell(t, "-");
+      continue;
+    }
+    tb_table_num(t, w->ntet, "%.0f");
+    tb_table_num(t, w->ntri, "%.0f");
+    tb_table_num(t, w->pairs, "%.0f");
+    tb_table_num(t, w->refit_ms, "%.4g");
+    tb_table_num(t, w->query_ms, "%.4g");
+    tb_table_num(t, w->refit_ms + w->query_ms, "%.4g");
+    tb_table_num(t, w->gen_s, "%.2f");
+  }
+  tb_suite_table(su, t);
+}
+
+/* Appends to a growing text buffer. */
+typedef struct buf {
+  char *p;
+  size_t len, cap;
+} buf;
+static void put(buf *b, const char *fmt, double v) {
+  char tmp[64];
+  int n = isfinite(v) ? snprintf(tmp, sizeof tmp, fmt, v) : snprintf(tmp, sizeof tmp, "NaN");
+  if (b->len + (size_t)n + 2 > b->cap) {
+    size_t cap = 2 * b->cap + (size_t)n + 256;
+    char *p = realloc(b->p, cap);
+    if (!p) return;
+    b->p = p, b->cap = cap;
+  }
+  memcpy(b->p + b->len, tmp, (size_t)n + 1);
+  b->len += (size_t)n;
+}
+
+/* ms/step against tets per model (+ the 30 and 300 Hz budgets), the lines;
+ * refit and query against triangles. */
+static int charts(tb_suite *su, const scaling_run *sr) {
+  buf data = {0}, line = {0}, cd = {0}, cl = {0};
+  char head[1024];
+  int hl = snprintf(head, sizeof head, "tets");
+  for (int k = 0; k < sr->nm; k++)
+    hl += snprintf(head + hl, sizeof head - (size_t)hl, ",%s", tb_model_classes[k]->name);
+  snprintf(head + hl, sizeof head - (size_t)hl, ",33.3 ms (30 Hz),3.33 ms (300 Hz)");
+  double xlo = INFINITY, xhi = 0, tlo = INFINITY, thi = 0;
+  for (int r = 0; r < sr->nsizes; r++) {
+    const size_row *w = &sr->rows[r];
+    if (!w->ok) continue;
+    xlo = fmin(xlo, w->ntet), xhi = fmax(xhi, w->ntet);
+    tlo = fmin(tlo, w->ntri), thi = fmax(thi, w->ntri);
+    put(&data, "%.0f", w->ntet);
+    for (int k = 0; k < sr->nm; k++)
+      put(&data, ",%.6g", sr->cells[k][r].ok ? sr->cells[k][r].ms : NAN);
+    put(&data, ",%.6g", MS_30HZ), put(&data, ",%.6g\n", MS_300HZ);
+    put(&cd, "%.0f", w->ntri), put(&cd, ",%.6g", w->refit_ms), put(&cd, ",%.6g", w->query_ms);
+    put(&cd, ",%.6g\n", w->refit_ms + w->query_ms);
+  }
+  for (int e = 0; e < 2 && xhi > 0; e++) {
+    double x = e ? xhi : xlo, tx = e ? thi : tlo;
+    put(&line, "%.0f", x);
+    for (int k = 0; k < sr->nm; k++) {
+      fit f = model_fit(sr, k);
+      put(&line, ",%.6g", f.n >= 2 ? fit_y(f, x) : NAN);
+    }
+    put(&line, ",%.6g", MS_30HZ), put(&line, ",%.6g\n", MS_300HZ);
+    put(&cl, "%.0f", tx);
+    for (int w = 0; w < 3; w++) {
+      fit f = collision_fit(sr, w);
+      put(&cl, ",%.6g", f.n >= 2 ? fit_y(f, tx) : NAN);
+    }
+    put(&cl, "\n", 0);
+  }
+  int rc = 0;
+  tb_error err;
+  const char *ch = "triangles,refit,query,refit + query";
+  if (!data.p || !line.p || !cd.p || !cl.p ||
+      tb_suite_write_data(su, "time.csv", head, data.p, &err) ||
+      tb_suite_write_data(su, "time_fit.csv", head, line.p, &err) ||
+      tb_suite_chart_vars(su, "chart_lines.gp", "time.csv", "time",
+                          "title='ms per step against tets, one thread, liver-stretch (dashed: "
+                          "least-squares lines)'; xlabel='tets'; ylabel='time per step (ms)'; "
+                          "logx=1; logy=1; fitfile='time_fit.csv'",
+                          &err) ||
+      tb_suite_write_data(su, "collision.csv", ch, cd.p, &err) ||
+      tb_suite_write_data(su, "collision_fit.csv", ch, cl.p, &err) ||
+      tb_suite_chart_vars(su, "chart_lines.gp", "collision.csv", "collision",
+                          "title='Composite hierarchy: refit and query against triangles "
+                          "(dashed: least-squares lines)'; xlabel='triangles'; ylabel='time per "
+                          "frame (ms)'; logx=1; logy=1; fitfile='collision_fit.csv'",
+                          &err)) {
+    fprintf(stderr, "scaling: %s\n", data.p && line.p && cd.p && cl.p ? err.msg : "no data");
+    rc = 1;
+  } else {
+    tb_suite_caption(su, "time",
+                     "Median ms per step against tets (log-log), one thread, every model of the "
+                     "table in liver-stretch, with least-squares lines and the 30 Hz and 300 Hz "
+                     "budgets");
+    tb_suite_caption(su, "collision",
+                     "Refit and all-pairs query of the composite hierarchy against the number of "
+                     "triangles (all tet faces of each liver, log-log), with least-squares lines");
+  }
+  free(data.p), free(line.p), free(cd.p), free(cl.p);
+  return rc;
+}
+
+int tb_scaling_report(tb_suite *su, const scaling_run *sr) {
+  const tb_context *c = tb_suite_context(su);
+  int failed = 0;
+  double load = c->have_load ? c->load[0] : NAN;
+  tb_suite_note(
+      su,
+      "Scene %s (the liver held along its back, a far surface patch pulled out and let go) on "
+      "TetGen livers of %d sizes (tb_liver_of_tets: the default liver's shape, a surface of "
+      "725 (tets/4230)^0.8 vertices, TetGen's maximum tet volume searched to within 2%% of the "
+      "tet count), every model of models/model.c's table with the scene's settings (metaball, "
+      "a surface model, on each liver's boundary surface). Timed: the "
+      "model's step alone on one thread, after one warm-up step (fem factorises its matrix "
+      "there), until %.2f s of steps (at least 3, at most 400), the median reported; the "
+      "health check (NaN, velocity bound, inverted tets) after every step, untimed. Memory, "
+      "as a difference in the suite's process: before each one-thread run freed memory is "
+      "handed back to the system (blocks above 64 KiB from mmap, malloc_trim) and the peak "
+      "RSS reset (5 to /proc/self/clear_refs); VmHWM after the run (building the scene with "
+      "its copy of the mesh, the model, the steps) minus VmRSS before it is the peak the run "
+      "added. (A forked child per run would be cleaner, but CHOLMOD starts OpenMP threads and "
+      "libgomp hangs in a child of a process that has used threads.) The suite "
+      "took %.1f s. This machine: %d cores (%s), load average %.2f at the start: the machine "
+      "was shared, every time is slower than on a quiet one.",
+      SCENE, sr->nsizes, sr->budget, sr->seconds, sr->cores, c->cpu, load);
+  time_table(su, sr);
+  fit_table(su, sr);
+  tb_suite_note(su,
+                "Slope: the exponent of ms per step in the size (1: linear). The limits are the "
+                "sizes where a model's line reaches 33.3 ms per step (30 Hz, graphics) and "
+                "3.33 ms (300 Hz, haptics): the largest mesh it steps at that rate on one thread "
+                "of this machine, marked extrapolated outside the sizes measured. A model that "
+                "cannot take a tet liver, or blew up on every size, is listed as skipped with "
+                "its reason.");
+  failed |= thread_table(su, sr);
+  int r = sr->rows[sr->threads_row].ok ? sr->threads_row : -1;
+  for (int q = 0; q < (int)(sizeof thread_goals / sizeof thread_goals[0]) && r >= 0; q++)
+    for (int k = 0; k < sr->nm; k++) {
+      const char *name = tb_model_classes[k]->name;
+      if (strcmp(name, thread_goals[q].model)) continue;
+      const cell *one = &sr->cells[k][r], *all = &sr->all[k];
+      double s = one->ok && all->ok ? one->ms / all->ms : NAN, goal = thread_goals[q].speedup;
+      tb_suite_note(su,
+                    "Speed goal: %s on %d threads at least %.1fx one thread at %d tets: %.2fx, %s "
+                    "(measured on a shared machine, load average %.2f at the start).",
+                    name, sr->cores, goal, sr->rows[r].ntet, s,
+                    sr->cores < 2 ? "not measurable on one core"
+                    : s >= goal   ? "met"
+                                  : "NOT met",
+                    load);
+    }
+  collision_table(su, sr);
+  tb_suite_note(su,
+                "Collision: the liver's every tet face (the thesis's liver model, as the refit "
+                "suite) in the composite hierarchy (collision/tb_bvh.h), the instrument held "
+                "inside it (the refit suite's pose), the liver deformed by the same smooth "
+                "displacement each of %d frames; refit with delta 0, then the all-pairs query "
+                "(exact triangle test), medians per frame.",
+                sr->frames);
+  failed |= charts(su, sr);
+  return failed;
+}
