@@ -4,7 +4,8 @@
  * model no more than the scene needs), or the most accurate within a time
  * budget per step; with the evidence: every point within the tolerance by
  * cost, and the best points rejected; the choice itself is tb_advise_pick
- * (tested on synthetic tables). The points file is suites/tb_points.h. */
+ * (tested on synthetic tables). The points file is measure/tb_points.h;
+ * its speeds are CPU time on one thread (steps/s, ms/step). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -12,7 +13,7 @@
 #include <string.h>
 
 #include "tb_cli.h"
-#include "suites/tb_points.h"
+#include "measure/tb_points.h"
 
 /* ---- the choice ---- */
 
@@ -113,10 +114,10 @@ int tb_cmd_advise(int argc, char **argv) {
   if (!idx) return free(p), TB_EXIT_FAIL;
   for (int k = 0; k < n; k++) nusable += tb_point_usable(&p[k]);
   int pick = tb_advise_pick(p, n, tol, budget);
-  printf("points: %s (%d, %d settled)\n", points, n, nusable);
+  printf("points: %s (%d, %d settled; speeds in CPU time on one thread)\n", points, n, nusable);
   if (tol > 0)
     printf("tolerance: rms surface error <= %g%% of the largest displacement\n", 100 * tol);
-  if (budget > 0) printf("budget: <= %g ms per step\n", budget);
+  if (budget > 0) printf("budget: <= %g ms of CPU time per step (one thread)\n", budget);
   sort_base = p;
   int rc = TB_EXIT_OK;
   if (pick < 0) {

@@ -1,5 +1,7 @@
 /* `tissuebench collide`: every intersecting triangle pair of two meshes with
- * one method (scenes/tb_collider.h); B moved by a row-major 3x4 matrix. */
+ * one method (scenes/tb_collider.h); B moved by a row-major 3x4 matrix. The
+ * build and query times on stderr are CPU time (every thread's when more
+ * than one is in effect) with wall time beside. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -7,6 +9,7 @@
 
 #include "tb_cli.h"
 #include "core/tb_mesh_io.h"
+#include "core/tb_threads.h"
 #include "core/tb_timer.h"
 #include "report/tb_results.h"
 #include "scenes/tb_collider.h"
@@ -90,36 +93,38 @@ int tb_cmd_collide(int argc, char **argv) {
     }
     tb_mesh_free(&raw[k]);
   }
-  uint64_t t0 = tb_time_ns();
+  tb_clock bc = tb_clock_start();
   tb_collider *c = tb_collider_new(method, &m[0], &m[1], NULL, NULL, tm->test, &err);
   int rc = TB_EXIT_OK;
   tb_pairlist pl = {0, 0, NULL};
   tb_collide_stats st;
-  double build_ms = (double)(tb_time_ns() - t0) * 1e-6;
-  double *ms = malloc(sizeof(double) * (size_t)repeat);
-  if (!c || !ms || tb_collider_pose(c, R, t, &err)) {
-    fprintf(stderr, "tissuebench collide: %s\n", ms ? err.msg : "out of memory");
+  double build_wall, build_cpu;
+  tb_clock_ms(&bc, &build_wall, &build_cpu);
+  double *cpu = malloc(sizeof(double) * 2 * (size_t)repeat), *wall = cpu ? cpu + repeat : NULL;
+  if (!c || !cpu || tb_collider_pose(c, R, t, &err)) {
+    fprintf(stderr, "tissuebench collide: %s\n", cpu ? err.msg : "out of memory");
     rc = TB_EXIT_FAIL;
   }
   for (long r = 0; rc == TB_EXIT_OK && r < repeat; r++) {
-    uint64_t q0 = tb_time_ns();
+    tb_clock qc = tb_clock_start();
     if (tb_collider_query(c, &pl, &st, &err)) {
       fprintf(stderr, "tissuebench collide: %s\n", err.msg);
       rc = TB_EXIT_FAIL;
     }
-    ms[r] = (double)(tb_time_ns() - q0) * 1e-6;
+    tb_clock_ms(&qc, &wall[r], &cpu[r]);
   }
   if (rc == TB_EXIT_OK) {
     if (pairs)
       for (int i = 0; i < pl.n; i++) printf("%d %d\n", pl.ij[2 * i], pl.ij[2 * i + 1]);
-    fprintf(
-        stderr,
-        "%s: %d pairs, %ld volume tests, %ld triangle tests (%s), build %.3f ms, query %.6f ms%s\n",
-        method, pl.n, st.bv_tests, st.tri_tests,
-        tb_collider_is_ours(method) || !strcmp(method, "brute") ? tm->name : "the library's",
-        build_ms, tb_stats_of(ms, (int)repeat).median, repeat > 1 ? " (median)" : "");
+    fprintf(stderr,
+            "%s: %d pairs, %ld volume tests, %ld triangle tests (%s), build %.3f ms CPU (%.3f "
+            "wall), query %.6f ms CPU (%.6f wall)%s, %d thread(s)\n",
+            method, pl.n, st.bv_tests, st.tri_tests,
+            tb_collider_is_ours(method) || !strcmp(method, "brute") ? tm->name : "the library's",
+            build_cpu, build_wall, tb_stats_of(cpu, (int)repeat).median,
+            tb_stats_of(wall, (int)repeat).median, repeat > 1 ? " (medians)" : "", tb_threads());
   }
-  free(ms);
+  free(cpu);
   tb_pairlist_free(&pl);
   tb_collider_free(c);
   tb_mesh_free(&m[0]), tb_mesh_free(&m[1]);

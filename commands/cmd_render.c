@@ -2,7 +2,7 @@
  * times (or every k steps), headless (render/tb_render.h): the body's
  * surface shaded or coloured by displacement or von Mises stress with a
  * colour bar, the instrument, the ground, a wireframe, the model's
- * structure (suites/tb_draw.h) and the triangles crossing the instrument. */
+ * structure (measure/tb_draw.h) and the triangles crossing the instrument. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -12,10 +12,10 @@
 
 #include "tb_cli.h"
 #include "core/tb_mesh_io.h"
+#include "measure/tb_draw.h"
+#include "measure/tb_fidelity.h"
 #include "render/tb_render.h"
 #include "scenes/tb_sim.h"
-#include "suites/tb_draw.h"
-#include "suites/tb_fidelity.h"
 
 #define PROG "tissuebench render"
 
@@ -59,7 +59,7 @@ static int vertex_stress(const tb_sim *s, double *out) {
   return 0;
 }
 
-/* Error against the reference solution (suites/tb_fidelity.h): the static
+/* Error against the reference solution (measure/tb_fidelity.h): the static
  * problem of the scene's loads at the current time, compressible
  * Neo-Hookean on quadratic tets at the fidelity suites' reference
  * resolution; per surface node |u - u_ref| / max |u_ref| (meaningful once

@@ -11,6 +11,7 @@
 
 #include "tb_cli.h"
 #include "core/tb_parse.h"
+#include "core/tb_threads.h"
 #include "core/tb_timer.h"
 #include "report/tb_results.h"
 #include "scenes/tb_sim.h"
@@ -230,7 +231,7 @@ int tb_cmd_simulate(int argc, char **argv) {
   else
     printf("scene %s: %d nodes, %d tets; model %s; dt %g, %ld steps (%g s)\n", s.name, s.mesh.nv,
            s.mesh.ntet, mname, s.def.dt, planned, planned * s.def.dt);
-  double *ms = malloc(sizeof(double) * (size_t)planned);
+  double *ms = malloc(sizeof(double) * 2 * (size_t)planned), *cpu = ms ? ms + planned : NULL;
   double *times = malloc(sizeof(double) * (size_t)(planned / every + 2));
   if (!ms || !times) {
     free(ms), free(times);
@@ -245,9 +246,10 @@ int tb_cmd_simulate(int argc, char **argv) {
   long done = 0;
   double change = 0;
   if (statik && rc == TB_EXIT_OK) {
-    uint64_t t0 = tb_time_ns();
+    tb_clock c = tb_clock_start();
     done = run_static(&s, planned, solver, &change, &err);
-    ms[0] = (double)(tb_time_ns() - t0) * 1e-6 / (done > 0 ? done : 1);
+    tb_clock_ms(&c, ms, cpu);
+    ms[0] /= done > 0 ? done : 1, cpu[0] /= done > 0 ? done : 1;
     if (done < 0) {
       printf("status: unstable (%s)\n", err.msg);
       rc = TB_EXIT_FAIL;
@@ -257,9 +259,9 @@ int tb_cmd_simulate(int argc, char **argv) {
       times[frame++] = s.t;
   }
   for (; !statik && done < planned && rc == TB_EXIT_OK; done++) {
-    uint64_t t0 = tb_time_ns();
+    tb_clock c = tb_clock_start();
     int failed = tb_sim_step(&s, &err);
-    ms[done] = (double)(tb_time_ns() - t0) * 1e-6;
+    tb_clock_ms(&c, ms + done, cpu + done);
     if (failed) {
       printf("status: unstable (%s)\n", err.msg);
       rc = TB_EXIT_FAIL;
@@ -279,15 +281,22 @@ int tb_cmd_simulate(int argc, char **argv) {
     rc = TB_EXIT_FAIL;
   }
   if (rc == TB_EXIT_OK) {
-    tb_stats st = tb_stats_of(ms, statik ? 1 : (int)done);
+    tb_stats st = tb_stats_of(cpu, statik ? 1 : (int)done),
+             sw = tb_stats_of(ms, statik ? 1 : (int)done);
     tb_sim_metrics m = tb_sim_measure(&s);
     double speed, tol;
     int rest = tb_sim_at_rest(&s, &speed, &tol);
     if (statik)
-      printf("time per %s: %.4f ms (mean over %ld)\n", solver ? "solve" : "step", st.median, done);
+      printf("time per %s: %.4f ms CPU (wall %.4f ms; mean over %ld)\n", solver ? "solve" : "step",
+             st.median, sw.median, done);
     else
-      printf("time per step: median %.4f ms (min %.4f, max %.4f) = %.1f steps/s\n", st.median,
-             st.min, st.max, 1e3 / st.median);
+      printf(
+          "time per step: median %.4f ms CPU (wall %.4f ms; CPU min %.4f, max %.4f) = %.1f "
+          "steps/s\n",
+          st.median, sw.median, st.min, st.max, 1e3 / st.median);
+    printf(
+        "threads: %d%s\n", tb_threads(),
+        tb_threads_auto() ? " (automatic: a step takes them only where they make it faster)" : "");
     printf("max displacement %.6g at node %d, rms displacement %.6g\n", m.max_disp, m.max_disp_node,
            m.rms_disp);
     if (s.mesh.ntet > 0)
@@ -326,7 +335,12 @@ int tb_cmd_simulate(int argc, char **argv) {
       printf("%s at t = %g s: max node speed %.3g (rest below %.3g)\n",
              rest ? "at rest" : "NOT at rest", s.t, speed, tol);
     if (vtk) printf("%d frames in %s (frame_NNNNN.vtu; frames.pvd for ParaView)\n", frame, vtk);
-    printf("status: stable\n");
+    char why[300];
+    if (tb_sim_degraded(&s, why, sizeof why)) {
+      printf("status: degraded (%s)\n", why);
+      rc = TB_EXIT_DEGRADED;
+    } else
+      printf("status: stable\n");
   }
   free(ms), free(times);
   tb_sim_destroy(&s);

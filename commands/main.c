@@ -92,9 +92,14 @@ static const tb_command commands[] = {
      "             (--list shows each model's keys, defaults and ranges)\n"
      "  --vtk DIR  ParaView frames: DIR/frame_NNNNN.vtu every K steps (--every K; default the\n"
      "             scene's [output] every, or 30 per simulated second) and DIR/frames.pvd\n"
-     "  prints the median time per step and the final state (max displacement and its node,\n"
-     "  volume change, energy, penetration into the ground and the instrument, at rest or not);\n"
-     "  a run that blows up prints \"status: unstable (reason)\" and exits 1; bad input exits 2",
+     "  prints the final state (max displacement and its node, volume change, energy,\n"
+     "  penetration into the ground and the instrument, at rest or not), the median time per\n"
+     "  step in CPU time (wall time beside it) and the threads used:\n"
+     "  --threads N, or by default a step takes all cores only where they make it faster.\n"
+     "  Status: \"stable\" (exit 0); \"degraded (reason)\" when the run ends with inverted tets,\n"
+     "  a volume change beyond the material's tolerance ((1 - 2 nu) / 2, at least 5%) or its\n"
+     "  energy above its bound (exits 3); \"unstable (reason)\" when it blows up (exits 1);\n"
+     "  bad input, in the command line or a scene file (FILE:LINE), exits 2",
      tb_cmd_simulate},
     {"render", "pictures of a mesh or of a scene at chosen times (PNG, headless)",
      "tissuebench render --mesh FILE --out PICTURE.png [options]\n"
@@ -200,18 +205,15 @@ static int print_version(void) {
 }
 
 /* `--threads N` anywhere after the command (every command takes it): the
- * worker threads of the parallel loops, removed from argv. 0 or absent: one
- * per core. Results are the same for any N. Returns -1 on a bad value. */
-static int take_threads(int *argc, char **argv) {
+ * worker threads of the parallel loops, 0 or absent: one per core. Results
+ * are the same for any N. Returns N, or -1 on a bad value. */
+static int find_threads(int argc, char **argv) {
   int n = 0, seen = 0;
-  for (int i = 2; i < *argc;) {
-    if (strcmp(argv[i], "--threads")) {
-      i++;
-      continue;
-    }
+  for (int i = 2; i < argc; i++) {
+    if (strcmp(argv[i], "--threads")) continue;
     char *end = NULL;
-    long v = i + 1 < *argc ? strtol(argv[i + 1], &end, 10) : -1;
-    if (i + 1 >= *argc || end == argv[i + 1] || *end || v < 0 || v > 4096) {
+    long v = i + 1 < argc ? strtol(argv[i + 1], &end, 10) : -1;
+    if (i + 1 >= argc || end == argv[i + 1] || *end || v < 0 || v > 4096) {
       fprintf(stderr,
               "tissuebench: --threads needs a whole number in [0, 4096] (0: one per core)\n");
       return -1;
@@ -221,18 +223,32 @@ static int take_threads(int *argc, char **argv) {
       return -1;
     }
     n = (int)v;
+    i++;
+  }
+  return n;
+}
+
+/* Removes every `--threads N` from argv. */
+static void drop_threads(int *argc, char **argv) {
+  for (int i = 2; i < *argc;) {
+    if (strcmp(argv[i], "--threads")) {
+      i++;
+      continue;
+    }
     memmove(argv + i, argv + i + 2, sizeof(char *) * (size_t)(*argc - i - 1));
     *argc -= 2;
   }
-  tb_threads_set(n);
-  return 0;
 }
 
 int main(int argc, char **argv) {
   tb_cli_set_commands(commands, ncommands);
   tb_oracles_register();
   if (argc < 2) return cmd_help(1, argv), TB_EXIT_INPUT;
-  if (take_threads(&argc, argv)) return TB_EXIT_INPUT;
+  int threads = find_threads(argc, argv);
+  if (threads < 0) return TB_EXIT_INPUT;
+  tb_threads_environment(threads, argv);
+  drop_threads(&argc, argv);
+  tb_threads_set(threads);
   const char *name = argv[1];
   if (!strcmp(name, "--version") || !strcmp(name, "version")) {
     if (argc > 2) {

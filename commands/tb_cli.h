@@ -6,7 +6,7 @@
 #include <stdint.h>
 
 #include "core/tb_error.h"
-#include "suites/tb_points.h"
+#include "measure/tb_points.h"
 #include "suites/tb_suites.h"
 
 typedef struct tb_command {
@@ -16,8 +16,9 @@ typedef struct tb_command {
   int (*run)(int argc, char **argv);
 } tb_command;
 
-/* Exit codes. */
-enum { TB_EXIT_OK = 0, TB_EXIT_FAIL = 1, TB_EXIT_INPUT = 2 };
+/* Exit codes: 1 a failure or an unstable run, 2 bad input, 3 a run that
+ * ended degraded (tb_sim_degraded). */
+enum { TB_EXIT_OK = 0, TB_EXIT_FAIL = 1, TB_EXIT_INPUT = 2, TB_EXIT_DEGRADED = 3 };
 
 int tb_cmd_mesh(int argc, char **argv);
 /* `mesh spheres ...` (commands/cmd_spheres.c); tb_spheres_info prints a .sph file's count, radii

@@ -8,7 +8,8 @@
  * points) and reaching below the liver. Per frame: tb_metaball_cut_advance
  * + tb_metaball_cut_step, timed together and apart; then
  * tb_metaball_cut_end. Prints the median and worst ms per cut frame, the
- * cut_end ms and its report, and for reference the median of a plain
+ * cut_end ms and its report (CPU time: the thread's on one thread, else the
+ * process's; wall time beside), and for reference the median of a plain
  * tb_metaball_step of the same organ uncut (inside every cut frame: the
  * cut's own share is the difference).
  *
@@ -18,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "core/tb_threads.h"
 #include "core/tb_timer.h"
 #include "cutting/tb_fold.h"
 #include "meshgen/tb_meshgen.h"
@@ -59,7 +61,10 @@ int main(int argc, char **argv) {
   }
   double xm = 0.5 * (lo.x + hi.x), wy = hi.y - lo.y, wx = hi.x - lo.x;
   tb_vec3 *path = malloc(sizeof(tb_vec3) * (size_t)(frames + 1));
-  double *ms = malloc(sizeof(double) * (size_t)frames), adv = 0, stp = 0;
+  /* per frame: CPU and wall ms; the advance's and the cut step's sums */
+  double *ms = malloc(sizeof(double) * 2 * (size_t)frames), *wms = ms ? ms + frames : NULL;
+  double adv = 0, stp = 0, adv_w = 0, stp_w = 0;
+  if (!path || !ms) return fprintf(stderr, "out of memory\n"), 1;
   for (int k = 0; k <= frames; k++) {
     double t = (double)k / frames;
     path[k] = tb_v3(xm + 0.08 * wx * sin(M_PI * t), lo.y - 0.1 * wy + t * 1.2 * wy,
@@ -70,57 +75,67 @@ int main(int argc, char **argv) {
   for (int k = 1; k <= frames; k++) {
     tb_fold f;
     if (tb_fold_init(&f, path, k + 1, depth, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
-    uint64_t t0 = tb_time_ns();
+    double aw, ac, sw = 0, sc = 0;
+    tb_clock c0 = tb_clock_start();
     int rc = tb_metaball_cut_advance(m, &f, &err) < 0;
-    uint64_t t1 = tb_time_ns();
+    tb_clock_ms(&c0, &aw, &ac);
+    tb_clock c1 = tb_clock_start();
     rc = rc || tb_metaball_cut_step(m, 0.01, tb_v3(0, 0, -9.81), NULL, &err);
-    uint64_t t2 = tb_time_ns();
+    tb_clock_ms(&c1, &sw, &sc);
     tb_fold_free(&f);
     if (rc) return fprintf(stderr, "frame %d: %s\n", k, err.msg), 1;
-    ms[k - 1] = (double)(t2 - t0) * 1e-6, adv += (double)(t1 - t0) * 1e-6;
-    stp += (double)(t2 - t1) * 1e-6;
+    ms[k - 1] = ac + sc, wms[k - 1] = aw + sw;
+    adv += ac, stp += sc, adv_w += aw, stp_w += sw;
     substeps += tb_metaball_cut_substeps(m);
     if (tb_metaball_cut_substeps(m) > maxsub) maxsub = tb_metaball_cut_substeps(m);
   }
   tb_metaball *plain = tb_metaball_create(sp.n, sp.c, sp.r, &surf, &set, &err);
   if (!plain) return fprintf(stderr, "%s\n", err.msg), 1;
-  double *pms = malloc(sizeof(double) * (size_t)frames);
+  double *pms = malloc(sizeof(double) * 2 * (size_t)frames), *pwms = pms ? pms + frames : NULL;
+  if (!pms) return fprintf(stderr, "out of memory\n"), 1;
   for (int i = 0; i < 10; i++) tb_metaball_fix(plain, i, 1);
   for (int k = 0; k < frames; k++) {
-    uint64_t t0 = tb_time_ns();
+    tb_clock c0 = tb_clock_start();
     tb_metaball_step(plain, 0.01, tb_v3(0, 0, -9.81), NULL);
-    pms[k] = (double)(tb_time_ns() - t0) * 1e-6;
+    tb_clock_ms(&c0, pwms + k, pms + k);
   }
   qsort(pms, (size_t)frames, sizeof(double), cmp);
+  qsort(pwms, (size_t)frames, sizeof(double), cmp);
   tb_metaball_destroy(plain);
   int np = tb_metaball_cut_points(m, NULL), driven = 0;
   for (int p = 0; p < np; p++) driven += tb_metaball_cut_driver(m, p) != -1;
   double omega = tb_metaball_cut_omega(m);
   tb_metaball_cut_report rep;
-  uint64_t t0 = tb_time_ns();
+  double end_ms, end_wall;
+  tb_clock c0 = tb_clock_start();
   if (tb_metaball_cut_end(m, &rep, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
-  double end_ms = (double)(tb_time_ns() - t0) * 1e-6;
+  tb_clock_ms(&c0, &end_wall, &end_ms);
   qsort(ms, (size_t)frames, sizeof(double), cmp);
-  printf("%s: %d vertices, %d spheres; cut in %d frames, %s\n", organ, surf.nv, sp.n, frames,
-         cs.per_sphere > 0 ? "per-sphere sampling" : "shared grid");
+  qsort(wms, (size_t)frames, sizeof(double), cmp);
+  printf("%s: %d vertices, %d spheres; cut in %d frames, %s; %d thread%s\n", organ, surf.nv, sp.n,
+         frames, cs.per_sphere > 0 ? "per-sphere sampling" : "shared grid", tb_threads(),
+         tb_threads() > 1 ? "s" : "");
   printf(
-      "cut frame (advance + cut_step): median %.3f ms, worst %.3f ms; mean advance %.3f ms, "
-      "mean cut_step %.3f ms; %d points (%d driven), meshless substeps %.1f a frame (at "
-      "most %d; omega %.0f rad/s at the end)\n",
-      ms[frames / 2], ms[frames - 1], adv / frames, stp / frames, np, driven,
-      (double)substeps / frames, maxsub, omega);
+      "cut frame (advance + cut_step): CPU median %.3f ms, worst %.3f ms; wall median %.3f ms, "
+      "worst %.3f ms; mean advance %.3f ms CPU (%.3f wall), mean cut_step %.3f ms CPU (%.3f "
+      "wall); %d points (%d driven), meshless substeps %.1f a frame (at most %d; omega %.0f "
+      "rad/s at the end)\n",
+      ms[frames / 2], ms[frames - 1], wms[frames / 2], wms[frames - 1], adv / frames,
+      adv_w / frames, stp / frames, stp_w / frames, np, driven, (double)substeps / frames, maxsub,
+      omega);
   printf(
-      "cut_end %.2f ms: %d spheres removed (mean r %.3f) -> %d created (mean r %.3f): "
+      "cut_end %.2f ms CPU (%.2f wall): %d spheres removed (mean r %.3f) -> %d created (mean r "
+      "%.3f): "
       "%.2fx as many, %.2fx the size; %d points, %d boundary, %d candidates, %d uncovered, %d "
       "dropped\n",
-      end_ms, rep.removed, rep.removed_r, rep.created, rep.created_r,
+      end_ms, end_wall, rep.removed, rep.removed_r, rep.created, rep.created_r,
       rep.removed ? (double)rep.created / rep.removed : 0,
       rep.removed_r > 0 ? rep.created_r / rep.removed_r : 0, rep.points, rep.boundary,
       rep.candidates, rep.uncovered, rep.dropped);
   printf(
-      "for reference, tb_metaball_step uncut: median %.3f ms (the cut's own share of a frame: "
-      "%.3f ms)\n",
-      pms[frames / 2], ms[frames / 2] - pms[frames / 2]);
+      "for reference, tb_metaball_step uncut: CPU median %.3f ms, wall median %.3f ms (the "
+      "cut's own share of a frame, CPU: %.3f ms)\n",
+      pms[frames / 2], pwms[frames / 2], ms[frames / 2] - pms[frames / 2]);
   free(path), free(ms), free(pms);
   tb_metaball_destroy(m);
   tb_spheres_free(&sp);

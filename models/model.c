@@ -9,6 +9,8 @@
 #include <string.h>
 
 #include "tb_model.h"
+#include "core/tb_threads.h"
+#include "core/tb_timer.h"
 
 extern const tb_model_class tb_model_msm, tb_model_fem, tb_model_fem_corot, tb_model_sm,
     tb_model_pbd_stvk, tb_model_xpbd_stvk, tb_model_msm_vvs, tb_model_metaball, tb_model_bullet_fem,
@@ -289,9 +291,25 @@ int tb_model_create(tb_model *m, const char *name, const tb_mesh *mesh, const tb
   return 0;
 }
 
+_Static_assert(TB_MODEL_PROBES == 3, "median3 takes the probes' median");
+static double median3(const double *v) {
+  double a = v[0], b = v[1], c = v[2];
+  return fmax(fmin(a, b), fmin(fmax(a, b), c));
+}
+
 int tb_model_step(tb_model *m, const tb_step *in, tb_error *err) {
   if (!(in->dt > 0)) return tb_error_set(err, m->cls->name, 0, "dt must be > 0");
-  return m->cls->step(m->self, in, err);
+  if (!tb_threads_auto() || tb_threads() < 2) return m->cls->step(m->self, in, err);
+  /* step 0 warms up; then probes 1 .. 2 TB_MODEL_PROBES of each round */
+  long k = m->steps++ % TB_MODEL_REPROBE;
+  int probing = k >= 1 && k <= 2 * TB_MODEL_PROBES, one = probing ? !(k & 1) : m->serial;
+  int was = one ? tb_threads_serial_begin() : 0;
+  uint64_t t0 = probing ? tb_time_ns() : 0;
+  int rc = m->cls->step(m->self, in, err);
+  if (probing) m->probe[one][(k - 1) / 2] = (double)(tb_time_ns() - t0);
+  if (one) tb_threads_serial_end(was);
+  if (k == 2 * TB_MODEL_PROBES) m->serial = median3(m->probe[1]) <= median3(m->probe[0]);
+  return rc;
 }
 const tb_vec3 *tb_model_positions(const tb_model *m) { return m->cls->positions(m->self); }
 const tb_vec3 *tb_model_velocities(const tb_model *m) { return m->cls->velocities(m->self); }

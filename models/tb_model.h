@@ -88,7 +88,9 @@ typedef struct tb_setting {
                "mass per volume: node mass = density * (volume of its tets) / 4"), \
       TB_SETTING_R(T, node_mass, node_mass_def, 0.0, HUGE_VAL, 0,                  \
                    "> 0: every node gets this mass instead (0: from density)")
-#define TB_SETTING_YOUNG(T, doc) TB_SETTING_R(T, E, 3000.0, 0.0, HUGE_VAL, TB_OPEN_LO, doc)
+/* Young's modulus up to 1e20: beyond it a stiffness matrix's entries
+ * overflow on small elements. */
+#define TB_SETTING_YOUNG(T, doc) TB_SETTING_R(T, E, 3000.0, 0.0, 1e20, TB_OPEN_LO, doc)
 #define TB_SETTINGS_MATERIAL(T)           \
   TB_SETTING_YOUNG(T, "Young's modulus"), \
       TB_SETTING_R(T, nu, 0.3, -1.0, 0.5, TB_OPEN_LO | TB_OPEN_HI, "Poisson ratio")
@@ -228,6 +230,11 @@ extern const tb_model_class *const tb_model_classes[];
 extern const int tb_model_count;
 const tb_model_class *tb_model_find(const char *name);
 
+/* Steps compared each way when the thread count is automatic, and how
+ * often the comparison is made again (tb_model_step). */
+#define TB_MODEL_PROBES 3
+#define TB_MODEL_REPROBE 1024
+
 /* A model instance: its class, the data, the rest mesh's node count and
  * boundary triangles (the default surface). */
 typedef struct tb_model {
@@ -236,6 +243,10 @@ typedef struct tb_model {
   int nv;
   int ntri;
   int *tri;
+  /* the threads a step takes when the count is automatic (tb_model_step) */
+  long steps;
+  int serial;
+  double probe[2][TB_MODEL_PROBES]; /* wall ms of probing steps: all threads, one */
 } tb_model;
 
 /* Creates model `name` (see tb_model_find) with settings set (NULL: the
@@ -257,6 +268,12 @@ int tb_model_file_setting(const char *key);
 /* One line per key: key, type, default, range, doc. */
 void tb_model_print_settings(FILE *f, const tb_model_class *c);
 
+/* One step. When the thread count is automatic (tb_threads_auto) and more
+ * than one, a model takes threads only where they make its steps faster:
+ * after the first step, TB_MODEL_PROBES steps on all threads and as many
+ * on one alternate, and the faster by median wall time is kept (again
+ * every TB_MODEL_REPROBE steps). The answer is the same either way; an
+ * explicit count (tb_threads_set) is used as given. */
 int tb_model_step(tb_model *m, const tb_step *in, tb_error *err);
 const tb_vec3 *tb_model_positions(const tb_model *m);
 const tb_vec3 *tb_model_velocities(const tb_model *m);

@@ -324,6 +324,7 @@ tb_suite *tb_suite_begin(const char *dir, const char *name, const char *title, u
   else
     snprintf(s->exe, sizeof s->exe, "unknown");
   tb_context_collect(&s->ctx, seed);
+  tb_noise_mark_take(&s->start);
   return s;
 }
 
@@ -436,7 +437,10 @@ void tb_suite_bench(tb_suite *s, const char *name, const double *real, const dou
                     unit ? unit : "(null)");
     return;
   }
-  if (!cpu) cpu = real;
+  if (!cpu) {
+    tb_results_fail(s, "benchmark \"%s\": needs CPU times beside the wall times", name);
+    return;
+  }
   tb_results_bench b = {.name = tb_results_dup(name),
                         .unit = units[u],
                         .n = n,
@@ -529,24 +533,30 @@ static void add_timings(tb_suite *s) {
       u = u < 0 || u == bu ? bu : 2;
     }
   if (u < 0) return;
-  char h[6][32];
-  const char *what[6] = {"median", "mean", "stddev", "min", "max", "median CPU"};
-  const char *cols[8] = {"benchmark", "repetitions"};
-  for (int k = 0; k < 6; k++) {
+  char h[7][40];
+  const char *what[7] = {"median CPU", "CPU 95% low", "CPU 95% high", "median wall",
+                         "mean wall",  "min wall",    "max wall"};
+  const char *cols[10] = {"benchmark", "repetitions", "threads"};
+  for (int k = 0; k < 7; k++) {
     snprintf(h[k], sizeof h[k], "%s (%s)", what[k], units[u]);
-    cols[k + 2] = h[k];
+    cols[k + 3] = h[k];
   }
-  tb_table *t = tb_table_new("timings", "Timings (every repetition is in data.json)", 8, cols);
+  tb_table *t = tb_table_new("timings",
+                             "Timings: CPU time with its 95% interval, wall time (every repetition "
+                             "is in data.json)",
+                             10, cols);
   for (int i = 0; t && i < s->nbenches; i++) {
     const tb_results_bench *b = &s->benches[i];
     if (b->n == 0) continue;
     double k = unit_seconds[unit_index(b->unit)] / unit_seconds[u];
-    tb_stats a = tb_stats_of(b->real, b->n), c = tb_stats_of(b->cpu, b->n);
-    double v[6] = {a.median, a.mean, a.stddev, a.min, a.max, c.median};
+    tb_stats a = tb_stats_of(b->real, b->n);
+    tb_est c = tb_median_est(b->cpu, b->n);
+    double v[7] = {c.value, c.lo, c.hi, a.median, a.mean, a.min, a.max};
     tb_table_row(t);
     tb_table_cell(t, "%s", b->name);
     tb_table_cell(t, "%d", b->n);
-    for (int q = 0; q < 6; q++) tb_table_num(t, v[q] * k, fabs(v[q] * k) >= 1e4 ? "%.0f" : "%.4g");
+    tb_table_cell(t, "%d", b->threads);
+    for (int q = 0; q < 7; q++) tb_table_num(t, v[q] * k, fabs(v[q] * k) >= 1e4 ? "%.0f" : "%.4g");
   }
   tb_suite_table(s, t);
 }
@@ -574,8 +584,29 @@ static void suite_free(tb_suite *s) {
   free(s);
 }
 
+tb_noise tb_suite_noise(const tb_suite *s, int threads) {
+  tb_noise_mark now;
+  tb_noise_mark_take(&now);
+  return tb_noise_between(&s->start, &now, threads);
+}
+
+/* The suite's machine load, as a note and in the context; on stderr when
+ * other processes left this one fewer than one core. */
+static void note_noise(tb_suite *s) {
+  s->ctx.noise = tb_suite_noise(s, 1), s->ctx.have_noise = 1;
+  char what[300];
+  tb_noise_describe(&s->ctx.noise, what, sizeof what);
+  tb_suite_note(s, "Machine load during this suite (%.0f s): %s.%s", s->ctx.noise.seconds, what,
+                s->ctx.noise.busy
+                    ? " CPU times of single-threaded work hold (another process's time slices "
+                      "do not count); wall times and thread scaling do not."
+                    : "");
+  if (s->ctx.noise.busy) fprintf(stderr, "tissuebench: %s: %s\n", s->name, what);
+}
+
 int tb_suite_end(tb_suite *s, tb_error *err) {
   if (!s) return tb_error_set(err, "tb_suite_end", 0, "no suite (tb_suite_begin failed?)");
+  note_noise(s);
   if (tb_results_partial(s)) { /* a shard's share of the cases: only their outcomes */
     int rc = tb_results_shard_write(s, err);
     if (!rc && s->err[0]) rc = tb_error_set(err, s->dir, 0, "%s", s->err);

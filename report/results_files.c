@@ -252,6 +252,11 @@ static void json_context(FILE *f, const tb_suite *s) {
   fputs(c->ncaches ? "\n    ],\n" : "],\n", f);
   if (c->have_load)
     fprintf(f, "    \"load_avg\": [%.2f, %.2f, %.2f],\n", c->load[0], c->load[1], c->load[2]);
+  if (c->have_noise && c->noise.known)
+    fprintf(f,
+            "    \"others_busy_cores\": %.3f,\n    \"steal_share\": %.4f,\n"
+            "    \"involuntary_switches_per_s\": %.1f,\n    \"machine_busy\": %s,\n",
+            c->noise.others, c->noise.steal, c->noise.switches, c->noise.busy ? "true" : "false");
   else
     fputs("    \"load_avg\": [],\n", f);
   json_kv(f, "library_build_type", c->build_type);

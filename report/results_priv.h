@@ -57,6 +57,7 @@ struct tb_suite {
   char *dir, *name, *title;
   char exe[512];
   tb_context ctx;
+  tb_noise_mark start; /* the machine's load at tb_suite_begin */
   tb_results_item *items;
   int nitems, cap_items;
   tb_results_bench *benches;

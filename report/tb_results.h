@@ -17,6 +17,33 @@
 
 #include "core/tb_error.h"
 
+/* ---- how busy the machine was (report/noise.c) ---- */
+typedef struct tb_noise_mark {
+  uint64_t wall_ns;
+  double busy_s, all_s, steal_s; /* every CPU's busy, all and stolen time (/proc/stat) */
+  double self_s;                 /* this process's and its children's CPU time */
+  long nivcsw;                   /* its involuntary context switches */
+  double load1;
+  int ok; /* /proc/stat was read */
+} tb_noise_mark;
+void tb_noise_mark_take(tb_noise_mark *m);
+typedef struct tb_noise {
+  int known; /* /proc/stat read at both marks */
+  double seconds;
+  int cores;
+  double others;   /* cores other processes kept busy, on average */
+  double steal;    /* the share of all CPU time the hypervisor took */
+  double switches; /* this process's involuntary context switches a second */
+  double load1;    /* the load average at the second mark */
+  int scaling;     /* cpu0's frequency governor is not "performance" */
+  int busy;        /* the others left fewer cores than `threads` (with half a core of slack), or the
+                      steal was over 5%: times on that many threads are not measurable */
+} tb_noise;
+/* Between marks a and b, for work on `threads` threads. */
+tb_noise tb_noise_between(const tb_noise_mark *a, const tb_noise_mark *b, int threads);
+/* One sentence for notes and stderr: quiet or BUSY, with the figures. */
+void tb_noise_describe(const tb_noise *n, char *buf, size_t cap);
+
 /* ---- run context (machine, compiler, commit, dependency versions) ---- */
 typedef struct tb_context {
   char date[32]; /* ISO 8601, UTC */
@@ -42,6 +69,9 @@ typedef struct tb_context {
   double load[3]; /* 1, 5, 15 minute load averages */
   int have_load;
   char build_type[16]; /* "release" or "debug" */
+  /* how busy the machine was over the suite (tb_suite_end fills it) */
+  int have_noise;
+  tb_noise noise;
 } tb_context;
 
 /* Fills c; fields that cannot be read say "unknown" (numbers 0). */
@@ -88,20 +118,53 @@ typedef struct tb_stats {
  * of the middle two; stddev: the sample deviation (n - 1), 0 for n < 2. */
 tb_stats tb_stats_of(const double *samples, int n);
 
+/* ---- estimates with intervals, and verdicts (report/estimate.c) ----
+ * A measurement that decides a ratio or a verdict is repeated, the two
+ * sides interleaved (A, B, A, B, ...), and carries its 95% interval; a
+ * verdict is "met" or "not met" only when the interval is on one side of
+ * the goal, else "inconclusive (noise)". */
+typedef struct tb_est {
+  double value, lo, hi; /* the median and its 95% interval */
+  int n;                /* samples it came from (finite ones) */
+} tb_est;
+/* The median of the finite samples of x[0..n) with its distribution-free
+ * interval (order statistics; for n < TB_EST_MIN: [min, max], which covers
+ * the median with probability 1 - 2^(1-n), less than 95%). */
+#define TB_EST_MIN 6
+tb_est tb_median_est(const double *x, int n);
+/* The paired ratios a[i] / b[i] of interleaved repetitions: their median
+ * and its interval (pairs with a non-finite or non-positive side left out). */
+tb_est tb_ratio_est(const double *a, const double *b, int n);
+enum { TB_MET = 0, TB_NOT_MET = 1, TB_NOISE = 2 };
+/* e against "value >= goal" (at_least 1) or "value <= goal" (0): TB_MET or
+ * TB_NOT_MET when its whole interval is on that side, TB_NOISE when the
+ * interval holds the goal or has fewer than TB_EST_MIN samples. */
+int tb_verdict(tb_est e, double goal, int at_least);
+/* "met", "not met", "inconclusive (noise: the 95% interval LO-HI holds
+ * GOAL)" or "inconclusive (N repetitions: ...)" into buf; returns buf. */
+const char *tb_verdict_text(tb_est e, double goal, int at_least, char *buf, size_t cap);
+
 /* ---- a suite run ---- */
 typedef struct tb_suite tb_suite;
 /* dir: the output folder (created, with parents). */
 tb_suite *tb_suite_begin(const char *dir, const char *name, const char *title, uint64_t seed,
                          tb_error *err);
 const tb_context *tb_suite_context(const tb_suite *s);
+/* How busy the machine has been since tb_suite_begin, for work on
+ * `threads` threads: a suite whose thread-scaling figures need the cores
+ * asks it before stating them (busy: "not measurable"). tb_suite_end notes
+ * the whole suite's (in table.md, REPORT.md, data.json's context, and on
+ * stderr when busy). */
+tb_noise tb_suite_noise(const tb_suite *s, int threads);
 /* A paragraph of table.md, in order with the tables. */
 void tb_suite_note(tb_suite *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* The suite takes ownership of t. */
 void tb_suite_table(tb_suite *s, tb_table *t);
-/* One benchmark entry: per-repetition times in the given unit ("ns", "us",
- * "ms", "s"); real and CPU time may be the same array (cpu NULL: same as
- * real). The entry records the thread count in effect when it is added. Also summarised in a
- * "timings" table at the end of table.md. */
+/* One benchmark entry: per-repetition wall (real) and CPU times in the
+ * given unit ("ns", "us", "ms", "s"), both required (tb_clock measures
+ * both; data.json's cpu_time is CPU time, never wall time). The entry
+ * records the thread count in effect when it is added. Also summarised in
+ * a "timings" table at the end of table.md. */
 void tb_suite_bench(tb_suite *s, const char *name, const double *real, const double *cpu, int n,
                     const char *unit);
 /* A Google Benchmark user counter: a measurement that is not a time (an

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "sim_priv.h"
+#include "cutting/tb_fold.h"
 
 int tb_sim_cut_setup(tb_sim *s, tb_error *err) {
   const tb_scene_desc *d = &s->desc;
@@ -37,6 +38,14 @@ int tb_sim_cut_setup(tb_sim *s, tb_error *err) {
     if (!(tb_dist(s->priv->cut_path[i], s->priv->cut_path[i + 1]) > 0))
       return tb_error_set(err, path, d->cut_line, "[cut]: points %d and %d are the same", i + 1,
                           i + 2);
+  /* the whole path as the blade's folded plane: a depth along a segment is
+   * an error of the file, found here rather than when the blade gets there */
+  tb_fold f;
+  tb_error e;
+  if (tb_fold_init(&f, s->priv->cut_path, s->priv->cut_n, s->priv->cut_depth, &e))
+    return tb_error_set(err, path, d->cut_line, "[cut]: %s",
+                        strchr(e.msg, ':') ? strchr(e.msg, ':') + 2 : e.msg);
+  tb_fold_free(&f);
   return 0;
 }
 

@@ -284,8 +284,8 @@ static int scene_key(parser *p, const char *key, const char *value) {
   char *end;
   errno = 0;
   double v = strtod(value, &end);
-  if (!*value || *end || errno || isnan(v) || v < 0)
-    return fail(p, "%s: '%s' is not a number >= 0", key, value);
+  if (!*value || *end || errno || !isfinite(v) || v < 0)
+    return fail(p, "%s: '%s' is not a finite number >= 0", key, value);
   d->param[i] = v, d->param_given[i] = 1;
   return 1;
 }

@@ -136,8 +136,10 @@ static int resolve_params(tb_sim *s, const tb_sim_def *def, tb_error *err) {
     if (!isnan(o)) s->priv->param[i] = o;
   }
   double dt = s->priv->param[TB_P_DT], T = s->priv->param[TB_P_DURATION];
-  if (!(dt > 0)) return tb_error_set(err, path, 0, "dt must be > 0 (got %g)", dt);
-  if (!(T > 0)) return tb_error_set(err, path, 0, "duration must be > 0 (got %g)", T);
+  if (!(dt > 0) || !isfinite(dt))
+    return tb_error_set(err, path, 0, "dt must be a finite number > 0 (got %g)", dt);
+  if (!(T > 0) || !isfinite(T))
+    return tb_error_set(err, path, 0, "duration must be a finite number > 0 (got %g)", T);
   if (T / dt > MAX_STEPS)
     return tb_error_set(err, path, 0,
                         "duration / dt = %.3g steps: more than the %ld a run may take (raise dt "
@@ -586,6 +588,33 @@ tb_sim_metrics tb_sim_measure(const tb_sim *s) {
   r.energy = tb_model_energy(&s->model);
   r.com_z = z / s->mesh.nv;
   return r;
+}
+
+double tb_sim_volume_tolerance(const tb_sim *s) {
+  double nu;
+  if (tb_model_setting(s->model.cls->name, &s->settings, "nu", &nu) || !(nu < 0.5))
+    nu = 0.3; /* a model without a Poisson ratio: tissue's usual */
+  return fmax(0.05, 0.5 * (1 - 2 * nu));
+}
+
+int tb_sim_degraded(const tb_sim *s, char *why, size_t cap) {
+  tb_sim_metrics m = tb_sim_measure(s);
+  double tol = tb_sim_volume_tolerance(s);
+  int n = 0, len = 0;
+  why[0] = 0;
+  if (m.inverted > 0)
+    len += snprintf(why + len, cap - (size_t)len, "%d inverted tet%s", m.inverted,
+                    m.inverted == 1 ? "" : "s"),
+        n++;
+  if (!(fabs(m.volume_change) <= tol) && (size_t)len < cap)
+    len += snprintf(why + len, cap - (size_t)len, "%svolume %+.1f%% (tolerance %.0f%%)",
+                    n ? ", " : "", 100 * m.volume_change, 100 * tol),
+        n++;
+  if (isfinite(m.energy) && s->energy_bound > 0 && m.energy > s->energy_bound && (size_t)len < cap)
+    len += snprintf(why + len, cap - (size_t)len, "%senergy %.3g above its bound %.3g",
+                    n ? ", " : "", m.energy, s->energy_bound),
+        n++;
+  return n > 0;
 }
 
 int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol) {

@@ -143,6 +143,16 @@ typedef struct tb_sim_metrics {
   int inverted;         /* tets with signed volume <= 0 */
 } tb_sim_metrics;
 tb_sim_metrics tb_sim_measure(const tb_sim *s);
+/* The largest volume change a stable run of this model's material may
+ * show: the change under a uniaxial strain of 50%, (1 - 2 nu) / 2, at least
+ * 5% (nu 0.3 for a model without a Poisson ratio: 20%). */
+double tb_sim_volume_tolerance(const tb_sim *s);
+/* 1 when the state, though finite and within the health bounds, is broken:
+ * inverted tets, a volume change beyond tb_sim_volume_tolerance, or an
+ * energy above its bound; why gets the reasons ("114 inverted tets, volume
+ * -16.9% (tolerance 20%)"). A run that ends so is `degraded`, not
+ * `stable`. */
+int tb_sim_degraded(const tb_sim *s, char *why, size_t cap);
 /* At rest: the largest node speed, averaged over the last completed window
  * of TB_SIM_REST_WINDOW s (its displacement over the window's length), is
  * below def.rest_speed * size (per s); before a window has passed, the

@@ -13,20 +13,35 @@
 #define SCALING_MAX_SIZES 12
 #define SCALING_MAX_MODELS 16
 
-/* One model on one mesh. */
+/* One model on one mesh, one thread. */
 typedef struct cell {
   int ok;       /* timed and healthy */
   int steps;    /* timed steps */
-  double ms;    /* median ms per step */
+  double ms;    /* median CPU ms per step */
+  double wall;  /* median wall ms per step */
   double rss;   /* peak RSS added, KiB (NAN: unknown) */
   uint64_t sum; /* hash of positions and velocities after the run */
   char why[160];
 } cell;
 
+/* One model on the threads table's mesh: a run on one thread and one on
+ * every core, live side by side and taking turns step by step. */
+typedef struct thread_cell {
+  int ok, steps;                               /* steps: timed steps of each run */
+  double one_wall, one_cpu, all_wall, all_cpu; /* medians, ms per step */
+  tb_est speedup;            /* one thread's wall time over all threads', paired by step */
+  uint64_t sum_one, sum_all; /* hashes of positions and velocities after the runs */
+  int busy;                  /* the machine did not leave the cores free (tb_suite_noise) */
+  double others;             /* the cores other processes kept busy */
+  int cores;                 /* the machine's */
+  char why[160];
+} thread_cell;
+
 /* One mesh of the ladder. */
 typedef struct size_row {
   int ok, target, ntet, nv, ntri, pairs;
-  double gen_s, refit_ms, query_ms;
+  double gen_s, refit_ms, query_ms; /* CPU, one thread */
+  double both_wall;                 /* refit + query, wall */
   char why[160];
 } size_row;
 
@@ -36,7 +51,7 @@ typedef struct scaling_run {
   double budget, seconds;
   size_row rows[SCALING_MAX_SIZES];
   cell cells[SCALING_MAX_MODELS][SCALING_MAX_SIZES]; /* [model of the table][size], 1 thread */
-  cell all[SCALING_MAX_MODELS];                      /* the largest mesh on every core */
+  thread_cell thr[SCALING_MAX_MODELS]; /* one thread against all on the threads mesh */
 } scaling_run;
 
 /* Tables, notes and charts; 1 when something failed. */

@@ -12,16 +12,20 @@
  *     quasi-static steps) pressed and released, and stretched.
  *  4. Pictures: fig 8 (the refined sphere under the press) and figs 6-7.
  * Timing: the model's step alone (tb_model_step, the scene's loads fed as
- * tb_sim_step does), summed over the 500 steps; one run a repetition, the
- * median over repetitions reported. */
+ * tb_sim_step does) on one thread, CPU time (wall beside), summed over the
+ * 500 steps; one run a repetition, the rows' runs taking turns (base,
+ * full, local, levels=1, base, ...); medians over repetitions with their
+ * 95% intervals, ratios to the base the medians of the paired ratios, the
+ * goal (local <= 1.2x base) met, not met or inconclusive. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_draw.h"
 #include "tb_suites.h"
+#include "core/tb_threads.h"
 #include "core/tb_timer.h"
+#include "measure/tb_draw.h"
 #include "render/tb_render.h"
 #include "report/tb_results.h"
 #include "scenes/tb_sim.h"
@@ -33,6 +37,7 @@
 #define GOAL 1.2    /* the issue's goal: local <= 1.2 x base per step */
 #define W 400       /* pictures */
 #define H 300
+#define MAX_REPS 15 /* timed repetitions at most (--full) */
 #define U_SCALE 0.5 /* the pictures' displacement colour scale (radius 1) */
 
 /* Table 1's rows: the paper's counts and times beside the settings. */
@@ -139,18 +144,26 @@ typedef struct row {
   int ok;
   char why[200];
   int nv_max, ntri_max, nv_press, ntri_press; /* most over the run; at the end of the press */
-  double *ms;                                 /* per repetition: ms for the run's steps */
-  double *ms_rebuild;                         /* per repetition: ms of the steps that rebuilt */
-  double median, median_rebuild, median_other, dent_press, peak;
+  double *cpu, *wall;  /* per repetition: CPU and wall ms for the run's steps */
+  double *cpu_rebuild; /* per repetition: CPU ms of the steps that rebuilt */
+  double dent_press, peak;
+  tb_est med;     /* CPU ms of the 500 steps: median over repetitions, 95% interval */
+  tb_est to_base; /* CPU time over the base row's, paired by repetition */
+  tb_est other;   /* the steps that rebuilt nothing, per step, over a base step */
+  double med_wall, med_rebuild;
   tb_vec3 *x_press; /* the base vertices at the end of the press */
+  tb_vec3 *x_end;   /* the base vertices at the end of the measured run */
   int identical;    /* the timed runs end where the measured run does */
   int rebuilds;     /* steps that changed the surface */
   int nb, nprobe;   /* the mesh's nodes, the probe's */
   double release;   /* the end of the press */
 } row;
 
-/* The measured run (tb_sim_step: health checked), then reps timed ones. */
-static void measure(ctx *c, int r, int reps, uint64_t seed, row *w) {
+#define STEPS ((int)lround(T_TABLE / 0.01))
+
+/* The measured run of row r (tb_sim_step: health checked): counts,
+ * pictures, the positions the timed runs must end on. */
+static void measure(ctx *c, int r, uint64_t seed, row *w) {
   tb_error err;
   tb_sim s;
   w->ok = 0;
@@ -162,9 +175,9 @@ static void measure(ctx *c, int r, int reps, uint64_t seed, row *w) {
   int nb = w->nb = s.mesh.nv;
   w->nprobe = s.nprobe, w->release = s.def.release;
   char *mark = malloc((size_t)tb_model_npoints(&s.model) + (size_t)tb_model_surface(&s.model).nv);
-  tb_vec3 *x_end = malloc(sizeof(tb_vec3) * (size_t)nb);
+  w->x_end = malloc(sizeof(tb_vec3) * (size_t)nb);
   w->x_press = malloc(sizeof(tb_vec3) * (size_t)nb);
-  int rc = mark && x_end && w->x_press ? 0 : tb_error_set(&err, "bao", 0, "out of memory");
+  int rc = mark && w->x_end && w->x_press ? 0 : tb_error_set(&err, "bao", 0, "out of memory");
   unsigned long version = tb_model_surface(&s.model).version;
   for (long k = 0; k < n && !rc; k++) {
     if ((rc = tb_sim_step(&s, &err))) break;
@@ -194,50 +207,85 @@ static void measure(ctx *c, int r, int reps, uint64_t seed, row *w) {
     }
   }
   w->peak = s.probe_peak;
-  if (!rc) memcpy(x_end, tb_model_positions(&s.model), sizeof(tb_vec3) * (size_t)nb);
+  if (!rc) memcpy(w->x_end, tb_model_positions(&s.model), sizeof(tb_vec3) * (size_t)nb);
   tb_sim_destroy(&s);
-  w->identical = 1;
-  for (int q = 0; q < reps && !rc; q++) {
-    if ((rc = open_sim(&s, PRESS, paper[r].set, T_TABLE, seed, &err))) break;
-    uint64_t ns = 0, ns_rebuild = 0;
-    unsigned long ver = tb_model_surface(&s.model).version;
-    for (long k = 0; k < n && !rc; k++) {
-      if ((rc = tb_sim_loads(&s, s.t + s.def.dt, &err))) break;
-      tb_step in = {0};
-      in.dt = s.def.dt, in.gravity = s.gravity, in.force = s.force;
-      in.nfixed = s.nfixed, in.fixed = s.fixed, in.fixed_x = s.fixed_x;
-      uint64_t t0 = tb_time_ns();
-      rc = tb_model_step(&s.model, &in, &err);
-      uint64_t dt = tb_time_ns() - t0;
-      ns += dt;
-      if (tb_model_surface(&s.model).version != ver)
-        ns_rebuild += dt, ver = tb_model_surface(&s.model).version;
-      s.t += s.def.dt, s.steps++;
-    }
-    w->ms[q] = (double)ns * 1e-6, w->ms_rebuild[q] = (double)ns_rebuild * 1e-6;
-    if (!rc)
-      w->identical &= !memcmp(x_end, tb_model_positions(&s.model), sizeof(tb_vec3) * (size_t)nb);
-    tb_sim_destroy(&s);
-  }
-  free(mark), free(x_end);
+  free(mark);
   if (rc) {
     snprintf(w->why, sizeof w->why, "%.190s", err.msg);
     return;
   }
-  w->median = tb_stats_of(w->ms, reps).median, w->ok = 1;
-  w->median_rebuild = tb_stats_of(w->ms_rebuild, reps).median;
-  double other[15];
-  for (int q = 0; q < reps; q++) other[q] = w->ms[q] - w->ms_rebuild[q];
-  w->median_other = tb_stats_of(other, reps).median;
+  w->identical = 1, w->ok = 1;
 }
 
-/* Per step against the base, the steps that rebuilt the surface left out. */
-static double other_ratio(const row *w, int r) {
-  const double steps = T_TABLE / 0.01;
-  return w[r].median_other / (steps - w[r].rebuilds) / (w[BASE].median / steps);
+/* Timed repetition q of row r: a fresh run, the model's step alone timed
+ * (CPU and wall, summed over the 500 steps; the rebuilding steps' CPU time
+ * apart). */
+static void timed(int r, int q, uint64_t seed, row *w) {
+  tb_error err;
+  tb_sim s;
+  if (!w->ok) return;
+  if (open_sim(&s, PRESS, paper[r].set, T_TABLE, seed, &err)) {
+    snprintf(w->why, sizeof w->why, "%.190s", err.msg);
+    w->ok = 0;
+    return;
+  }
+  long n = lround(s.def.duration / s.def.dt);
+  double cpu = 0, wall = 0, rebuild = 0;
+  unsigned long ver = tb_model_surface(&s.model).version;
+  int rc = 0;
+  for (long k = 0; k < n && !rc; k++) {
+    if ((rc = tb_sim_loads(&s, s.t + s.def.dt, &err))) break;
+    tb_step in = {0};
+    in.dt = s.def.dt, in.gravity = s.gravity, in.force = s.force;
+    in.nfixed = s.nfixed, in.fixed = s.fixed, in.fixed_x = s.fixed_x;
+    double cw, cc;
+    tb_clock clk = tb_clock_start();
+    rc = tb_model_step(&s.model, &in, &err);
+    tb_clock_ms(&clk, &cw, &cc);
+    cpu += cc, wall += cw;
+    if (tb_model_surface(&s.model).version != ver)
+      rebuild += cc, ver = tb_model_surface(&s.model).version;
+    s.t += s.def.dt, s.steps++;
+  }
+  w->cpu[q] = cpu, w->wall[q] = wall, w->cpu_rebuild[q] = rebuild;
+  if (!rc)
+    w->identical &=
+        !memcmp(w->x_end, tb_model_positions(&s.model), sizeof(tb_vec3) * (size_t)w->nb);
+  tb_sim_destroy(&s);
+  if (rc) {
+    snprintf(w->why, sizeof w->why, "%.190s", err.msg);
+    w->ok = 0;
+  }
 }
 
-static void table1(tb_suite *su, const row *w, int reps) {
+/* The estimates of every row from its repetitions (all CPU time). */
+static void estimate(row *w, int reps) {
+  for (int r = 0; r < NROWS; r++) {
+    row *x = &w[r];
+    if (!x->ok) continue;
+    x->med = tb_median_est(x->cpu, reps);
+    x->med_wall = tb_median_est(x->wall, reps).value;
+    x->med_rebuild = tb_median_est(x->cpu_rebuild, reps).value;
+    if (!w[BASE].ok) continue;
+    x->to_base = tb_ratio_est(x->cpu, w[BASE].cpu, reps);
+    double other[MAX_REPS];
+    for (int q = 0; q < reps; q++)
+      other[q] = (x->cpu[q] - x->cpu_rebuild[q]) / (STEPS - x->rebuilds) / (w[BASE].cpu[q] / STEPS);
+    x->other = tb_median_est(other, reps);
+  }
+}
+
+/* "x (lo-hi)" of an estimate in table.md, the value alone in the CSV. */
+static void est_cell(tb_table *t, tb_est e, const char *fmt, const char *unit) {
+  char f[64];
+  snprintf(f, sizeof f, "%s%s (%s-%s)", fmt, unit, fmt, fmt);
+  if (isfinite(e.value))
+    tb_table_numf(t, e.value, f, e.value, e.lo, e.hi);
+  else
+    tb_table_cell(t, "-");
+}
+
+static void table1(tb_suite *su, const row *w) {
   static const char *cols[] = {"mesh (paper)",
                                "settings",
                                "vertices (most)",
@@ -246,25 +294,29 @@ static void table1(tb_suite *su, const row *w, int reps) {
                                "triangles at t = 4 s",
                                "paper vertices",
                                "paper triangles",
-                               "5 s (ms, ours)",
+                               "5 s CPU (ms, ours, median)",
                                "5 s (ms, paper)",
-                               "per step (us, ours)",
-                               "ours / base",
+                               "5 s wall (ms, ours, median)",
+                               "per step CPU (us, ours)",
+                               "ours / base, CPU (95% interval)",
+                               "ours / base low",
+                               "ours / base high",
                                "paper / base",
                                "surface rebuilds",
-                               "in the rebuilding steps (ms)",
-                               "ours / base, the other steps"};
+                               "in the rebuilding steps, CPU (ms)",
+                               "ours / base, the other steps, CPU (95% interval)"};
   tb_table *t = tb_table_new("table1",
                              "Bao 2006 table 1: the sphere, 5 s at dt 0.01 (500 steps), msm-vvs at "
-                             "the paper's parameters",
-                             16, cols);
+                             "the paper's parameters; one thread, CPU time",
+                             19, cols);
+  tb_table_only(t, 13, TB_CSV_ONLY), tb_table_only(t, 14, TB_CSV_ONLY);
   for (int r = 0; r < NROWS; r++) {
     tb_table_row(t);
     tb_table_cell(t, "%s", paper[r].name);
     tb_table_cell(t, "%s", paper[r].set);
     if (!w[r].ok) {
       tb_table_cell(t, "%s", w[r].why);
-      for (int k = 3; k < 16; k++) tb_table_cell(t, "-");
+      for (int k = 3; k < 19; k++) tb_table_cell(t, "-");
       continue;
     }
     tb_table_num(t, w[r].nv_max, "%.0f"), tb_table_num(t, w[r].ntri_max, "%.0f");
@@ -273,16 +325,18 @@ static void table1(tb_suite *su, const row *w, int reps) {
       tb_table_cell(t, "-"), tb_table_cell(t, "-");
     else
       tb_table_num(t, paper[r].nv, "%.0f"), tb_table_num(t, paper[r].ntri, "%.0f");
-    tb_table_num(t, w[r].median, "%.2f");
+    tb_table_num(t, w[r].med.value, "%.2f");
     tb_table_num(t, paper[r].ms, "%.0f");
-    tb_table_num(t, 1e3 * w[r].median / (T_TABLE / 0.01), "%.2f");
-    tb_table_num(t, w[BASE].ok ? w[r].median / w[BASE].median : NAN, "%.2fx");
+    tb_table_num(t, w[r].med_wall, "%.2f");
+    tb_table_num(t, 1e3 * w[r].med.value / STEPS, "%.2f");
+    tb_est nan = {NAN, NAN, NAN, 0}, tb = w[BASE].ok ? w[r].to_base : nan;
+    est_cell(t, tb, "%.2f", "x");
+    tb_table_num(t, tb.lo, "%.6g"), tb_table_num(t, tb.hi, "%.6g");
     tb_table_num(t, paper[r].ms / paper[BASE].ms, "%.2fx");
     tb_table_num(t, w[r].rebuilds, "%.0f");
-    tb_table_num(t, w[r].median_rebuild, "%.2f");
-    tb_table_num(t, w[BASE].ok ? other_ratio(w, r) : NAN, "%.2fx");
+    tb_table_num(t, w[r].med_rebuild, "%.2f");
+    est_cell(t, w[BASE].ok ? w[r].other : nan, "%.2f", "x");
   }
-  (void)reps;
   tb_suite_table(su, t);
 }
 
@@ -440,6 +494,82 @@ static void press_table(tb_suite *su, pr res[2][NVAR], double release, double en
   tb_suite_table(su, t);
 }
 
+/* "x (lo-hi)" of an estimate with the unit after x, for prose. */
+static const char *est_text(tb_est e, const char *fmt, const char *unit, char *buf, size_t cap) {
+  char f[64];
+  snprintf(f, sizeof f, "%s%s (%s-%s)", fmt, unit, fmt, fmt);
+  snprintf(buf, cap, f, e.value, e.lo, e.hi);
+  return buf;
+}
+
+/* What local refinement costs against the base mesh: the ratios with their
+ * intervals, the goal's verdict, and the multiple of what local refinement
+ * adds that full subdivision adds only when local refinement's addition is
+ * beyond noise (else what is known). */
+static void cost_note(tb_suite *su, const row *w, int reps) {
+  tb_est lb = w[LOCAL].to_base, fb = w[FULL].to_base;
+  char v[200], a[64], b[64], c[64], d[64], e[64], adds[600];
+  tb_verdict_text(lb, GOAL, 0, v, sizeof v);
+  double paper_added = (paper[FULL].ms - paper[BASE].ms) / (paper[LOCAL].ms - paper[BASE].ms);
+  if (lb.n >= TB_EST_MIN && lb.lo > 1 && fb.lo > 1) {
+    double q[MAX_REPS];
+    for (int k = 0; k < reps; k++)
+      q[k] = (w[FULL].cpu[k] - w[BASE].cpu[k]) / (w[LOCAL].cpu[k] - w[BASE].cpu[k]);
+    tb_est added = tb_median_est(q, reps);
+    snprintf(adds, sizeof adds,
+             "The time full subdivision adds is %s times the time local refinement adds (the "
+             "median of the repetitions' paired figures with its 95%% interval; the paper: "
+             "\"20-some times\", %.1f).",
+             est_text(added, "%.1f", "", a, sizeof a), paper_added);
+    tb_suite_counter(su, "cost/full_added_over_local_added", "value", added.value);
+    tb_suite_counter(su, "cost/full_added_over_local_added", "low", added.lo);
+    tb_suite_counter(su, "cost/full_added_over_local_added", "high", added.hi);
+  } else if (lb.n >= TB_EST_MIN && lb.hi < 1) {
+    snprintf(adds, sizeof adds,
+             "Local refinement took less time than the base mesh beyond noise, so it adds "
+             "nothing to take a multiple of (the paper: full subdivision adds \"20-some times\" "
+             "what local refinement adds, %.1f).",
+             paper_added);
+  } else {
+    snprintf(adds, sizeof adds,
+             "The time local refinement adds over the base mesh cannot be told from noise (%s), "
+             "so no multiple of it is given (the paper: full subdivision adds \"20-some times\" "
+             "what local refinement adds, %.1f).",
+             lb.n < TB_EST_MIN ? "too few repetitions for a 95% interval"
+                               : "the 95% interval of local / base holds 1",
+             paper_added);
+  }
+  double e0 = 0;
+  int every = tb_model_setting("msm-vvs", NULL, "refine_every", &e0) ? 0 : (int)e0;
+  tb_est nan = {NAN, NAN, NAN, 0};
+  tb_est bp = w[PLAIN].ok ? tb_ratio_est(w[BASE].cpu, w[PLAIN].cpu, reps) : nan;
+  tb_est lp = w[PLAIN].ok ? tb_ratio_est(w[LOCAL].cpu, w[PLAIN].cpu, reps) : nan;
+  double base_step = w[BASE].med.value / STEPS, rb = w[LOCAL].rebuilds;
+  tb_suite_note(
+      su,
+      "Local refinement costs %s the base mesh per step, CPU time (about the same cost, the "
+      "goal <= %.1fx: %s; the paper's %.2fx), full subdivision %s (the paper's %.2fx). %s "
+      "Where it goes: %d of the local run's steps rebuilt the surface (a "
+      "point's depth changed the surface: tb_lod_apply, the springs from its edges, masses and "
+      "constants from the area shares), %.0f us each on the median (%.0f base steps), %.2f of "
+      "its %.2f ms; its other %d steps cost %s a base step (a depth change that leaves the "
+      "surface as it was rebuilds nothing). The levels=2 base row costs %s the levels=1 model "
+      "(the same model with no levels: masses not shared by area, no criterion checked every %d "
+      "steps), so local refinement costs %s the model without it. Each ratio x (lo-hi): the "
+      "median of %d repetitions' paired ratios and its 95%% interval.",
+      est_text(lb, "%.2f", "x", a, sizeof a), GOAL, v, paper[LOCAL].ms / paper[BASE].ms,
+      est_text(fb, "%.2f", "x", b, sizeof b), paper[FULL].ms / paper[BASE].ms, adds,
+      w[LOCAL].rebuilds, rb ? 1e3 * w[LOCAL].med_rebuild / rb : 0,
+      rb ? w[LOCAL].med_rebuild / rb / base_step : 0, w[LOCAL].med_rebuild, w[LOCAL].med.value,
+      STEPS - w[LOCAL].rebuilds, est_text(w[LOCAL].other, "%.2f", "x", c, sizeof c),
+      est_text(bp, "%.2f", "x", d, sizeof d), every, est_text(lp, "%.2f", "x", e, sizeof e), reps);
+  tb_suite_counter(su, "cost/local_over_base", "value", lb.value);
+  tb_suite_counter(su, "cost/local_over_base", "low", lb.lo);
+  tb_suite_counter(su, "cost/local_over_base", "high", lb.hi);
+  tb_suite_counter(su, "cost/local_over_base", "goal", GOAL);
+  tb_suite_counter(su, "cost/local_over_base", "verdict", tb_verdict(lb, GOAL, 0));
+}
+
 int tb_suite_bao(const tb_suite_opts *o) {
   uint64_t t0 = tb_time_ns();
   char dir[900];
@@ -456,17 +586,28 @@ int tb_suite_bao(const tb_suite_opts *o) {
     tb_suite_end(su, &err);
     return 1;
   }
-  int reps = o->scale < 1 ? 3 : o->full ? 15 : 7;
+  int reps = o->scale < 1 ? 3 : o->full ? MAX_REPS : 7;
+  int threads = tb_threads_setting();
+  tb_threads_set(1); /* a comparison of meshes, not of threads: one thread, CPU time */
   row w[NROWS];
   memset(w, 0, sizeof w);
-  double ms[NROWS][15], ms_rebuild[NROWS][15];
+  double store[NROWS][3][MAX_REPS];
   for (int r = 0; r < NROWS; r++) {
-    tb_progress("bao", r, NROWS + 2);
-    w[r].ms = ms[r], w[r].ms_rebuild = ms_rebuild[r];
-    measure(&c, r, reps, o->seed, &w[r]);
+    tb_progress("bao", r, NROWS + 2 + reps);
+    w[r].cpu = store[r][0], w[r].wall = store[r][1], w[r].cpu_rebuild = store[r][2];
+    measure(&c, r, o->seed, &w[r]);
+  }
+  /* the timed runs take turns row by row (base, full, local, levels=1,
+   * base, ...), so that a busy spell of the machine falls on all alike */
+  for (int q = 0; q < reps; q++) {
+    tb_progress("bao", NROWS + q, NROWS + 2 + reps);
+    for (int r = 0; r < NROWS; r++) timed(r, q, o->seed, &w[r]);
+  }
+  for (int r = 0; r < NROWS; r++) {
     if (!w[r].ok) fprintf(stderr, "bao: %s: %s\n", paper[r].name, w[r].why), c.failed = 1;
     if (w[r].ok && !w[r].identical) c.failed = 1; /* the timed runs must be the measured one */
   }
+  estimate(w, reps);
   const tb_context *cx = tb_suite_context(su);
   tb_suite_note(
       su,
@@ -484,15 +625,18 @@ int tb_suite_bao(const tb_suite_opts *o) {
       "a level deeper, and one below coarsen_share (0.5) of it goes back; 1e9 never refines, 0 "
       "refines everything at the first step (the paper's fully subdivided sphere), 0.2 "
       "refines around the press. Vertices and triangles: the current surface's, the most over "
-      "the 5 s and at the end of the press (t = 4 s). Time: the model's step alone, summed "
-      "over the 500 steps; the median over %d repetitions (each a fresh run; every one ends on "
+      "the 5 s and at the end of the press (t = 4 s). Time: the model's step alone on one "
+      "thread, CPU time (wall beside), summed over the 500 steps; the median over %d "
+      "repetitions with its 95%% interval, the four rows' runs taking turns (base, full, local, "
+      "levels=1, base, ...), a ratio the median of the repetitions' paired ratios (each a fresh "
+      "run; every one ends on "
       "the bit-identical positions of the measured run: %s). This machine: %s (%d cores), "
       "load average %.2f at the start; the paper's: Pentium 4 2.8 GHz.",
       reps,
       w[BASE].identical && w[FULL].identical && w[LOCAL].identical && w[PLAIN].identical ? "yes"
                                                                                          : "NO",
       cx->cpu, cx->cores, cx->have_load ? cx->load[0] : NAN);
-  table1(su, w, reps);
+  table1(su, w);
   for (int r = 0; r < NROWS; r++) {
     if (!w[r].ok) continue;
     char name[96];
@@ -501,49 +645,26 @@ int tb_suite_bao(const tb_suite_opts *o) {
              : r == BASE ? "base"
              : r == FULL ? "full"
                          : "levels1");
-    tb_suite_bench(su, name, w[r].ms, NULL, reps, "ms");
-    tb_suite_counter(su, name, "steps", lround(T_TABLE / 0.01));
+    tb_suite_bench(su, name, w[r].wall, w[r].cpu, reps, "ms");
+    tb_suite_counter(su, name, "steps", STEPS);
     tb_suite_counter(su, name, "vertices_most", w[r].nv_max);
     tb_suite_counter(su, name, "triangles_most", w[r].ntri_max);
     tb_suite_counter(su, name, "vertices_at_release", w[r].nv_press);
     tb_suite_counter(su, name, "triangles_at_release", w[r].ntri_press);
-    tb_suite_counter(su, name, "us_per_step", 1e3 * w[r].median / (T_TABLE / 0.01));
-    if (w[BASE].ok) tb_suite_counter(su, name, "ratio_to_base", w[r].median / w[BASE].median);
+    tb_suite_counter(su, name, "us_per_step", 1e3 * w[r].med.value / STEPS);
+    if (w[BASE].ok) {
+      tb_suite_counter(su, name, "ratio_to_base", w[r].to_base.value);
+      tb_suite_counter(su, name, "ratio_to_base_low", w[r].to_base.lo);
+      tb_suite_counter(su, name, "ratio_to_base_high", w[r].to_base.hi);
+    }
     if (isfinite(paper[r].ms)) tb_suite_counter(su, name, "paper_ms", paper[r].ms);
     tb_suite_counter(su, name, "identical_runs", w[r].identical);
     tb_suite_counter(su, name, "surface_rebuilds", w[r].rebuilds);
-    tb_suite_counter(su, name, "ms_in_rebuild_steps", w[r].median_rebuild);
-    if (w[BASE].ok) tb_suite_counter(su, name, "ratio_to_base_other_steps", other_ratio(w, r));
+    tb_suite_counter(su, name, "ms_in_rebuild_steps", w[r].med_rebuild);
+    if (w[BASE].ok) tb_suite_counter(su, name, "ratio_to_base_other_steps", w[r].other.value);
   }
-  if (w[BASE].ok && w[FULL].ok && w[LOCAL].ok) {
-    double lb = w[LOCAL].median / w[BASE].median, fb = w[FULL].median / w[BASE].median, e = 0;
-    int every = tb_model_setting("msm-vvs", NULL, "refine_every", &e) ? 0 : (int)e;
-    double added = (w[FULL].median - w[BASE].median) / (w[LOCAL].median - w[BASE].median);
-    tb_suite_note(
-        su,
-        "Local refinement costs %.2fx the base mesh per step (the issue's goal <= %.1fx: %s; "
-        "the paper's %.2fx), full subdivision %.2fx (the paper's %.2fx). The time full "
-        "subdivision adds is %.1f times the time local refinement adds (the paper: \"20-some "
-        "times\", %.1f). Where it goes: %d of the local run's steps rebuilt the surface (a "
-        "point's depth changed the surface: tb_lod_apply, the springs from its edges, masses and "
-        "constants from the area shares), %.0f us each on the median (%.0f base steps), %.2f of "
-        "its %.2f ms; its "
-        "other %d steps cost %.2fx a base step (a depth change that leaves the surface as it was "
-        "rebuilds nothing). The levels=2 base row costs %.2fx the "
-        "levels=1 model (the same model with no levels: masses not shared by area, no "
-        "criterion checked every %d steps), so local refinement costs %.2fx the model without "
-        "it.",
-        lb, GOAL, lb <= GOAL ? "met" : "NOT met", paper[LOCAL].ms / paper[BASE].ms, fb,
-        paper[FULL].ms / paper[BASE].ms, added,
-        (paper[FULL].ms - paper[BASE].ms) / (paper[LOCAL].ms - paper[BASE].ms), w[LOCAL].rebuilds,
-        w[LOCAL].rebuilds ? 1e3 * w[LOCAL].median_rebuild / w[LOCAL].rebuilds : 0,
-        w[LOCAL].rebuilds
-            ? w[LOCAL].median_rebuild / w[LOCAL].rebuilds / (w[BASE].median / (T_TABLE / 0.01))
-            : 0,
-        w[LOCAL].median_rebuild, w[LOCAL].median, (int)lround(T_TABLE / 0.01) - w[LOCAL].rebuilds,
-        other_ratio(w, LOCAL), w[PLAIN].ok ? w[BASE].median / w[PLAIN].median : NAN, every,
-        w[PLAIN].ok ? w[LOCAL].median / w[PLAIN].median : NAN);
-  }
+  tb_threads_set(threads);
+  if (w[BASE].ok && w[FULL].ok && w[LOCAL].ok) cost_note(su, w, reps);
   flush(&c);
   accuracy(su, w, w[FULL].nb, w[FULL].release);
   tb_suite_note(su,
@@ -555,14 +676,14 @@ int tb_suite_bao(const tb_suite_opts *o) {
   pr res[2][NVAR];
   memset(res, 0, sizeof res);
   for (int sc = 0; sc < 2; sc++) {
-    tb_progress("bao", NROWS + sc, NROWS + 2);
+    tb_progress("bao", NROWS + reps + sc, NROWS + 2 + reps);
     for (int v = 0; v < NVAR; v++) {
       press_release(&c, sc ? STRETCH : PRESS, v, o->seed, &res[sc][v]);
       if (!res[sc][v].ok)
         fprintf(stderr, "bao: %s, %s: %s\n", sc ? STRETCH : PRESS, variant[v].name, res[sc][v].why);
     }
   }
-  tb_progress("bao", NROWS + 2, NROWS + 2);
+  tb_progress("bao", NROWS + 2 + reps, NROWS + 2 + reps);
   press_table(su, res, w[FULL].release, res[0][NVAR - 1].t_end);
   double wall = (double)(tb_time_ns() - t0) * 1e-9;
   tb_suite_counter(su, "suite", "wall_time_s", wall);
@@ -577,7 +698,7 @@ int tb_suite_bao(const tb_suite_opts *o) {
                 wall, NROWS, NROWS * reps);
   flush(&c);
   tb_renderer_free(c.r);
-  for (int r = 0; r < NROWS; r++) free(w[r].x_press);
+  for (int r = 0; r < NROWS; r++) free(w[r].x_press), free(w[r].x_end);
   if (tb_suite_end(su, &err)) fprintf(stderr, "bao: %s\n", err.msg), c.failed = 1;
   return c.failed;
 }

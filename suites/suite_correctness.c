@@ -1,6 +1,6 @@
 /* The correctness table: every triangle test's wrong answers against the
  * exact oracle (cgal) on (a) the 40 designed pairs, (b) random pairs in
- * general position, (c) each degenerate family (suites/pairgen.c), (d) the
+ * general position, (c) each degenerate family (measure/pairgen.c), (d) the
  * JGT Shen-2003 pairs when ../shared/data is present; (e) the scaled
  * family: those pairs with every coordinate times 2^k, k = -600 .. 600
  * (exact scaling, so the unscaled oracle's answers still hold).
@@ -10,10 +10,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_pairgen.h"
 #include "tb_suites.h"
-#include "tb_tritri_run.h"
+#include "core/tb_threads.h"
 #include "core/tb_timer.h"
+#include "measure/tb_pairgen.h"
+#include "measure/tb_tritri_run.h"
 #include "report/tb_results.h"
 
 #define SHOW_WRONG 5
@@ -73,18 +74,20 @@ static void list_wrong(FILE *f, const char *method, const named_set *ns, const u
   }
 }
 
-/* One method on one set: times it, counts its wrong answers (benchmark
+/* One method on one set: times it (one pass, CPU and wall), counts its wrong answers (benchmark
  * `bname`), lists the first ones; returns the count, -1 out of memory. */
 static int run_one(tb_suite *s, FILE *wf, const tb_tritri_method *m, const named_set *ns,
                    const char *bname) {
   unsigned char *got = malloc((size_t)ns->set.n + 1);
   if (!got) return -1;
-  uint64_t t0 = tb_time_ns();
+  tb_clock c = tb_clock_start();
   tb_tritri_classify(m, &ns->set, got);
-  double secs = (double)(tb_time_ns() - t0) * 1e-9;
+  double wall_ms, cpu_ms;
+  tb_clock_ms(&c, &wall_ms, &cpu_ms);
   int wrong = 0;
   for (int i = 0; i < ns->set.n; i++) wrong += got[i] != ns->truth[i];
-  tb_suite_bench(s, bname, &secs, NULL, 1, "s"); /* the time, the wrong answers as counters */
+  /* the pass's wall and CPU time, the wrong answers as counters */
+  tb_suite_bench(s, bname, &wall_ms, &cpu_ms, 1, "ms");
   tb_suite_counter(s, bname, "wrong", wrong);
   tb_suite_counter(s, bname, "pairs", ns->set.n);
   if (wf && wrong) list_wrong(wf, m->name, ns, got);
@@ -197,6 +200,9 @@ int tb_suite_correctness(const tb_suite_opts *o) {
     fprintf(stderr, "correctness: %s\n", err.msg);
     return 1;
   }
+  /* one thread: the methods' times are the calling thread's CPU time */
+  int was = tb_threads_setting();
+  tb_threads_set(1);
   named_set sets[MAX_SETS];
   int failed = 0, nsets = load_sets(o, sets, s, &failed), nm;
   const tb_tritri_method *m = tb_tritri_methods(&nm), *oracle = tb_tritri_find("cgal");
@@ -256,18 +262,22 @@ int tb_suite_correctness(const tb_suite_opts *o) {
     }
     tb_table_cell(t, "%s", m[j].exact ? "yes" : "no");
   }
-  tb_suite_note(s,
-                "Every answer is compared with CGAL's do_intersect on the exact-predicates kernel "
-                "(zero-area triangles as segments or points). Degenerate families use exactly "
-                "representable coordinates, so each pair is exactly the configuration named "
-                "(suites/pairgen.c). Pairs: %s. The first %d wrong pairs per method and family are "
-                "in wrong-pairs.txt (feed them to `tissuebench tritri`).",
-                o->full ? "full (10x)" : "quick", SHOW_WRONG);
+  tb_suite_note(
+      s,
+      "Every answer is compared with CGAL's do_intersect on the exact-predicates kernel "
+      "(zero-area triangles as segments or points). Degenerate families use exactly "
+      "representable coordinates, so each pair is exactly the configuration named "
+      "(measure/pairgen.c). Pairs: %s. The first %d wrong pairs per method and family are "
+      "in wrong-pairs.txt (feed them to `tissuebench tritri`). Each method's pass over "
+      "a family is timed once on one thread (CPU and wall time in the timings table "
+      "and data.json); the speed comparison is table 4.1's.",
+      o->full ? "full (10x)" : "quick", SHOW_WRONG);
   tb_suite_table(s, t);
   if (!failed) failed = scaled_table(s, wf, sets, nsets, &step, nsteps);
   tb_progress("correctness", nsteps, nsteps);
   if (wf) fclose(wf);
   for (int k = 0; k < nsets; k++) tb_pairs_free(&sets[k].set), free(sets[k].truth);
+  tb_threads_set(was);
   if (tb_suite_end(s, &err)) {
     fprintf(stderr, "correctness: %s\n", err.msg);
     return 1;

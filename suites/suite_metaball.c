@@ -11,23 +11,25 @@
  *  3. The re-packing claim: spheres removed vs created and their radii (the
  *     patent: about twice as many, half the size), points left uncovered.
  *  4. The speed goal (§5): deform <= 1 ms and cut <= 2 ms a frame on the
- *     8128-vertex liver with 570 spheres.
+ *     8128-vertex liver with 570 spheres: met, not met or inconclusive from
+ *     the 95% interval of the repetitions' medians.
  *  5. Figs 7-10: per organ, before and after the cut, the spheres and their
  *     links above the surface.
- * Every organ is run `reps` times from scratch (same seed, same run): the
- * timings are medians over all repetitions; the surfaces after the cut
- * must be bit-identical. */
+ * Every organ is run `reps` times from scratch (same seed, same run) on one
+ * thread: the timings are CPU time (wall beside), each repetition's median
+ * frame one sample, the median over repetitions shown; the surfaces after
+ * the cut must be bit-identical. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "suite_metaball.h"
-#include "tb_draw.h"
 #include "core/tb_mesh_io.h"
 #include "core/tb_threads.h"
 #include "core/tb_timer.h"
 #include "cutting/tb_cut_surface.h"
+#include "measure/tb_draw.h"
 #include "meshgen/tb_meshgen.h"
 #include "meshgen/tb_sphpack.h"
 #include "render/tb_render.h"
@@ -53,13 +55,16 @@ typedef struct organ {
   tb_spheres given;
 } organ;
 
-/* What an organ's runs give. */
+/* What an organ's runs give: CPU ms, and wall ms (*_w) beside. */
 typedef struct row {
   int ok, identical, closed, components, links, nsph;
   char why[200];
   double *pack, *deform, *cut, *end; /* samples: reps, reps * nblocks, reps * CUT_FRAMES, reps */
-  double *move, *cstep;              /* a cut frame's MOVE and step apart (reps * CUT_FRAMES) */
-  int npack, ndeform, ncut, nend;
+  double *pack_w, *deform_w, *cut_w, *end_w;
+  double *move, *cstep; /* a cut frame's MOVE and step apart (reps * CUT_FRAMES) */
+  double *rdeform, *rcut, *rdeform_w, *rcut_w; /* each repetition's median (reps) */
+  int npack, ndeform, ncut, nend, nrep;
+  double *store; /* every sample array above, one block */
   tb_sphere_coverage cov;
   tb_cut_stats st;
   double sag; /* largest point displacement before the cut */
@@ -100,21 +105,27 @@ int tb_mbs_end_holds(const tb_vec3 *x, int n, int **ids, tb_vec3 **at, tb_error 
   return k;
 }
 
-int tb_mbs_deform(tb_model *m, const tb_step *in, const tb_mbs_plan *p, double *block_ms,
-                  tb_error *err) {
-  int n = p->warm + p->block * p->nblocks;
-  uint64_t acc = 0;
+int tb_mbs_frames(tb_model *m, const tb_step *in, int n, double *wall, double *cpu, tb_error *err) {
+  double w = 0, c = 0;
   for (int k = 0; k < n; k++) {
-    uint64_t t0 = tb_time_ns();
-    if (tb_model_step(m, in, err)) return -1;
-    uint64_t t1 = tb_time_ns();
-    if (k >= p->warm) {
-      acc += t1 - t0;
-      if ((k + 1 - p->warm) % p->block == 0)
-        block_ms[(k - p->warm) / p->block] = (double)acc * 1e-6 / p->block, acc = 0;
-    }
+    double dw, dc;
+    tb_clock clk = tb_clock_start();
+    int rc = tb_model_step(m, in, err);
+    tb_clock_ms(&clk, &dw, &dc);
+    if (rc) return -1;
+    w += dw, c += dc;
   }
   if (!tb_mbs_finite(m)) return tb_error_set(err, "metaball", 0, "NaN or inf after %d frames", n);
+  if (wall) *wall = n > 0 ? w / n : NAN;
+  if (cpu) *cpu = n > 0 ? c / n : NAN;
+  return 0;
+}
+
+int tb_mbs_deform(tb_model *m, const tb_step *in, const tb_mbs_plan *p, double *wall, double *cpu,
+                  tb_error *err) {
+  if (tb_mbs_frames(m, in, p->warm, NULL, NULL, err)) return -1;
+  for (int b = 0; b < p->nblocks; b++)
+    if (tb_mbs_frames(m, in, p->block, wall + b, cpu + b, err)) return -1;
   return 0;
 }
 
@@ -207,20 +218,23 @@ static int cut(tb_model *m, const tb_step *in, row *w, tb_error *err) {
   for (int f = 1; f <= CUT_FRAMES; f++) {
     path[1] = tb_add(p[0], tb_scale(tb_sub(p[1], p[0]), (double)f / CUT_FRAMES));
     ev = (tb_cut_event){TB_CUT_MOVE, 2, path, depth};
-    uint64_t t0 = tb_time_ns();
+    double mw, mc, sw, sc;
+    tb_clock c0 = tb_clock_start();
     if (tb_model_cut(m, &ev, NULL, err)) return -1;
-    uint64_t t1 = tb_time_ns();
+    tb_clock_ms(&c0, &mw, &mc);
+    tb_clock c1 = tb_clock_start();
     if (tb_model_step(m, in, err)) return -1;
-    uint64_t t2 = tb_time_ns();
-    w->move[w->ncut] = (double)(t1 - t0) * 1e-6, w->cstep[w->ncut] = (double)(t2 - t1) * 1e-6;
-    w->cut[w->ncut++] = (double)(t2 - t0) * 1e-6;
+    tb_clock_ms(&c1, &sw, &sc);
+    w->move[w->ncut] = mc, w->cstep[w->ncut] = sc, w->cut_w[w->ncut] = mw + sw;
+    w->cut[w->ncut++] = mc + sc;
   }
   ev = (tb_cut_event){TB_CUT_END, 0, NULL, depth};
   tb_cut_stats st;
   memset(&st, 0, sizeof st);
-  uint64_t t0 = tb_time_ns();
+  tb_clock c0 = tb_clock_start();
   if (tb_model_cut(m, &ev, &st, err)) return -1;
-  w->end[w->nend++] = (double)(tb_time_ns() - t0) * 1e-6;
+  tb_clock_ms(&c0, &w->end_w[w->nend], &w->end[w->nend]);
+  w->nend++;
   w->st = st;
   return 0;
 }
@@ -237,9 +251,10 @@ static int run(const organ *g, int rep, const tb_mbs_plan *p, int grid, uint64_t
     snprintf(sph, sizeof sph, "%s/%s-z-up.sph", dir, stem);
     if (rep == 0 && tb_spheres_write(sph, &g->given, err)) return -1;
   } else {
-    uint64_t t0 = tb_time_ns();
+    tb_clock c0 = tb_clock_start();
     if (tb_sphere_pack(&g->surf, g->name, &pd, &sp, NULL, err)) return -1;
-    w->pack[w->npack++] = (double)(tb_time_ns() - t0) * 1e-6;
+    tb_clock_ms(&c0, &w->pack_w[w->npack], &w->pack[w->npack]);
+    w->npack++;
   }
   if (rep == 0 &&
       tb_sphere_coverage_of(&g->surf, g->name, g->given.n ? &g->given : &sp, grid, &w->cov, err))
@@ -266,7 +281,8 @@ static int run(const organ *g, int rep, const tb_mbs_plan *p, int grid, uint64_t
   if (nf < 0) return tb_model_destroy(&m), -1;
   tb_step in = {.dt = TB_MBS_DT, .gravity = tb_v3(0, 0, -TB_MBS_G)};
   in.nfixed = nf, in.fixed = ids, in.fixed_x = at;
-  if ((rc = tb_mbs_deform(&m, &in, p, w->deform + w->ndeform, err))) goto done;
+  if ((rc = tb_mbs_deform(&m, &in, p, w->deform_w + w->ndeform, w->deform + w->ndeform, err)))
+    goto done;
   w->ndeform += p->nblocks;
   const tb_vec3 *x = tb_model_positions(&m);
   w->sag = 0;
@@ -277,6 +293,12 @@ static int run(const organ *g, int rep, const tb_mbs_plan *p, int grid, uint64_t
     if ((rc = picture(r, &m, ms.n, lo, hi, path, err))) goto done;
   }
   if ((rc = cut(&m, &in, w, err))) goto done;
+  /* this repetition's medians: its blocks' and its cut frames' */
+  w->rdeform[rep] = tb_stats_of(w->deform + w->ndeform - p->nblocks, p->nblocks).median;
+  w->rdeform_w[rep] = tb_stats_of(w->deform_w + w->ndeform - p->nblocks, p->nblocks).median;
+  w->rcut[rep] = tb_stats_of(w->cut + w->ncut - CUT_FRAMES, CUT_FRAMES).median;
+  w->rcut_w[rep] = tb_stats_of(w->cut_w + w->ncut - CUT_FRAMES, CUT_FRAMES).median;
+  w->nrep = rep + 1;
   for (int k = 0; k < AFTER_FRAMES && !rc; k++) rc = tb_model_step(&m, &in, err);
   if (rc) goto done;
   if (!tb_mbs_finite(&m)) {
@@ -309,7 +331,30 @@ done:
   return rc ? -1 : 0;
 }
 
+/* Room for reps repetitions of nblocks blocks; 0, or -1 when out of memory. */
+static int row_alloc(row *x, int reps, int nblocks) {
+  size_t r = (size_t)reps, d = r * (size_t)nblocks, c = r * CUT_FRAMES;
+  double *p = x->store = malloc(sizeof(double) * (8 * r + 2 * d + 4 * c));
+  if (!p) return -1;
+  double **per_rep[] = {&x->pack,    &x->pack_w, &x->end,       &x->end_w,
+                        &x->rdeform, &x->rcut,   &x->rdeform_w, &x->rcut_w};
+  for (size_t k = 0; k < 8; k++) *per_rep[k] = p, p += r;
+  x->deform = p, p += d, x->deform_w = p, p += d;
+  x->cut = p, p += c, x->cut_w = p, p += c, x->move = p, p += c, x->cstep = p;
+  return 0;
+}
+
 static double med(const double *s, int n) { return n ? tb_stats_of(s, n).median : NAN; }
+
+/* "x (lo-hi)" of an estimate in table.md, the value alone in the CSV. */
+static void est_cell(tb_table *t, tb_est e, const char *fmt) {
+  char f[64];
+  snprintf(f, sizeof f, "%s (%s-%s)", fmt, fmt, fmt);
+  if (isfinite(e.value))
+    tb_table_numf(t, e.value, f, e.value, e.lo, e.hi);
+  else
+    tb_table_cell(t, "-");
+}
 
 static void table1(tb_suite *su, const organ *g, const row *w, int n) {
   static const char *cols[] = {"organ",
@@ -318,21 +363,24 @@ static void table1(tb_suite *su, const organ *g, const row *w, int n) {
                                "spheres (ours)",
                                "spheres (patent)",
                                "links",
-                               "packing (ms)",
+                               "packing CPU (ms)",
                                "volume in spheres (%)",
                                "vertices in skin reach (%)",
-                               "deform (ms/frame, ours)",
+                               "deform CPU (ms/frame, ours)",
                                "deform (ms/frame, patent)",
-                               "cut (ms/frame, ours)",
+                               "cut CPU (ms/frame, ours)",
                                "cut (ms/frame, patent)",
-                               "cut's END (ms)",
+                               "cut's END CPU (ms)",
                                "largest sag before the cut",
                                "pieces after",
-                               "closed 2-manifold after"};
+                               "closed 2-manifold after",
+                               "deform wall (ms/frame, ours)",
+                               "cut wall (ms/frame, ours)"};
   tb_table *t = tb_table_new("table1",
                              "Patent table 1: per organ, ms per frame to deform and to cut "
-                             "(metaball model, dt 0.01, gravity, both ends held)",
-                             17, cols);
+                             "(metaball model, dt 0.01, gravity, both ends held; one thread, CPU "
+                             "time, the median of the repetitions' medians)",
+                             19, cols);
   for (int k = 0; k < n; k++) {
     tb_table_row(t);
     tb_table_cell(t, "%s", g[k].name);
@@ -340,7 +388,7 @@ static void table1(tb_suite *su, const organ *g, const row *w, int n) {
     tb_table_num(t, g[k].surf.nv ? g[k].surf.nv : NAN, "%.0f");
     if (!w[k].ok) {
       tb_table_cell(t, "failed: %s", w[k].why);
-      for (int c = 4; c < 17; c++) tb_table_cell(t, "-");
+      for (int c = 4; c < 19; c++) tb_table_cell(t, "-");
       continue;
     }
     tb_table_num(t, w[k].nsph, "%.0f");
@@ -349,14 +397,16 @@ static void table1(tb_suite *su, const organ *g, const row *w, int n) {
     tb_table_num(t, med(w[k].pack, w[k].npack), "%.0f");
     tb_table_num(t, 100 * w[k].cov.volume, "%.1f");
     tb_table_num(t, 100 * w[k].cov.reach, "%.1f");
-    tb_table_num(t, med(w[k].deform, w[k].ndeform), "%.3f");
+    tb_table_num(t, med(w[k].rdeform, w[k].nrep), "%.3f");
     tb_table_num(t, g[k].deform_ms, "%.2f");
-    tb_table_num(t, med(w[k].cut, w[k].ncut), "%.3f");
+    tb_table_num(t, med(w[k].rcut, w[k].nrep), "%.3f");
     tb_table_num(t, g[k].cut_ms, "%.2f");
     tb_table_num(t, med(w[k].end, w[k].nend), "%.1f");
     tb_table_num(t, w[k].sag, "%.3f");
     tb_table_num(t, w[k].components, "%.0f");
     tb_table_cell(t, "%s", w[k].closed ? "yes" : "NO");
+    tb_table_num(t, med(w[k].rdeform_w, w[k].nrep), "%.3f");
+    tb_table_num(t, med(w[k].rcut_w, w[k].nrep), "%.3f");
   }
   tb_suite_table(su, t);
 }
@@ -395,59 +445,92 @@ static void repack_table(tb_suite *su, const organ *g, const row *w, int n) {
   tb_suite_table(su, t);
 }
 
-/* §5 on the liver row (the first organ). */
-static void goal_table(tb_suite *su, const organ *g, const row *w) {
+/* §5 on the liver row (the first organ): each repetition's median frame
+ * (CPU time, one thread), their median and 95% interval against the goal. */
+static void goal_table(tb_suite *su, const organ *g, const row *w, int nblocks) {
   static const char *cols[] = {"organ",
                                "vertices",
                                "spheres",
-                               "deform (ms/frame)",
+                               "repetitions",
+                               "deform CPU (ms/frame, 95% interval)",
+                               "deform CPU low",
+                               "deform CPU high",
                                "goal (ms)",
                                "deform goal",
-                               "cut (ms/frame)",
+                               "cut CPU (ms/frame, 95% interval)",
+                               "cut CPU low",
+                               "cut CPU high",
                                "goal (ms)",
                                "cut goal",
-                               "of a cut frame: MOVE (ms, median)",
-                               "of a cut frame: step (ms, median)",
+                               "of a cut frame: MOVE CPU (ms, median)",
+                               "of a cut frame: step CPU (ms, median)",
+                               "deform wall (ms/frame, median)",
+                               "cut wall (ms/frame, median)",
                                "patent deform / cut (ms)"};
   tb_table *t = tb_table_new("goal",
                              "Speed goal: deform <= 1 ms and cut <= 2 ms per frame "
-                             "on the 8128-vertex liver with 570 spheres",
-                             12, cols);
+                             "on the 8128-vertex liver with 570 spheres (one thread, CPU time)",
+                             19, cols);
+  for (int c = 5; c <= 11; c++)
+    if (c == 5 || c == 6 || c == 10 || c == 11) tb_table_only(t, c, TB_CSV_ONLY);
+  tb_est nan = {NAN, NAN, NAN, 0};
+  tb_est d = w->ok ? tb_median_est(w->rdeform, w->nrep) : nan;
+  tb_est c = w->ok ? tb_median_est(w->rcut, w->nrep) : nan;
+  char vd[200], vc[200];
+  tb_verdict_text(d, GOAL_DEFORM, 0, vd, sizeof vd);
+  tb_verdict_text(c, GOAL_CUT, 0, vc, sizeof vc);
   tb_table_row(t);
   tb_table_cell(t, "%s", g->name);
   tb_table_num(t, g->surf.nv, "%.0f");
   tb_table_num(t, w->ok ? w->nsph : NAN, "%.0f");
-  double d = w->ok ? med(w->deform, w->ndeform) : NAN, c = w->ok ? med(w->cut, w->ncut) : NAN;
-  tb_table_num(t, d, "%.3f"), tb_table_num(t, GOAL_DEFORM, "%.0f");
-  tb_table_cell(t, "%s", d <= GOAL_DEFORM ? "met" : "not met");
-  tb_table_num(t, c, "%.3f"), tb_table_num(t, GOAL_CUT, "%.0f");
-  tb_table_cell(t, "%s", c <= GOAL_CUT ? "met" : "not met");
+  tb_table_num(t, w->ok ? w->nrep : NAN, "%.0f");
+  est_cell(t, d, "%.3f");
+  tb_table_num(t, d.lo, "%.6g"), tb_table_num(t, d.hi, "%.6g");
+  tb_table_num(t, GOAL_DEFORM, "%.0f");
+  tb_table_cell(t, "%s", w->ok ? vd : "-");
+  est_cell(t, c, "%.3f");
+  tb_table_num(t, c.lo, "%.6g"), tb_table_num(t, c.hi, "%.6g");
+  tb_table_num(t, GOAL_CUT, "%.0f");
+  tb_table_cell(t, "%s", w->ok ? vc : "-");
   tb_table_num(t, w->ok ? med(w->move, w->ncut) : NAN, "%.3f");
   tb_table_num(t, w->ok ? med(w->cstep, w->ncut) : NAN, "%.3f");
+  tb_table_num(t, w->ok ? med(w->rdeform_w, w->nrep) : NAN, "%.3f");
+  tb_table_num(t, w->ok ? med(w->rcut_w, w->nrep) : NAN, "%.3f");
   tb_table_cell(t, "%.2f / %.2f", g->deform_ms, g->cut_ms);
   tb_suite_table(su, t);
-  tb_suite_counter(su, "metaball/goal", "deform_ms", d);
-  tb_suite_counter(su, "metaball/goal", "cut_ms", c);
-  tb_suite_counter(su, "metaball/goal", "deform_met", d <= GOAL_DEFORM);
-  tb_suite_counter(su, "metaball/goal", "cut_met", c <= GOAL_CUT);
+  tb_suite_counter(su, "metaball/goal", "deform_ms", d.value);
+  tb_suite_counter(su, "metaball/goal", "deform_ms_low", d.lo);
+  tb_suite_counter(su, "metaball/goal", "deform_ms_high", d.hi);
+  tb_suite_counter(su, "metaball/goal", "cut_ms", c.value);
+  tb_suite_counter(su, "metaball/goal", "cut_ms_low", c.lo);
+  tb_suite_counter(su, "metaball/goal", "cut_ms_high", c.hi);
+  tb_suite_counter(su, "metaball/goal", "deform_verdict", tb_verdict(d, GOAL_DEFORM, 0));
+  tb_suite_counter(su, "metaball/goal", "cut_verdict", tb_verdict(c, GOAL_CUT, 0));
+  tb_suite_note(su,
+                "The goal's verdicts: each of %d repetitions (each from scratch) gives its median "
+                "frame (deform: over its %d blocks; cut: over its %d frames), CPU time on one "
+                "thread; their median and its 95%% interval (order statistics) decide: met when "
+                "the whole interval is within the goal, not met when it is all beyond, else "
+                "inconclusive (noise, or fewer than %d repetitions).",
+                w->nrep, nblocks, CUT_FRAMES, TB_EST_MIN);
 }
 
 static void record(tb_suite *su, const organ *g, const row *w, const char *stem) {
   char name[96];
   snprintf(name, sizeof name, "metaball/%s/deform", stem);
-  tb_suite_bench(su, name, w->deform, NULL, w->ndeform, "ms");
+  tb_suite_bench(su, name, w->deform_w, w->deform, w->ndeform, "ms");
   tb_suite_counter(su, name, "vertices", g->surf.nv);
   tb_suite_counter(su, name, "spheres", w->nsph);
   tb_suite_counter(su, name, "links", w->links);
   tb_suite_counter(su, name, "largest_sag", w->sag);
   if (isfinite(g->deform_ms)) tb_suite_counter(su, name, "patent_ms", g->deform_ms);
   snprintf(name, sizeof name, "metaball/%s/cut_frame", stem);
-  tb_suite_bench(su, name, w->cut, NULL, w->ncut, "ms");
+  tb_suite_bench(su, name, w->cut_w, w->cut, w->ncut, "ms");
   if (isfinite(g->cut_ms)) tb_suite_counter(su, name, "patent_ms", g->cut_ms);
   tb_suite_counter(su, name, "move_median_ms", med(w->move, w->ncut));
   tb_suite_counter(su, name, "step_median_ms", med(w->cstep, w->ncut));
   snprintf(name, sizeof name, "metaball/%s/cut_end", stem);
-  tb_suite_bench(su, name, w->end, NULL, w->nend, "ms");
+  tb_suite_bench(su, name, w->end_w, w->end, w->nend, "ms");
   const tb_cut_stats *s = &w->st;
   tb_suite_counter(su, name, "spheres_removed", s->removed);
   tb_suite_counter(su, name, "spheres_created", s->created);
@@ -462,7 +545,8 @@ static void record(tb_suite *su, const organ *g, const row *w, const char *stem)
   tb_suite_counter(su, name, "closed_manifold", w->closed);
   tb_suite_counter(su, name, "identical_repetitions", w->identical);
   snprintf(name, sizeof name, "metaball/%s/pack", stem);
-  if (w->npack) tb_suite_bench(su, name, w->pack, NULL, w->npack, "ms"); /* given spheres: none */
+  if (w->npack) /* given spheres: none */
+    tb_suite_bench(su, name, w->pack_w, w->pack, w->npack, "ms");
   tb_suite_counter(su, name, "volume_covered", w->cov.volume);
   tb_suite_counter(su, name, "skin_reach", w->cov.reach);
 }
@@ -487,7 +571,10 @@ int tb_suite_metaball(const tb_suite_opts *o) {
                                 "cut by the hybrid sphere - point set - sphere method",
                                 o->seed, &err);
   if (!su) return fprintf(stderr, "metaball: %s\n", err.msg), 1;
-  int smoke = o->scale < 1, reps = smoke ? 2 : o->full ? 5 : 2, failed = 0;
+  /* the goal's verdicts rest on the repetitions: at least TB_EST_MIN but at --scale < 1 */
+  int smoke = o->scale < 1, reps = smoke ? 2 : o->full ? 9 : TB_EST_MIN, failed = 0;
+  int threads = tb_threads_setting();
+  tb_threads_set(1); /* times against goals and between models: one thread, CPU time */
   tb_mbs_plan p = smoke     ? (tb_mbs_plan){5, 5, 2}
                   : o->full ? (tb_mbs_plan){20, 50, 10}
                             : (tb_mbs_plan){20, 25, 4};
@@ -506,15 +593,9 @@ int tb_suite_metaball(const tb_suite_opts *o) {
     row *x = &w[k];
     char stem[40];
     stem_of(g[k].name, stem, sizeof stem);
-    x->pack = malloc(sizeof(double) * (size_t)reps), x->end = malloc(sizeof(double) * (size_t)reps);
-    x->deform = malloc(sizeof(double) * (size_t)(reps * p.nblocks));
-    x->cut = malloc(sizeof(double) * (size_t)(reps * CUT_FRAMES));
-    x->move = malloc(sizeof(double) * (size_t)(reps * CUT_FRAMES));
-    x->cstep = malloc(sizeof(double) * (size_t)(reps * CUT_FRAMES));
-    int rc = !x->pack || !x->end || !x->deform || !x->cut || !x->move || !x->cstep
-                 ? tb_error_set(&err, "metaball", 0, "out of memory")
-             : !g[k].surf.nv ? tb_error_set(&err, "metaball", 0, "%s", g[k].source)
-                             : 0;
+    int rc = row_alloc(x, reps, p.nblocks) ? tb_error_set(&err, "metaball", 0, "out of memory")
+             : !g[k].surf.nv               ? tb_error_set(&err, "metaball", 0, "%s", g[k].source)
+                                           : 0;
     for (int q = 0; q < reps && !rc; q++) {
       tb_progress("metaball", k * reps + q, n * reps + 1);
       rc = run(&g[k], q, &p, grid, o->seed, r, dir, stem, x, &err);
@@ -540,16 +621,19 @@ int tb_suite_metaball(const tb_suite_opts *o) {
       "tb_sphere_pack alone (the model packs again when it is created); coverage on a %d-point "
       "grid along the longest side (tb_sphere_coverage_of). Deform: dt %g, gravity %g along -z, "
       "the points within %g of the long extent of each end held; %d warm frames, then %d blocks "
-      "of %d frames, each block's mean one sample; the model's step alone timed. Cut: after "
+      "of %d frames, each block's mean one sample; the model's step alone timed, on one thread, "
+      "CPU time (wall beside). Cut: after "
       "those frames, a straight blade across the shorter horizontal extent at the middle of the "
       "longer, its depth through the whole thickness (+10%% each side), crossing in %d frames; "
       "a frame is the MOVE event (the blade's path so far) and the step (the same gravity and "
       "holds), each frame one sample; END (the spheres re-made from the point set, the surface "
-      "split and closed) timed apart. Then %d frames more before the after picture. Medians over "
-      "%d repetitions, each from scratch (packing, model, frames, cut); every repetition's "
+      "split and closed) timed apart. Then %d frames more before the after picture. Each of %d "
+      "repetitions, each from scratch (packing, model, frames, cut), gives its median frame; "
+      "the table shows the median of those (END and packing: of the repetitions); every "
+      "repetition's "
       "surface after the cut is bit-identical to the first's: %s. SOFA liver-smooth: %s. This "
-      "machine: %s (%d cores), %d threads (the skin, the point set's forces and bound; the "
-      "same bits on any count), load average %.2f at the start.",
+      "machine: %s (%d cores), timed on %d thread (the skin, the point set's forces and bound "
+      "can take more; the same bits on any count), load average %.2f at the start.",
       grid, TB_MBS_DT, TB_MBS_G, TB_MBS_END_SHARE, p.warm, p.nblocks, p.block, CUT_FRAMES,
       AFTER_FRAMES, reps, failed ? "NO (or a run failed)" : "yes",
       why[0] ? why
@@ -564,7 +648,7 @@ int tb_suite_metaball(const tb_suite_opts *o) {
                 "set (cut_points per sphere); when the blade left, new spheres were placed on the "
                 "medial axis of the point set's boundary points; the points no new sphere covers "
                 "are dropped. Radii in the organ's units (the liver about 10 long).");
-  if (!smoke) goal_table(su, &g[0], &w[0]);
+  if (!smoke) goal_table(su, &g[0], &w[0], p.nblocks);
   for (int k = 0; k < n; k++) {
     if (!w[k].ok) continue;
     char stem[40], f[64];
@@ -581,19 +665,19 @@ int tb_suite_metaball(const tb_suite_opts *o) {
           SPHERE_SCALE);
     }
   }
-  tb_mbs_steak st = {0, 0, NAN, NAN};
+  tb_mbs_steak st = {0, 0, NAN};
   for (int k = 0; k < n; k++)
     if (!strcmp(g[k].name, "steak") && w[k].ok)
-      st = (tb_mbs_steak){1, w[k].nsph, med(w[k].deform, w[k].ndeform), med(w[k].cut, w[k].ncut)};
+      st = (tb_mbs_steak){1, w[k].nsph, med(w[k].rcut, w[k].nrep)};
   tb_progress("metaball", n * reps, n * reps + 1);
   failed |= tb_mbs_compare(su, o, &st);
   tb_progress_done();
+  tb_threads_set(threads);
   double wall = (double)(tb_time_ns() - t0) * 1e-9;
   tb_suite_counter(su, "suite", "wall_time_s", wall);
   tb_suite_note(su, "The suite took %.1f s in all.", wall);
   for (int k = 0; k < n; k++) {
-    free(w[k].pack), free(w[k].deform), free(w[k].cut), free(w[k].end), free(w[k].move);
-    free(w[k].cstep);
+    free(w[k].store);
     free(w[k].x_after), free(w[k].tri_after), tb_mesh_free(&g[k].surf),
         tb_spheres_free(&g[k].given);
   }

@@ -23,17 +23,22 @@ typedef struct tb_mbs_plan {
  * horizontal extent (x or y): ids ascending and their positions
  * (malloc'ed). Returns how many, or -1 with err. */
 int tb_mbs_end_holds(const tb_vec3 *x, int n, int **ids, tb_vec3 **at, tb_error *err);
-/* The plan's frames of m under in, the step alone timed; block_ms gets
- * nblocks samples. A failed step or a non-finite point is an error. */
-int tb_mbs_deform(tb_model *m, const tb_step *in, const tb_mbs_plan *p, double *block_ms,
+/* n frames of m under in, the step alone timed: the mean wall and CPU ms
+ * per frame into *wall and *cpu (either may be NULL). A failed step or a
+ * non-finite point is an error. */
+int tb_mbs_frames(tb_model *m, const tb_step *in, int n, double *wall, double *cpu, tb_error *err);
+/* The plan's frames of m under in: wall and cpu get nblocks samples each. */
+int tb_mbs_deform(tb_model *m, const tb_step *in, const tb_mbs_plan *p, double *wall, double *cpu,
                   tb_error *err);
 /* 1 when every point of m is finite. */
 int tb_mbs_finite(const tb_model *m);
 
-/* The metaball steak of table 1, for table 2's last row. */
+/* The metaball steak of table 1, for table 2's last row: its spheres and
+ * its cut frame's CPU ms (the median of the repetitions' medians); table 2
+ * times its deformation again, taking turns with the tet models. */
 typedef struct tb_mbs_steak {
   int ok, spheres;
-  double deform_ms, cut_ms;
+  double cut_ms;
 } tb_mbs_steak;
 /* Table 2 (the patent's comparison on the steak) and the convergence
  * table; returns 0, or 1 when a run failed (the tables say which). */

@@ -5,9 +5,12 @@
  *  and its own method (539 spheres, 1.5 / 2.4 ms). Ours: fem-corot on a
  *  TetGen steak of ~6272 tets, pbd-stvk on one of ~1477 (meshgen/liver_tets.c
  *  on a coarser steak surface, within 2% of the counts), each at its
- *  defaults with the same dt, holds and gravity as table 1; the metaball
- *  row from table 1. tissuebench cuts no tet mesh: their cut cells stay
- *  empty.
+ *  defaults with the same dt, holds and gravity as table 1, and the metaball
+ *  steak of table 1 again: the three on one thread, live side by side and
+ *  taking turns block by block, CPU time (wall beside), each tet model's
+ *  time over the metaball's with its 95% interval (paired by block); the
+ *  metaball's cut from table 1. tissuebench cuts no tet mesh: their cut
+ *  cells stay empty.
  *  Convergence: frames to come to rest after a push (a downward force on a
  *  top patch at the middle, both ends held, no gravity; then released):
  *  the metaball steak against pbd-stvk, fem-corot and msm on the ~1477-tet
@@ -55,29 +58,58 @@ static int steak_tets(int tets, uint64_t seed, tb_mesh *out, tb_error *err) {
   return rc;
 }
 
-/* ms per frame of model on mesh (table 1's holds and gravity), into ms[]. */
-static int deform(const char *model, const tb_mesh *mesh, const tb_mbs_plan *p, double *ms,
-                  tb_error *err) {
+/* A model deforming under table 1's holds and gravity, timed block by
+ * block so that several take turns. */
+typedef struct deformer {
+  int live, failed;
   tb_model m;
-  if (tb_model_create(&m, model, mesh, NULL, err)) return -1;
-  int *ids = NULL;
-  tb_vec3 *at = NULL;
-  int nf = tb_mbs_end_holds(tb_model_positions(&m), tb_model_npoints(&m), &ids, &at, err);
-  int rc = nf < 0 ? -1 : 0;
-  if (!rc) {
-    tb_step in = {.dt = TB_MBS_DT, .gravity = tb_v3(0, 0, -TB_MBS_G)};
-    in.nfixed = nf, in.fixed = ids, in.fixed_x = at;
-    rc = tb_mbs_deform(&m, &in, p, ms, err);
+  tb_step in;
+  int *ids;
+  tb_vec3 *at;
+  double *wall, *cpu; /* nblocks: mean ms per frame of each block */
+  tb_error err;
+} deformer;
+
+static void deformer_open(deformer *d, const char *model, const tb_mesh *mesh,
+                          const tb_settings *set, double *store, int nblocks) {
+  memset(d, 0, sizeof *d);
+  d->wall = store, d->cpu = store + nblocks;
+  for (int b = 0; b < 2 * nblocks; b++) store[b] = NAN;
+  if (tb_model_create(&d->m, model, mesh, set, &d->err)) {
+    d->failed = 1;
+    return;
   }
-  free(ids), free(at);
-  tb_model_destroy(&m);
-  return rc;
+  d->live = 1;
+  int nf = tb_mbs_end_holds(tb_model_positions(&d->m), tb_model_npoints(&d->m), &d->ids, &d->at,
+                            &d->err);
+  if (nf < 0) {
+    d->failed = 1;
+    return;
+  }
+  d->in = (tb_step){.dt = TB_MBS_DT, .gravity = tb_v3(0, 0, -TB_MBS_G)};
+  d->in.nfixed = nf, d->in.fixed = d->ids, d->in.fixed_x = d->at;
+}
+
+/* n frames; block >= 0: their mean CPU and wall ms per frame to it. */
+static void deformer_frames(deformer *d, int n, int block) {
+  if (!d->live || d->failed) return;
+  double w, c;
+  if (tb_mbs_frames(&d->m, &d->in, n, &w, &c, &d->err))
+    d->failed = 1;
+  else if (block >= 0)
+    d->wall[block] = w, d->cpu[block] = c;
+}
+
+static void deformer_close(deformer *d) {
+  if (d->live) tb_model_destroy(&d->m);
+  free(d->ids), free(d->at);
+  d->live = 0, d->ids = NULL, d->at = NULL;
 }
 
 /* The convergence of one model: its push's dent, frames to rest. */
 typedef struct conv {
   int ok, at_rest, frames, patch, points;
-  double dent, speed_end, tol, ms;
+  double dent, speed_end, tol, ms; /* ms: a step's CPU time, median */
   char why[160];
 } conv;
 
@@ -135,13 +167,14 @@ static void converge(const char *model, const tb_mesh *mesh, const tb_settings *
       for (int q = 0; q < npatch; q++) o->dent += (x0[patch[q]].z - x[patch[q]].z) / npatch;
       in.force = NULL;
     }
-    uint64_t t0 = tb_time_ns();
-    if (tb_model_step(&m, &in, &err) || !tb_mbs_finite(&m)) {
+    tb_clock clk = tb_clock_start();
+    int rc = tb_model_step(&m, &in, &err);
+    tb_clock_ms(&clk, NULL, ms + k);
+    if (rc || !tb_mbs_finite(&m)) {
       snprintf(o->why, sizeof o->why, "frame %d: %.140s", k + 1,
                tb_mbs_finite(&m) ? err.msg : "NaN or inf");
       goto done;
     }
-    ms[k] = (double)(tb_time_ns() - t0) * 1e-6;
     const tb_vec3 *v = tb_model_velocities(&m);
     double s = 0;
     for (int i = 0; i < np; i++) s = fmax(s, tb_len(v[i]));
@@ -159,37 +192,67 @@ done:
   tb_model_destroy(&m);
 }
 
-static void table2(tb_suite *su, const tb_mesh *tets, const double *ms, int nms, char (*why)[160],
-                   const tb_mbs_steak *mb) {
-  static const char *cols[] = {"method (patent)",           "ours",
-                               "elements (patent)",         "elements (ours)",
-                               "deform (ms/frame, patent)", "deform (ms/frame, ours)",
-                               "cut (ms/frame, patent)",    "cut (ms/frame, ours)"};
+/* What table 2 measured of each row: CPU and wall ms per frame (medians
+ * over blocks), the CPU ratio to the metaball steak's paired by block. */
+typedef struct t2row {
+  int ok, elements;
+  char why[160];
+  tb_est cpu, ratio;
+  double wall;
+} t2row;
+
+static void table2(tb_suite *su, const t2row *w, const tb_mbs_steak *mb) {
+  static const char *cols[] = {"method (patent)",
+                               "ours",
+                               "elements (patent)",
+                               "elements (ours)",
+                               "deform (ms/frame, patent)",
+                               "deform CPU (ms/frame, ours)",
+                               "cut (ms/frame, patent)",
+                               "cut CPU (ms/frame, ours)",
+                               "deform wall (ms/frame, ours)",
+                               "deform / metaball's, CPU (ours, 95% interval)",
+                               "deform / metaball's low",
+                               "deform / metaball's high",
+                               "deform / metaball's (patent)"};
   tb_table *t = tb_table_new("table2",
                              "Patent table 2: the steak, the patent's comparison beside ours "
-                             "(dt 0.01, gravity, both ends held)",
-                             8, cols);
+                             "(dt 0.01, gravity, both ends held; one thread, CPU time, the "
+                             "models taking turns block by block)",
+                             13, cols);
+  tb_table_only(t, 10, TB_CSV_ONLY), tb_table_only(t, 11, TB_CSV_ONLY);
   for (int r = 0; r < NROWS; r++) {
     tb_table_row(t);
     tb_table_cell(t, "%s", patent[r].method);
     tb_table_cell(t, "%s", patent[r].ours);
     tb_table_num(t, patent[r].elements, "%.0f");
-    int ok = r == MB ? mb->ok : !why[r][0];
-    int el = r == MB ? mb->spheres : tets[r].ntet;
-    if (!ok) {
-      tb_table_cell(t, "%s", r == MB ? "table 1's steak failed" : why[r]);
-      for (int c = 4; c < 8; c++) tb_table_cell(t, "-");
+    if (!w[r].ok) {
+      tb_table_cell(t, "%s", w[r].why);
+      for (int c = 4; c < 13; c++) tb_table_cell(t, "-");
       continue;
     }
+    int el = w[r].elements;
     tb_table_numf(t, el, "%d %s (%+.1f%%)", el, r == MB ? "spheres" : "tets",
                   100.0 * (el - patent[r].elements) / patent[r].elements);
     tb_table_num(t, patent[r].deform, "%.1f");
-    tb_table_num(t, r == MB ? mb->deform_ms : tb_stats_of(ms + r * nms, nms).median, "%.3f");
+    tb_table_num(t, w[r].cpu.value, "%.3f");
     tb_table_num(t, patent[r].cut, "%.1f");
-    if (r == MB)
+    if (r == MB && mb->ok)
       tb_table_num(t, mb->cut_ms, "%.3f");
     else
       tb_table_cell(t, "-");
+    tb_table_num(t, w[r].wall, "%.3f");
+    if (r == MB) {
+      for (int c = 9; c < 13; c++) tb_table_cell(t, "-");
+      continue;
+    }
+    if (isfinite(w[r].ratio.value))
+      tb_table_numf(t, w[r].ratio.value, "%.2fx (%.2f-%.2f)", w[r].ratio.value, w[r].ratio.lo,
+                    w[r].ratio.hi);
+    else
+      tb_table_cell(t, "-");
+    tb_table_num(t, w[r].ratio.lo, "%.6g"), tb_table_num(t, w[r].ratio.hi, "%.6g");
+    tb_table_num(t, patent[r].deform / patent[MB].deform, "%.2fx");
   }
   tb_suite_table(su, t);
 }
@@ -198,43 +261,104 @@ int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o, const tb_mbs_steak *mb)
   int smoke = o->scale < 1, failed = 0;
   tb_mbs_plan p = smoke     ? (tb_mbs_plan){2, 3, 2}
                   : o->full ? (tb_mbs_plan){10, 20, 10}
-                            : (tb_mbs_plan){5, 10, 5};
+                            : (tb_mbs_plan){5, 10, TB_EST_MIN};
+  int nb = p.nblocks;
   tb_mesh tets[2];
-  char why[NROWS][160];
-  memset(tets, 0, sizeof tets), memset(why, 0, sizeof why);
-  double ms[2 * 10];
+  t2row w[NROWS];
+  memset(tets, 0, sizeof tets), memset(w, 0, sizeof w);
   tb_error err;
-  for (int r = 0; r < 2; r++) {
-    if (steak_tets(patent[r].elements, o->seed, &tets[r], &err) ||
-        deform(patent[r].ours, &tets[r], &p, ms + r * p.nblocks, &err)) {
-      snprintf(why[r], sizeof why[r], "failed: %.140s", err.msg), failed = 1;
+  tb_mesh surf = {0};
+  int have_surf = !tb_organ_surface("steak", 0, o->seed, &surf, &err);
+  if (!have_surf) snprintf(w[MB].why, sizeof w[MB].why, "failed: %.140s", err.msg), failed = 1;
+  for (int r = 0; r < 2; r++)
+    if (steak_tets(patent[r].elements, o->seed, &tets[r], &err)) {
+      snprintf(w[r].why, sizeof w[r].why, "failed: %.140s", err.msg), failed = 1;
       fprintf(stderr, "metaball: table 2, %s: %s\n", patent[r].ours, err.msg);
+    }
+  /* the three models live side by side, taking turns block by block
+   * (fem-corot, pbd-stvk, metaball, fem-corot, ...), so that a busy spell
+   * of the machine falls on all alike and block b of each covers the same
+   * stretch of the sag */
+  double *store = malloc(sizeof(double) * 2 * NROWS * (size_t)nb);
+  deformer d[NROWS];
+  memset(d, 0, sizeof d);
+  for (int r = 0; r < NROWS && store; r++) {
+    tb_settings set;
+    tb_settings_init(&set);
+    if (r == MB) { /* table 1's steak: the patent's spheres, the same packing seed */
+      tb_settings_setd(&set, "spheres", patent[MB].elements, NULL);
+      tb_settings_setd(&set, "seed", (double)(o->seed % 2147483647u), NULL);
+    }
+    const tb_mesh *mesh = r == MB ? (have_surf ? &surf : NULL) : (w[r].why[0] ? NULL : &tets[r]);
+    if (mesh)
+      deformer_open(&d[r], patent[r].ours, mesh, r == MB ? &set : NULL,
+                    store + 2 * (size_t)r * (size_t)nb, nb);
+  }
+  for (int r = 0; r < NROWS && store; r++) deformer_frames(&d[r], p.warm, -1);
+  for (int b = 0; b < nb && store; b++)
+    for (int r = 0; r < NROWS; r++) deformer_frames(&d[r], p.block, b);
+  for (int r = 0; r < NROWS; r++) {
+    if (w[r].why[0]) continue;
+    if (!store || !d[r].live || d[r].failed) {
+      snprintf(w[r].why, sizeof w[r].why, "failed: %.140s", store ? d[r].err.msg : "out of memory"),
+          failed = 1;
+      fprintf(stderr, "metaball: table 2, %s: %s\n", patent[r].ours, w[r].why);
       continue;
     }
+    w[r].ok = 1;
+    w[r].elements = r == MB ? tb_model_npoints(&d[r].m) : tets[r].ntet;
+    w[r].cpu = tb_median_est(d[r].cpu, nb);
+    w[r].wall = tb_median_est(d[r].wall, nb).value;
+  }
+  if (w[MB].ok) {
+    tb_model_spheres sp = d[MB].m.cls->spheres(d[MB].m.self);
+    w[MB].elements = sp.n;
+  }
+  for (int r = 0; r < NROWS; r++) {
+    if (!w[r].ok) continue;
+    if (r != MB && w[MB].ok) w[r].ratio = tb_ratio_est(d[r].cpu, d[MB].cpu, nb);
     char name[96];
-    snprintf(name, sizeof name, "table2/%s/tets:%d", patent[r].ours, tets[r].ntet);
-    tb_suite_bench(su, name, ms + r * p.nblocks, NULL, p.nblocks, "ms");
-    tb_suite_counter(su, name, "tets", tets[r].ntet);
-    tb_suite_counter(su, name, "nodes", tets[r].nv);
+    if (r == MB)
+      snprintf(name, sizeof name, "table2/metaball/spheres:%d", w[r].elements);
+    else
+      snprintf(name, sizeof name, "table2/%s/tets:%d", patent[r].ours, tets[r].ntet);
+    tb_suite_bench(su, name, d[r].wall, d[r].cpu, nb, "ms");
+    if (r != MB) {
+      tb_suite_counter(su, name, "tets", tets[r].ntet);
+      tb_suite_counter(su, name, "nodes", tets[r].nv);
+      if (w[MB].ok) {
+        tb_suite_counter(su, name, "over_metaball", w[r].ratio.value);
+        tb_suite_counter(su, name, "over_metaball_low", w[r].ratio.lo);
+        tb_suite_counter(su, name, "over_metaball_high", w[r].ratio.hi);
+      }
+    }
     tb_suite_counter(su, name, "patent_deform_ms", patent[r].deform);
     tb_suite_counter(su, name, "patent_cut_ms", patent[r].cut);
   }
-  table2(su, tets, ms, p.nblocks, why, mb);
+  for (int r = 0; r < NROWS; r++) deformer_close(&d[r]);
+  free(store);
+  if (!mb->ok && w[MB].ok) /* no cut from table 1 */
+    snprintf(w[MB].why, sizeof w[MB].why, "table 1's steak failed"), w[MB].ok = 0;
+  table2(su, w, mb);
   tb_suite_note(su,
                 "Ours at each model's defaults (fem-corot: E 3000, nu 0.3, implicit Euler, "
-                "CHOLMOD; pbd-stvk: k 0.4, 5 iterations; density 1), the same dt (%g), gravity "
-                "and holds as table 1; %d warm frames, then %d blocks of %d frames, each block's "
-                "mean ms per frame one sample, the median shown. The tet steaks: "
+                "CHOLMOD; pbd-stvk: k 0.4, 5 iterations; density 1; metaball: table 1's steak, "
+                "539 spheres packed with the same seed), the same dt (%g), gravity "
+                "and holds as table 1, on one thread; the three models live side by side and "
+                "take turns: %d warm frames each, then %d blocks of %d frames, block by block "
+                "(fem-corot, pbd-stvk, metaball, fem-corot, ...), each block's mean CPU ms per "
+                "frame one sample, the median shown (wall beside); `deform / metaball's` is the "
+                "median of the blocks' paired CPU-time ratios with its 95%% interval. The metaball "
+                "row's cut is table 1's steak (CPU, the median of its repetitions' medians). The "
+                "tet steaks: "
                 "tb_organ_surface(\"steak\") at tb_liver_surface_for(N) vertices, TetGen with "
                 "the largest tet volume searched to within 2%% of N. Cut: tissuebench cuts no "
                 "tet mesh (no FEM + meshless or PBD-on-tets cutting is built), so those cells "
-                "are empty; no number is invented. The metaball row is table 1's steak.",
+                "are empty; no number is invented.",
                 TB_MBS_DT, p.warm, p.nblocks, p.block);
   /* convergence: the metaball steak on its surface, the tet models on the 1477-tet steak */
   static const char *models[] = {"metaball", "pbd-stvk", "fem-corot", "msm"};
   int max_frames = smoke ? 100 : o->full ? 3000 : 1500;
-  tb_mesh surf = {0};
-  int have_surf = !tb_organ_surface("steak", 0, o->seed, &surf, &err);
   static const char *cols[] = {"model",
                                "mesh",
                                "points",
@@ -244,7 +368,7 @@ int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o, const tb_mbs_steak *mb)
                                "seconds to rest",
                                "at rest",
                                "largest speed at the end (per s)",
-                               "step (ms, median)"};
+                               "step CPU (ms, median)"};
   char title[240];
   snprintf(title, sizeof title,
            "Convergence on the steak: frames to come to rest after a push (%d N down on a top "
@@ -253,7 +377,7 @@ int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o, const tb_mbs_steak *mb)
   tb_table *t = tb_table_new("convergence", title, 10, cols);
   double tol = NAN;
   for (int k = 0; k < 4; k++) {
-    const tb_mesh *mesh = k == 0 ? (have_surf ? &surf : NULL) : why[PBD][0] ? NULL : &tets[PBD];
+    const tb_mesh *mesh = k == 0 ? (have_surf ? &surf : NULL) : w[PBD].why[0] ? NULL : &tets[PBD];
     conv c = {0};
     tb_settings set;
     tb_settings_init(&set);

@@ -5,16 +5,20 @@
  * constraint is in every sweep once it lands) on livers of the patent's tet
  * counts: 596 (SOFA's liver.msh when ../shared/data is present, else ours),
  * 5395, 7325 and 12829 (TetGen livers within 2% of those counts).
- *  1. Mean solve time per step and per element, one thread, the patent's
- *     figures beside ours, and microseconds per element-step; the deepest
- *     node below the ground after the projection over the run.
- *  2. One thread against all cores: the speed-ups beside the patent's, and
- *     whether the positions after the run are bit-identical.
+ *  1. Mean solve time per step and per element, one thread, CPU time, the
+ *     patent's figures beside ours, and microseconds per element-step with
+ *     its 95% interval (the goal's verdict: met, not met or inconclusive);
+ *     the deepest node below the ground after the projection over the run.
+ *  2. One thread against all cores (wall time, CPU beside): the speed-ups
+ *     with their intervals beside the patent's ("not measurable" when other
+ *     processes held the cores), and whether the positions after the run
+ *     are bit-identical.
  *  3. A peer: Bullet's btSoftBody (the bullet-softbody model) dropped the
- *     same way, ms/step beside ours and the ratio.
- * Timing: the model's step alone (the scene's health check runs after each
- * step, untimed); a warm-up, then blocks of steps, each block's mean one
- * repetition; medians over the blocks. */
+ *     same way, CPU ms/step beside ours and the ratio with its interval.
+ * Timing: the model's step alone, CPU and wall (the scene's health check
+ * runs after each step, untimed); a warm-up, then blocks of steps, each
+ * block's mean one repetition, the three runs of a liver taking turns block
+ * by block; medians over the blocks, ratios paired by block. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,15 +62,6 @@ typedef struct plan {
   int warm, block, nblocks;
 } plan;
 static int plan_steps(const plan *p) { return p->warm + p->block * p->nblocks; }
-
-/* What one timed run gives. */
-typedef struct run_out {
-  double *block_ms;  /* nblocks: mean ms per step of each block */
-  tb_vec3 *x_end;    /* positions after the run (nv) */
-  double deepest;    /* the deepest node below the ground after a step, over the run */
-  double lowest_end; /* the lowest node's height above the ground at the end */
-  double size;       /* the rest mesh's box diagonal */
-} run_out;
 
 /* Moves m so its bounding box's bottom centre is at b (as the scene's
  * [mesh] bottom does). */
@@ -145,135 +140,204 @@ static tb_settings peer_settings(const scene_info *si) {
   return d;
 }
 
-/* model with settings set on mesh in the scene with `threads` threads:
- * p's steps, the model's step timed. Returns 0, or -1 with err (a failed
- * step or an unhealthy state). */
-static int run_model(const char *model, const tb_settings *set, const tb_mesh *mesh, int threads,
-                     const plan *p, run_out *o, tb_error *err) {
+/* One simulation timed block by block on a thread count of its own, so
+ * that several can take turns: a model in the scene, the model's step
+ * alone timed (CPU and wall), the health check after every step untimed. */
+typedef struct runner {
+  const char *model;
+  int threads, live, failed, nv;
+  tb_sim s;
+  long k;             /* steps done */
+  double *wall, *cpu; /* nblocks: mean ms per step of each block */
+  double deepest;     /* the deepest node below the ground after a step, over the run */
+  double lowest_end;  /* the lowest node's height above the ground at the end */
+  double size;        /* the rest mesh's box diagonal */
+  tb_error err;
+} runner;
+
+static int runner_open(runner *u, const char *model, int threads, const tb_settings *set,
+                       const tb_mesh *mesh, double *store, int nblocks) {
+  memset(u, 0, sizeof *u);
+  u->model = model, u->threads = threads, u->wall = store, u->cpu = store + nblocks;
+  for (int b = 0; b < 2 * nblocks; b++) store[b] = NAN;
   tb_threads_set(threads);
   tb_sim_def sd;
   tb_sim_def_init(&sd);
   sd.dt = DT;
-  tb_sim s;
-  if (tb_sim_create(&s, SCENE, &sd, model, set, mesh, err)) return -1;
-  int rc = 0;
-  if (!s.has_ground) rc = tb_error_set(err, SCENE, 0, "the scene has no ground");
-  o->deepest = 0, o->size = s.size;
-  int n = plan_steps(p), nv = s.mesh.nv;
-  uint64_t acc = 0;
-  for (int k = 0; k < n && !rc; k++) {
-    if (tb_sim_loads(&s, s.t + s.def.dt, err)) {
-      rc = -1;
+  if (tb_sim_create(&u->s, SCENE, &sd, model, set, mesh, &u->err)) return u->failed = 1, -1;
+  u->live = 1, u->size = u->s.size, u->nv = u->s.mesh.nv;
+  if (!u->s.has_ground) {
+    tb_error_set(&u->err, SCENE, 0, "the scene has no ground");
+    u->failed = 1;
+    return -1;
+  }
+  return 0;
+}
+
+static void runner_close(runner *u) {
+  if (u->live) tb_sim_destroy(&u->s);
+  u->live = 0;
+}
+
+/* The runner's next n steps on its own thread count; with block >= 0 their
+ * mean CPU and wall ms per step go to that block. */
+static void runner_steps(runner *u, int n, int block) {
+  if (!u->live || u->failed) return;
+  tb_threads_set(u->threads);
+  tb_sim *s = &u->s;
+  double wall = 0, cpu = 0;
+  for (int k = 0; k < n && !u->failed; k++) {
+    if (tb_sim_loads(s, s->t + s->def.dt, &u->err)) {
+      u->failed = 1;
       break;
     }
     tb_step in = {0};
-    in.dt = s.def.dt, in.gravity = s.gravity, in.force = s.force;
-    in.nfixed = s.nfixed, in.fixed = s.fixed, in.fixed_x = s.fixed_x, in.ground = &s.ground;
-    uint64_t t0 = tb_time_ns();
-    rc = tb_model_step(&s.model, &in, err);
-    uint64_t t1 = tb_time_ns();
-    if (rc) break;
-    s.t += s.def.dt, s.steps++;
-    if (k >= p->warm) {
-      acc += t1 - t0;
-      if ((k + 1 - p->warm) % p->block == 0) {
-        o->block_ms[(k - p->warm) / p->block] = (double)acc * 1e-6 / p->block;
-        acc = 0;
-      }
+    in.dt = s->def.dt, in.gravity = s->gravity, in.force = s->force;
+    in.nfixed = s->nfixed, in.fixed = s->fixed, in.fixed_x = s->fixed_x, in.ground = &s->ground;
+    double w, c;
+    tb_clock clk = tb_clock_start();
+    int rc = tb_model_step(&s->model, &in, &u->err);
+    tb_clock_ms(&clk, &w, &c);
+    if (rc) {
+      u->failed = 1;
+      break;
     }
-    const tb_vec3 *x = tb_model_positions(&s.model);
+    wall += w, cpu += c;
+    s->t += s->def.dt, s->steps++, u->k++;
+    const tb_vec3 *x = tb_model_positions(&s->model);
     double low = INFINITY;
-    for (int i = 0; i < nv; i++) low = fmin(low, tb_dot(tb_sub(x[i], s.ground.p), s.ground.n));
-    if (-low > o->deepest) o->deepest = -low;
-    o->lowest_end = low;
+    for (int i = 0; i < u->nv; i++) low = fmin(low, tb_dot(tb_sub(x[i], s->ground.p), s->ground.n));
+    if (-low > u->deepest) u->deepest = -low;
+    u->lowest_end = low;
     tb_health h =
-        tb_model_health(&s.mesh, x, tb_model_velocities(&s.model), s.def.vmax, s.def.inversion);
-    if (!h.ok) rc = tb_error_set(err, model, 0, "unstable at t = %g: %s", s.t, h.reason);
-    tb_progress_tick("%s, %d threads: step %d/%d", model, threads, k + 1, n);
+        tb_model_health(&s->mesh, x, tb_model_velocities(&s->model), s->def.vmax, s->def.inversion);
+    if (!h.ok) {
+      tb_error_set(&u->err, u->model, 0, "unstable at t = %g: %s", s->t, h.reason);
+      u->failed = 1;
+    }
+    tb_progress_tick("%s, %d threads: step %ld", u->model, u->threads, u->k);
   }
-  if (!rc) memcpy(o->x_end, tb_model_positions(&s.model), sizeof(tb_vec3) * (size_t)nv);
-  tb_sim_destroy(&s);
-  return rc ? -1 : 0;
+  if (!u->failed && block >= 0) u->wall[block] = wall / n, u->cpu[block] = cpu / n;
 }
 
-/* Everything measured on one liver. */
+/* Everything measured on one liver: medians over blocks with their 95%
+ * intervals (ms per step), the ratios paired by block. */
 typedef struct row {
-  int ok, nv, ntet, links, colours;
+  int ok, nv, ntet, links, colours, blocks, bt_ok;
   char source[32], why[160];
-  double one, all, bullet; /* median ms/step */
+  tb_est one, one_wall, all, all_cpu, speedup; /* one thread CPU and wall; all threads wall, CPU */
+  tb_est us_elem;                              /* one thread CPU us per element-step */
+  tb_est bullet, bullet_wall, peer;            /* btSoftBody CPU, wall, over pbd-stvk CPU */
   double deepest, lowest_end, size, bt_deepest, bt_lowest_end;
   int identical;
 } row;
 
-static void bench_entry(tb_suite *su, const char *name, const double *ms, int n, int threads) {
-  int was = tb_threads();
+/* A benchmark entry recorded with `threads` in effect. */
+static void bench_entry(tb_suite *su, const char *name, const double *wall, const double *cpu,
+                        int n, int threads) {
+  int was = tb_threads_setting();
   tb_threads_set(threads);
-  tb_suite_bench(su, name, ms, NULL, n, "ms");
+  tb_suite_bench(su, name, wall, cpu, n, "ms");
   tb_threads_set(was);
 }
 
-/* Runs row r: one thread, all threads, btSoftBody. */
+/* Runs row r: pbd-stvk on one thread and on all cores and btSoftBody on
+ * one thread, live side by side and taking turns block by block (one
+ * thread, all threads, btSoftBody, one thread, ...), so that a busy spell
+ * of the machine falls on all three alike and block b of each covers the
+ * same stretch of the drop. */
 static void measure(tb_suite *su, int r, const tb_mesh *mesh, const scene_info *si, const plan *p,
                     int cores, row *w) {
-  int nv = mesh->nv;
-  double *ms = malloc(sizeof(double) * (size_t)p->nblocks);
-  tb_vec3 *x1 = malloc(sizeof(tb_vec3) * (size_t)nv), *xn = malloc(sizeof(tb_vec3) * (size_t)nv);
-  tb_error err;
-  w->ok = 0;
-  if (!ms || !x1 || !xn) {
+  int nb = p->nblocks;
+  double *store = malloc(sizeof(double) * 7 * (size_t)nb), *us = store ? store + 6 * nb : NULL;
+  runner u[3]; /* pbd-stvk on 1 thread, on all, btSoftBody */
+  memset(u, 0, sizeof u);
+  w->ok = 0, w->blocks = nb;
+  if (!store) {
     snprintf(w->why, sizeof w->why, "out of memory");
-    goto done;
+    return;
   }
-  char name[128];
-  run_out o = {ms, x1, 0, 0, 0};
   tb_settings set = patent_settings(), peer = peer_settings(si);
-  if (run_model(MODEL, &set, mesh, 1, p, &o, &err)) {
-    snprintf(w->why, sizeof w->why, "unstable (%.140s)", err.msg);
+  runner_open(&u[0], MODEL, 1, &set, mesh, store, nb);
+  runner_open(&u[1], MODEL, cores, &set, mesh, store + 2 * nb, nb);
+  runner_open(&u[2], "bullet-softbody", 1, &peer, mesh, store + 4 * nb, nb);
+  for (int q = 0; q < 3; q++) runner_steps(&u[q], p->warm, -1);
+  for (int b = 0; b < nb; b++)
+    for (int q = 0; q < 3; q++) runner_steps(&u[q], p->block, b);
+  char name[128];
+  if (u[0].failed) {
+    snprintf(w->why, sizeof w->why, "unstable (%.140s)", u[0].err.msg);
     goto done;
   }
-  w->one = tb_stats_of(ms, p->nblocks).median;
-  w->deepest = o.deepest, w->lowest_end = o.lowest_end, w->size = o.size;
+  if (u[1].failed) {
+    snprintf(w->why, sizeof w->why, "unstable with %d threads (%.120s)", cores, u[1].err.msg);
+    goto done;
+  }
+  w->one = tb_median_est(u[0].cpu, nb), w->one_wall = tb_median_est(u[0].wall, nb);
+  for (int b = 0; b < nb; b++) us[b] = 1e3 * u[0].cpu[b] / mesh->ntet;
+  w->us_elem = tb_median_est(us, nb);
+  w->deepest = u[0].deepest, w->lowest_end = u[0].lowest_end, w->size = u[0].size;
   snprintf(name, sizeof name, MODEL "/tets:%d/threads:1", mesh->ntet);
-  bench_entry(su, name, ms, p->nblocks, 1);
+  bench_entry(su, name, u[0].wall, u[0].cpu, nb, 1);
   tb_suite_counter(su, name, "tets", mesh->ntet);
-  tb_suite_counter(su, name, "nodes", nv);
-  tb_suite_counter(su, name, "us_per_element_step", 1e3 * w->one / mesh->ntet);
-  tb_suite_counter(su, name, "deepest_below_ground", o.deepest);
-  tb_suite_counter(su, name, "deepest_below_ground_of_size", o.deepest / o.size);
+  tb_suite_counter(su, name, "nodes", mesh->nv);
+  tb_suite_counter(su, name, "us_per_element_step", w->us_elem.value);
+  tb_suite_counter(su, name, "us_per_element_step_low", w->us_elem.lo);
+  tb_suite_counter(su, name, "us_per_element_step_high", w->us_elem.hi);
+  tb_suite_counter(su, name, "deepest_below_ground", w->deepest);
+  tb_suite_counter(su, name, "deepest_below_ground_of_size", w->deepest / w->size);
   tb_suite_counter(su, name, "patent_ms_per_step", patent[r].ms);
 
-  o.x_end = xn;
-  if (run_model(MODEL, &set, mesh, cores, p, &o, &err)) {
-    snprintf(w->why, sizeof w->why, "unstable with %d threads (%.120s)", cores, err.msg);
-    goto done;
-  }
-  w->all = tb_stats_of(ms, p->nblocks).median;
-  w->identical = !memcmp(x1, xn, sizeof(tb_vec3) * (size_t)nv);
+  w->all = tb_median_est(u[1].wall, nb), w->all_cpu = tb_median_est(u[1].cpu, nb);
+  w->speedup = tb_ratio_est(u[0].wall, u[1].wall, nb);
+  w->identical = !memcmp(tb_model_positions(&u[0].s.model), tb_model_positions(&u[1].s.model),
+                         sizeof(tb_vec3) * (size_t)u[0].nv);
   snprintf(name, sizeof name, MODEL "/tets:%d/threads:%d", mesh->ntet, cores);
-  bench_entry(su, name, ms, p->nblocks, cores);
-  tb_suite_counter(su, name, "speedup", w->one / w->all);
+  bench_entry(su, name, u[1].wall, u[1].cpu, nb, cores);
+  tb_suite_counter(su, name, "speedup", w->speedup.value);
+  tb_suite_counter(su, name, "speedup_low", w->speedup.lo);
+  tb_suite_counter(su, name, "speedup_high", w->speedup.hi);
   tb_suite_counter(su, name, "identical_to_one_thread", w->identical);
   tb_suite_counter(su, name, "patent_speedup", patent[r].speedup);
 
-  o.x_end = xn;
   int *edges = NULL;
   w->links = tb_mesh_edges(mesh, &edges); /* btSoftBody's links: one per tet edge */
   free(edges);
-  if (run_model("bullet-softbody", &peer, mesh, 1, p, &o, &err)) {
-    w->bullet = NAN;
-    fprintf(stderr, "pbd: btSoftBody on %d tets: %s\n", mesh->ntet, err.msg);
+  if (u[2].failed) {
+    fprintf(stderr, "pbd: btSoftBody on %d tets: %s\n", mesh->ntet, u[2].err.msg);
   } else {
-    w->bullet = tb_stats_of(ms, p->nblocks).median;
-    w->bt_deepest = o.deepest, w->bt_lowest_end = o.lowest_end;
+    w->bt_ok = 1;
+    w->bullet = tb_median_est(u[2].cpu, nb), w->bullet_wall = tb_median_est(u[2].wall, nb);
+    w->peer = tb_ratio_est(u[2].cpu, u[0].cpu, nb);
+    w->bt_deepest = u[2].deepest, w->bt_lowest_end = u[2].lowest_end;
     snprintf(name, sizeof name, "btSoftBody/tets:%d/threads:1", mesh->ntet);
-    bench_entry(su, name, ms, p->nblocks, 1);
+    bench_entry(su, name, u[2].wall, u[2].cpu, nb, 1);
     tb_suite_counter(su, name, "links", w->links);
-    tb_suite_counter(su, name, "ratio_to_pbd_stvk", w->bullet / w->one);
-    tb_suite_counter(su, name, "deepest_below_ground", o.deepest);
+    tb_suite_counter(su, name, "ratio_to_pbd_stvk", w->peer.value);
+    tb_suite_counter(su, name, "ratio_to_pbd_stvk_low", w->peer.lo);
+    tb_suite_counter(su, name, "ratio_to_pbd_stvk_high", w->peer.hi);
+    tb_suite_counter(su, name, "deepest_below_ground", u[2].deepest);
   }
   w->ok = 1;
 done:
-  free(ms), free(x1), free(xn);
+  for (int q = 0; q < 3; q++) runner_close(&u[q]);
+  free(store);
+}
+
+/* "x (lo-hi)" of an estimate in table.md, the value alone in the CSV. */
+static void est_cell(tb_table *t, tb_est e, const char *fmt, const char *unit) {
+  char f[64];
+  snprintf(f, sizeof f, "%s%s (%s-%s)", fmt, unit, fmt, fmt);
+  if (isfinite(e.value))
+    tb_table_numf(t, e.value, f, e.value, e.lo, e.hi);
+  else
+    tb_table_cell(t, "-");
+}
+
+/* An estimate's interval as two CSV-only columns. */
+static void est_bounds(tb_table *t, tb_est e) {
+  tb_table_num(t, e.lo, "%.6g");
+  tb_table_num(t, e.hi, "%.6g");
 }
 
 static void solve_table(tb_suite *su, const row *rows) {
@@ -282,18 +346,22 @@ static void solve_table(tb_suite *su, const row *rows) {
                                "tets",
                                "nodes",
                                "threads",
-                               "ms/step (ours)",
+                               "ms/step CPU (ours, median)",
+                               "ms/step wall (ours, median)",
                                "ms/step (patent)",
-                               "ms/element (ours)",
+                               "ms/element CPU (ours)",
                                "ms/element (patent)",
-                               "us/element-step (ours)",
+                               "us/element-step CPU (ours, 95% interval)",
+                               "us/element-step CPU low",
+                               "us/element-step CPU high",
                                "us/element-step (patent)",
                                "deepest below ground (of size)",
                                "no node below ground beyond 1e-6 of size"};
   tb_table *t = tb_table_new("solve",
                              "Patent table 1: mean solve time per step and per element, pbd-stvk, "
-                             "one thread (k 0.4, nu 0.4, 5 iterations, dt 0.005)",
-                             13, cols);
+                             "one thread, CPU time (k 0.4, nu 0.4, 5 iterations, dt 0.005)",
+                             16, cols);
+  tb_table_only(t, 11, TB_CSV_ONLY), tb_table_only(t, 12, TB_CSV_ONLY);
   for (int r = 0; r < NROWS; r++) {
     const row *w = &rows[r];
     tb_table_row(t);
@@ -309,14 +377,16 @@ static void solve_table(tb_suite *su, const row *rows) {
     tb_table_num(t, 1, "%.0f");
     if (!w->ok) {
       tb_table_cell(t, "%s", w->why);
-      for (int c = 6; c < 13; c++) tb_table_cell(t, "-");
+      for (int c = 6; c < 16; c++) tb_table_cell(t, "-");
       continue;
     }
-    tb_table_num(t, w->one, "%.3f");
+    tb_table_num(t, w->one.value, "%.3f");
+    tb_table_num(t, w->one_wall.value, "%.3f");
     tb_table_num(t, patent[r].ms, "%.2f");
-    tb_table_num(t, w->one / w->ntet, "%.3e");
+    tb_table_num(t, w->one.value / w->ntet, "%.3e");
     tb_table_num(t, patent[r].ms_elem, "%.3e");
-    tb_table_num(t, 1e3 * w->one / w->ntet, "%.3f");
+    est_cell(t, w->us_elem, "%.3f", "");
+    est_bounds(t, w->us_elem);
     tb_table_num(t, 1e3 * patent[r].ms_elem, "%.3f");
     tb_table_num(t, w->deepest / w->size, "%.2e");
     tb_table_cell(t, "%s", w->deepest <= DEPTH_GOAL * w->size ? "yes" : "NO");
@@ -324,24 +394,41 @@ static void solve_table(tb_suite *su, const row *rows) {
   tb_suite_table(su, t);
 }
 
-static void thread_table(tb_suite *su, const row *rows, int cores) {
+/* "not measurable (machine busy: ...)" when the machine could not give
+ * `threads` threads their cores, else NULL. */
+static const char *busy_text(const tb_noise *n, int threads, char *buf, size_t cap) {
+  if (threads < 2) return snprintf(buf, cap, "not measurable (one core)"), buf;
+  if (!n->busy) return NULL;
+  snprintf(buf, cap, "not measurable (machine busy: others kept %.1f of %d cores busy%s)",
+           n->others, n->cores, n->steal > 0.05 ? ", the hypervisor stole over 5%" : "");
+  return buf;
+}
+
+static void thread_table(tb_suite *su, const row *rows, int cores, const tb_noise *nz) {
   static const char *cols[] = {"model (patent)",
                                "tets",
                                "tet colours",
                                "threads",
-                               "ms/step, 1 thread",
-                               "ms/step, all threads",
-                               "speed-up (ours)",
+                               "ms/step wall, 1 thread (median)",
+                               "ms/step wall, all threads (median)",
+                               "ms/step CPU, 1 thread (median)",
+                               "ms/step CPU, all threads (median)",
+                               "speed-up, wall (ours, 95% interval)",
+                               "speed-up low",
+                               "speed-up high",
+                               "speed-up measurable",
                                "patent: 1 thread (ms)",
                                "patent: OpenMP (ms)",
                                "speed-up (patent)",
                                "identical"};
-  char title[160];
+  char title[200], busy[200];
   snprintf(title, sizeof title,
-           "Patent table 2: one thread against all %d cores; positions after the run "
-           "bit-identical?",
+           "Patent table 2: one thread against all %d cores (wall time, CPU beside); positions "
+           "after the run bit-identical?",
            cores);
-  tb_table *t = tb_table_new("threads", title, 11, cols);
+  tb_table *t = tb_table_new("threads", title, 16, cols);
+  tb_table_only(t, 9, TB_CSV_ONLY), tb_table_only(t, 10, TB_CSV_ONLY);
+  const char *why = busy_text(nz, cores, busy, sizeof busy);
   for (int r = 0; r < NROWS; r++) {
     const row *w = &rows[r];
     tb_table_row(t);
@@ -352,11 +439,15 @@ static void thread_table(tb_suite *su, const row *rows, int cores) {
       tb_table_cell(t, "-"), tb_table_cell(t, "-");
     tb_table_num(t, cores, "%.0f");
     if (w->ok) {
-      tb_table_num(t, w->one, "%.3f");
-      tb_table_num(t, w->all, "%.3f");
-      tb_table_num(t, w->one / w->all, "%.2fx");
+      tb_table_num(t, w->one_wall.value, "%.3f");
+      tb_table_num(t, w->all.value, "%.3f");
+      tb_table_num(t, w->one.value, "%.3f");
+      tb_table_num(t, w->all_cpu.value, "%.3f");
+      est_cell(t, w->speedup, "%.2f", "x");
+      est_bounds(t, w->speedup);
+      tb_table_cell(t, "%s", why ? why : "yes");
     } else {
-      tb_table_cell(t, "-"), tb_table_cell(t, "-"), tb_table_cell(t, "-");
+      for (int c = 4; c < 12; c++) tb_table_cell(t, "-");
     }
     tb_table_num(t, patent[r].ms_one, "%.2f");
     tb_table_num(t, patent[r].ms_multi, "%.2f");
@@ -371,57 +462,62 @@ static void bullet_table(tb_suite *su, const row *rows) {
                                "tets",
                                "links (tet edges)",
                                "threads",
-                               "btSoftBody ms/step",
-                               "pbd-stvk ms/step",
-                               "btSoftBody / pbd-stvk",
+                               "btSoftBody ms/step CPU (median)",
+                               "pbd-stvk ms/step CPU (median)",
+                               "btSoftBody / pbd-stvk (CPU, 95% interval)",
+                               "btSoftBody / pbd-stvk low",
+                               "btSoftBody / pbd-stvk high",
+                               "btSoftBody ms/step wall (median)",
                                "btSoftBody deepest below ground (of size)",
                                "btSoftBody lowest node at the end (of size)"};
   tb_table *t = tb_table_new("peer",
                              "Peer: Bullet's btSoftBody (links on tet edges, kLST 0.4, 5 position "
-                             "iterations) dropped on the same ground, one thread",
-                             9, cols);
+                             "iterations) dropped on the same ground, one thread, CPU time",
+                             12, cols);
+  tb_table_only(t, 7, TB_CSV_ONLY), tb_table_only(t, 8, TB_CSV_ONLY);
   for (int r = 0; r < NROWS; r++) {
     const row *w = &rows[r];
     tb_table_row(t);
     tb_table_cell(t, "%s", patent[r].name);
-    if (!w->ok || !isfinite(w->bullet)) {
+    if (!w->ok || !w->bt_ok) {
       if (w->ntet)
         tb_table_num(t, w->ntet, "%.0f");
       else
         tb_table_cell(t, "-");
-      for (int c = 2; c < 9; c++) tb_table_cell(t, "-");
+      for (int c = 2; c < 12; c++) tb_table_cell(t, "-");
       continue;
     }
     tb_table_num(t, w->ntet, "%.0f");
     tb_table_num(t, w->links, "%.0f");
     tb_table_num(t, 1, "%.0f");
-    tb_table_num(t, w->bullet, "%.3f");
-    tb_table_num(t, w->one, "%.3f");
-    tb_table_num(t, w->bullet / w->one, "%.2fx");
+    tb_table_num(t, w->bullet.value, "%.3f");
+    tb_table_num(t, w->one.value, "%.3f");
+    est_cell(t, w->peer, "%.2f", "x");
+    est_bounds(t, w->peer);
+    tb_table_num(t, w->bullet_wall.value, "%.3f");
     tb_table_num(t, w->bt_deepest / w->size, "%.2e");
     tb_table_num(t, w->bt_lowest_end / w->size, "%.2e");
   }
   tb_suite_table(su, t);
 }
 
-/* ms/step against tets: ours (1 thread, all threads, btSoftBody), the
- * patent's dashed. */
+/* ms/step against tets: ours (pbd-stvk on 1 thread, CPU and wall; on all
+ * threads, wall; btSoftBody, CPU), the patent's dashed. */
 static int chart(tb_suite *su, const row *rows, int cores) {
-  char body[1024], paper[512], header[160];
+  char body[1024], paper[512], header[200];
   int len = 0, plen = 0;
   for (int r = 0; r < NROWS; r++) {
     const row *w = &rows[r];
-    if (w->ok) {
+    if (w->ok)
       len +=
-          snprintf(body + len, sizeof body - (size_t)len, "%d,%.6g,%.6g,", w->ntet, w->one, w->all);
-      len += isfinite(w->bullet)
-                 ? snprintf(body + len, sizeof body - (size_t)len, "%.6g\n", w->bullet)
-                 : snprintf(body + len, sizeof body - (size_t)len, "NaN\n");
-    }
+          snprintf(body + len, sizeof body - (size_t)len, "%d,%.6g,%.6g,%.6g,%.6g\n", w->ntet,
+                   w->one.value, w->one_wall.value, w->all.value, w->bt_ok ? w->bullet.value : NAN);
     plen += snprintf(paper + plen, sizeof paper - (size_t)plen, "%d,%g,%g\n", patent[r].tets,
                      patent[r].ms_one, patent[r].ms_multi);
   }
-  snprintf(header, sizeof header, "tets,pbd-stvk 1 thread,pbd-stvk %d threads,btSoftBody 1 thread",
+  snprintf(header, sizeof header,
+           "tets,pbd-stvk 1 thread (CPU),pbd-stvk 1 thread (wall),pbd-stvk %d threads "
+           "(wall),btSoftBody 1 thread (CPU)",
            cores);
   tb_error err;
   if (tb_suite_write_data(su, "solve.csv", header, body, &err) ||
@@ -437,8 +533,8 @@ static int chart(tb_suite *su, const row *rows, int cores) {
   }
   tb_suite_caption(su, "solve",
                    "Median solve time per step against the number of tets: pbd-stvk on one "
-                   "thread and on all %d cores, and Bullet's btSoftBody; dashed, the patent's "
-                   "tables 1 and 2",
+                   "thread (CPU and wall time) and on all %d cores (wall time), and Bullet's "
+                   "btSoftBody (CPU time, one thread); dashed, the patent's tables 1 and 2",
                    cores);
   return 0;
 }
@@ -452,7 +548,7 @@ int tb_suite_pbd(const tb_suite_opts *o) {
                                 "ground (tables 1 and 2)",
                                 o->seed, &err);
   if (!su) return fprintf(stderr, "pbd: %s\n", err.msg), 1;
-  int threads_before = tb_threads(), cores = tb_threads_cores(), failed = 0;
+  int threads_before = tb_threads_setting(), cores = tb_threads_cores(), failed = 0;
   plan p = {10, 10, 12}; /* quick: 130 steps (0.65 s), the landing at about 0.45 s */
   if (o->full) p.warm = 20, p.block = 40; /* 500 steps: the scene's 2.5 s */
   if (o->scale < 1) p.warm = 2, p.block = 3, p.nblocks = 3;
@@ -498,6 +594,7 @@ int tb_suite_pbd(const tb_suite_opts *o) {
   tb_progress("pbd", NROWS, NROWS);
   tb_mesh_free(&scene_mesh);
   tb_threads_set(threads_before);
+  tb_noise nz = tb_suite_noise(su, cores); /* over the runs on all cores */
 
   double load[3] = {0, 0, 0};
   const tb_context *c = tb_suite_context(su);
@@ -510,34 +607,53 @@ int tb_suite_pbd(const tb_suite_opts *o) {
       "damping %g per s). The 596-tet row uses %s; the others TetGen livers whose tet counts "
       "are within 2%% of the patent's (a marching-cubes surface of 725 (tets/4230)^0.8 "
       "vertices, TetGen's maximum tet volume searched). Timed: the model's step alone "
-      "(prediction, %d sweeps of tet and ground projections, friction, velocities); after %d "
-      "warm-up steps, %d blocks of %d steps (%.2f s simulated in all; the landing comes at "
-      "about %.2f s), each block's mean one repetition, the median over blocks reported. This "
-      "machine: %d cores (%s), load average %.2f %.2f %.2f at the start (other work on the "
-      "machine slows every figure, the all-core ones most). The patent does not name its "
-      "machine; ratios to it compare machines as much as programs.",
+      "(prediction, %d sweeps of tet and ground projections, friction, velocities), CPU and "
+      "wall time; after %d warm-up steps, %d blocks of %d steps (%.2f s simulated in all; the "
+      "landing comes at about %.2f s), each block's mean one repetition. On each liver the "
+      "three runs (pbd-stvk on one thread, pbd-stvk on all %d cores, btSoftBody on one thread) "
+      "are live side by side and take turns block by block, so a busy spell of the machine "
+      "falls on all three alike and block b of each covers the same stretch of the drop. "
+      "Figures are medians over the blocks, with their 95%% intervals (order statistics) "
+      "where a goal or a ratio rests on them; a ratio is the median of the blocks' paired "
+      "ratios. One thread: CPU time (the thread's own, which other processes' time slices do "
+      "not inflate); all threads: wall time, what threads are for. This machine: %d cores "
+      "(%s), load average %.2f %.2f %.2f at the start. The patent does not name its machine; "
+      "ratios to it compare machines as much as programs.",
       si.height, si.ground.mu_s, si.ground.mu_k, si.g, si.drag, si.dt, K_STIFF, NU, ITERS,
       si.density, si.damping,
       sofa ? "SOFA's liver.msh (181 nodes, 596 tets; ../shared/data)"
            : "a TetGen liver (SOFA's liver.msh is not in ../shared/data)",
       ITERS, p.warm, p.nblocks, p.block, plan_steps(&p) * DT, sqrt(2 * si.height / si.g), cores,
-      c->cpu, load[0], load[1], load[2]);
+      cores, c->cpu, load[0], load[1], load[2]);
   solve_table(su, rows);
   const row *big = &rows[NROWS - 1];
-  if (big->ok)
+  if (big->ok) {
+    char v[200];
+    tb_verdict_text(big->us_elem, GOAL_US, 0, v, sizeof v);
     tb_suite_note(su,
-                  "Per element-step at %d tets on one thread: %.3f us (goal <= %.1f us: %s; the "
-                  "patent's %.2f us). Deepest node below the ground after a step, over the run: "
-                  "every row's column above (goal: none deeper than %g of the mesh's box "
-                  "diagonal).",
-                  big->ntet, 1e3 * big->one / big->ntet, GOAL_US,
-                  1e3 * big->one / big->ntet <= GOAL_US ? "met" : "NOT met",
-                  1e3 * patent[NROWS - 1].ms_elem, DEPTH_GOAL);
-  thread_table(su, rows, cores);
-  tb_context now;
-  tb_context_collect(&now, o->seed);
+                  "Per element-step at %d tets on one thread (CPU time): %.3f us, 95%% interval "
+                  "%.3f-%.3f over %d blocks (goal <= %.1f us: %s; the patent's %.2f us). Deepest "
+                  "node below the ground after a step, over the run: every row's column above "
+                  "(goal: none deeper than %g of the mesh's box diagonal).",
+                  big->ntet, big->us_elem.value, big->us_elem.lo, big->us_elem.hi, big->us_elem.n,
+                  GOAL_US, v, 1e3 * patent[NROWS - 1].ms_elem, DEPTH_GOAL);
+    tb_suite_counter(su, "goal/us_per_element_step", "value", big->us_elem.value);
+    tb_suite_counter(su, "goal/us_per_element_step", "low", big->us_elem.lo);
+    tb_suite_counter(su, "goal/us_per_element_step", "high", big->us_elem.hi);
+    tb_suite_counter(su, "goal/us_per_element_step", "goal", GOAL_US);
+    tb_suite_counter(su, "goal/us_per_element_step", "verdict",
+                     tb_verdict(big->us_elem, GOAL_US, 0));
+  }
+  thread_table(su, rows, cores, &nz);
+  char what[300];
+  tb_noise_describe(&nz, what, sizeof what);
   tb_suite_note(su,
-                "All threads: tb_threads_cores() = %d on this machine. Tets of one colour share "
+                "All threads: tb_threads_cores() = %d on this machine, set explicitly (not the "
+                "automatic count). The speed-up is the one-thread run's wall time per step over "
+                "the all-thread run's, the median of the blocks' paired ratios with its 95%% "
+                "interval; it is stated only when the machine left the cores free (over the "
+                "suite so far: %s), else the table says not measurable (the numbers are still "
+                "shown). Tets of one colour share "
                 "no node and are projected in parallel; the ground, damping and friction run "
                 "in node order, so the thread count must not change a single bit: `identical` "
                 "compares every position after the run of 1 and of %d threads (memcmp).%s Each "
@@ -546,11 +662,10 @@ int tb_suite_pbd(const tb_suite_opts *o) {
                 "(core/threads.c; left to Linux, both threads sometimes shared one CPU and a "
                 "step took 3x as long); when the machine has more runnable work than cores, a "
                 "thread descheduled before a barrier still holds the others up, and the "
-                "all-core times grow beyond the one-thread ones. Load "
-                "average at the start %.2f, at the end %.2f (%d cores).",
-                cores, cores,
+                "all-core times grow beyond the one-thread ones.",
+                cores, what, cores,
                 cores < 2 ? " With one core both runs use one thread, so this shows nothing." : "",
-                ITERS, load[0], now.have_load ? now.load[0] : NAN, cores);
+                ITERS);
   bullet_table(su, rows);
   tb_suite_note(su,
                 "btSoftBody (Bullet 3.24, double precision: the bullet-softbody model): one "
@@ -562,8 +677,9 @@ int tb_suite_pbd(const tb_suite_opts *o) {
                 "is the plane "
                 "(Bullet's soft bodies meet rigid shapes through a signed distance field that "
                 "only convex shapes get). Timed: stepSimulation(dt, 0) and the SDF's garbage "
-                "collection (the model's step), on the calling thread, the same blocks as "
-                "pbd-stvk.",
+                "collection (the model's step), on the calling thread, CPU time, the same blocks "
+                "as pbd-stvk and taking turns with them; `btSoftBody / pbd-stvk` is the median "
+                "of the blocks' paired CPU-time ratios with its 95%% interval.",
                 K_STIFF, ITERS, si.ground.mu_k);
   failed |= chart(su, rows, cores);
   if (tb_suite_end(su, &err)) fprintf(stderr, "pbd: %s\n", err.msg), failed = 1;

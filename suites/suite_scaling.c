@@ -3,9 +3,10 @@
  *  1. ms per step against tets: each model of the table in the liver-stretch
  *     scene (thesis §3.5: the liver held along its back, a far patch pulled)
  *     on TetGen livers of a ladder of tet counts (tb_liver_of_tets, the pbd
- *     suite's), one thread; the model's step alone timed (as the pbd suite
- *     does), health checked after every step, untimed. A least-squares line
- *     through log(ms) against log(tets) gives each model's exponent (slope)
+ *     suite's), one thread; the model's step alone timed, CPU time (wall
+ *     beside; as the pbd suite does), health checked after every step,
+ *     untimed. A least-squares line
+ *     through log(CPU ms) against log(tets) gives each model's exponent (slope)
  *     and where it crosses 33.3 ms (30 Hz, graphics) and 3.33 ms (300 Hz,
  *     haptics): the largest mesh still interactive, read off the line.
  *  2. Peak memory, as a difference in this process: before each one-thread
@@ -15,14 +16,17 @@
  *     (the scene's copy of the mesh included), per tet. (A forked child
  *     cannot be used: CHOLMOD starts OpenMP threads, and libgomp hangs in a
  *     child of a process that has used them.)
- *  3. One thread against all cores at 100 000 tets (tiny runs: the largest): ms per step,
- *     speed-up, and whether positions and velocities after the same steps
- *     are bit-identical (a hash of their bytes).
+ *  3. One thread against all cores at 100 000 tets (tiny runs: the
+ *     largest): the two runs live side by side, taking turns step by step;
+ *     wall ms per step (CPU beside), the speed-up (the median of the steps'
+ *     paired wall-time ratios, with its 95% interval; "not measurable" when
+ *     other processes held the cores), and whether positions and velocities
+ *     after the same steps are bit-identical (a hash of their bytes).
  *  4. Collision: the composite hierarchy (collision/tb_bvh.h) over all tet
  *     faces of each liver (the thesis's liver model, as the refit suite)
  *     against the instrument held inside it, the liver deformed every frame
- *     (suites/collision_scene.c): refit (delta 0) and the all-pairs query, ms against
- *     triangles, fitted the same way. */
+ *     (measure/collision_scene.c): refit (delta 0) and the all-pairs query, CPU
+ *     ms against triangles on one thread, fitted the same way. */
 #include <malloc.h>
 #include <math.h>
 #include <stdio.h>
@@ -31,10 +35,10 @@
 #include <unistd.h>
 
 #include "scaling_priv.h"
-#include "tb_collision_scene.h"
 #include "tb_suites.h"
 #include "core/tb_threads.h"
 #include "core/tb_timer.h"
+#include "measure/tb_collision_scene.h"
 #include "meshgen/tb_generators.h"
 #include "meshgen/tb_meshgen.h"
 #include "report/tb_results.h"
@@ -43,6 +47,7 @@
 
 #define MAX_STEPS 400
 #define THREADS_TETS 100000 /* one thread against all at this size */
+#define THREADS_CAP 80      /* the thread runs of a cell: at most this many times its budget */
 
 /* Tet counts: --full, the default (quick) and --scale < 1 (tests). */
 static const int ladder_full[] = {600, 1200, 2500, 5000, 10000, 20000, 50000, 100000, 200000};
@@ -67,55 +72,106 @@ static double status_kb(const char *key) {
   return v;
 }
 
-/* model on mesh in the scene, `threads` threads: one warm-up step, then
- * `steps` timed steps (steps <= 0: until budget seconds, at least 3, at
- * most MAX_STEPS). c gets the median, the count and the state's hash. */
-static int run_model(const tb_mesh *mesh, const char *model, int threads, int steps, double budget,
-                     cell *c, tb_error *err) {
-  tb_threads_set(threads);
+/* A model stepping in the scene on a thread count of its own, so that two
+ * can take turns: the model's step alone timed (CPU and wall), the health
+ * check after every step untimed. */
+typedef struct stepper {
+  const char *model;
+  int threads, live, failed, n; /* n: timed steps so far */
   tb_sim s;
-  if (tb_sim_create(&s, SCENE, NULL, model, NULL, mesh, err)) return -1;
-  double *ms = malloc(sizeof(double) * MAX_STEPS);
-  int rc = ms ? 0 : tb_error_set(err, model, 0, "out of memory"), n = 0;
-  double spent = 0;
-  for (int k = 0; !rc; k++) {
-    if (k > 0 && (steps > 0 ? n >= steps : (n >= MAX_STEPS || (n >= 3 && spent >= budget)))) break;
-    if (tb_sim_loads(&s, s.t + s.def.dt, err)) {
-      rc = -1;
-      break;
-    }
-    tb_step in = {0};
-    in.dt = s.def.dt, in.gravity = s.gravity, in.force = s.force;
-    in.nfixed = s.nfixed, in.fixed = s.fixed, in.fixed_x = s.fixed_x;
-    in.ground = s.has_ground ? &s.ground : NULL;
-    uint64_t t0 = tb_time_ns();
-    rc = tb_model_step(&s.model, &in, err);
-    uint64_t t1 = tb_time_ns();
-    if (rc) break;
-    s.t += s.def.dt, s.steps++;
-    if (k > 0) ms[n++] = (double)(t1 - t0) * 1e-6, spent += (double)(t1 - t0) * 1e-9;
-    int np = tb_model_npoints(&s.model);
-    tb_mesh pts = {0};
-    pts.nv = np;
-    tb_health h = tb_model_health(np == s.mesh.nv ? &s.mesh : &pts, tb_model_positions(&s.model),
-                                  tb_model_velocities(&s.model), s.def.vmax,
-                                  np == s.mesh.nv ? s.def.inversion : 0);
-    if (!h.ok) rc = tb_error_set(err, model, 0, "unstable at t = %g: %s", s.t, h.reason);
-    tb_progress_tick("%s: step %d", model, k + 1);
-  }
-  if (!rc) {
-    int np = tb_model_npoints(&s.model);
-    c->ms = tb_stats_of(ms, n).median, c->steps = n;
-    c->sum =
-        fnv(1469598103934665603ull, tb_model_positions(&s.model), sizeof(tb_vec3) * (size_t)np);
-    c->sum = fnv(c->sum, tb_model_velocities(&s.model), sizeof(tb_vec3) * (size_t)np);
-  }
-  free(ms);
-  tb_sim_destroy(&s);
-  return rc ? -1 : 0;
+  double *wall, *cpu; /* MAX_STEPS each */
+  tb_error err;
+} stepper;
+
+static void stepper_open(stepper *u, const tb_mesh *mesh, const char *model, int threads,
+                         double *store) {
+  memset(u, 0, sizeof *u);
+  u->model = model, u->threads = threads, u->wall = store, u->cpu = store + MAX_STEPS;
+  tb_threads_set(threads);
+  if (tb_sim_create(&u->s, SCENE, NULL, model, NULL, mesh, &u->err))
+    u->failed = 1;
+  else
+    u->live = 1;
 }
 
-/* run_model on one thread with the peak RSS it added (see the head): freed
+static void stepper_close(stepper *u) {
+  if (u->live) tb_sim_destroy(&u->s);
+  u->live = 0;
+}
+
+/* One step on the stepper's thread count; timed: its CPU and wall ms kept. */
+static void stepper_step(stepper *u, int timed) {
+  if (!u->live || u->failed || (timed && u->n >= MAX_STEPS)) return;
+  tb_threads_set(u->threads);
+  tb_sim *s = &u->s;
+  if (tb_sim_loads(s, s->t + s->def.dt, &u->err)) {
+    u->failed = 1;
+    return;
+  }
+  tb_step in = {0};
+  in.dt = s->def.dt, in.gravity = s->gravity, in.force = s->force;
+  in.nfixed = s->nfixed, in.fixed = s->fixed, in.fixed_x = s->fixed_x;
+  in.ground = s->has_ground ? &s->ground : NULL;
+  double w, c;
+  tb_clock clk = tb_clock_start();
+  int rc = tb_model_step(&s->model, &in, &u->err);
+  tb_clock_ms(&clk, &w, &c);
+  if (rc) {
+    u->failed = 1;
+    return;
+  }
+  s->t += s->def.dt, s->steps++;
+  if (timed) u->wall[u->n] = w, u->cpu[u->n++] = c;
+  int np = tb_model_npoints(&s->model);
+  tb_mesh pts = {0};
+  pts.nv = np;
+  tb_health h = tb_model_health(np == s->mesh.nv ? &s->mesh : &pts, tb_model_positions(&s->model),
+                                tb_model_velocities(&s->model), s->def.vmax,
+                                np == s->mesh.nv ? s->def.inversion : 0);
+  if (!h.ok) {
+    tb_error_set(&u->err, u->model, 0, "unstable at t = %g: %s", s->t, h.reason);
+    u->failed = 1;
+  }
+  tb_progress_tick("%s, %d thread%s: step %ld", u->model, u->threads, u->threads > 1 ? "s" : "",
+                   s->steps);
+}
+
+/* A hash of the stepper's positions and velocities. */
+static uint64_t stepper_sum(const stepper *u) {
+  int np = tb_model_npoints(&u->s.model);
+  uint64_t h =
+      fnv(1469598103934665603ull, tb_model_positions(&u->s.model), sizeof(tb_vec3) * (size_t)np);
+  return fnv(h, tb_model_velocities(&u->s.model), sizeof(tb_vec3) * (size_t)np);
+}
+
+/* model on mesh in the scene, one thread: one warm-up step, then timed
+ * steps until budget seconds of CPU time (at least 3, at most MAX_STEPS).
+ * c gets the medians, the count and the state's hash. */
+static int run_model(const tb_mesh *mesh, const char *model, double budget, cell *c,
+                     tb_error *err) {
+  double *store = malloc(sizeof(double) * 2 * MAX_STEPS);
+  if (!store) return tb_error_set(err, model, 0, "out of memory");
+  stepper u;
+  stepper_open(&u, mesh, model, 1, store);
+  stepper_step(&u, 0);
+  double spent = 0;
+  while (!u.failed && u.n < MAX_STEPS && (u.n < 3 || spent < budget)) {
+    stepper_step(&u, 1);
+    if (!u.failed) spent += u.cpu[u.n - 1] * 1e-3;
+  }
+  int rc = u.failed ? -1 : 0;
+  if (rc)
+    *err = u.err;
+  else {
+    c->ms = tb_stats_of(u.cpu, u.n).median, c->wall = tb_stats_of(u.wall, u.n).median;
+    c->steps = u.n, c->sum = stepper_sum(&u);
+  }
+  stepper_close(&u);
+  free(store);
+  return rc;
+}
+
+/* run_model with the peak RSS it added (see the head): freed
  * memory is first handed back to the system (malloc_trim), the peak reset
  * to the current RSS (5 to /proc/self/clear_refs), VmHWM read after the run. */
 static void run_measured(const tb_mesh *mesh, const char *model, double budget, cell *c) {
@@ -126,11 +182,46 @@ static void run_measured(const tb_mesh *mesh, const char *model, double budget, 
   if (f && fclose(f)) reset = 0;
   double rss0 = status_kb("VmRSS:");
   tb_error err;
-  if (run_model(mesh, model, 1, 0, budget, c, &err))
+  if (run_model(mesh, model, budget, c, &err))
     snprintf(c->why, sizeof c->why, "%.150s", err.msg);
   else
     c->ok = 1;
   c->rss = reset ? status_kb("VmHWM:") - rss0 : NAN;
+}
+
+/* model on mesh on one thread and on `cores`, the two runs live side by
+ * side and taking turns step by step (one warm-up step each, then steps
+ * timed), so that a busy spell of the machine falls on both alike and step
+ * k of each is the same step of the scene. */
+static void run_threads(tb_suite *su, const tb_mesh *mesh, const char *model, int cores, int steps,
+                        thread_cell *t) {
+  memset(t, 0, sizeof *t);
+  double *store = malloc(sizeof(double) * 4 * MAX_STEPS);
+  if (!store) {
+    snprintf(t->why, sizeof t->why, "out of memory");
+    return;
+  }
+  stepper u[2];
+  stepper_open(&u[0], mesh, model, 1, store);
+  stepper_open(&u[1], mesh, model, cores, store + 2 * MAX_STEPS);
+  for (int q = 0; q < 2; q++) stepper_step(&u[q], 0);
+  for (int k = 0; k < steps && !u[0].failed && !u[1].failed; k++)
+    for (int q = 0; q < 2; q++) stepper_step(&u[q], 1);
+  if (u[0].failed || u[1].failed) {
+    snprintf(t->why, sizeof t->why, "%s%.140s",
+             u[0].failed ? "" : "all threads: ", u[u[0].failed ? 0 : 1].err.msg);
+  } else {
+    int n = u[0].n;
+    t->ok = 1, t->steps = n;
+    t->one_wall = tb_stats_of(u[0].wall, n).median, t->one_cpu = tb_stats_of(u[0].cpu, n).median;
+    t->all_wall = tb_stats_of(u[1].wall, n).median, t->all_cpu = tb_stats_of(u[1].cpu, n).median;
+    t->speedup = tb_ratio_est(u[0].wall, u[1].wall, n);
+    t->sum_one = stepper_sum(&u[0]), t->sum_all = stepper_sum(&u[1]);
+  }
+  for (int q = 0; q < 2; q++) stepper_close(&u[q]);
+  free(store);
+  tb_noise nz = tb_suite_noise(su, cores);
+  t->busy = nz.busy, t->others = nz.others, t->cores = nz.cores;
 }
 
 /* Refit + query of the composite hierarchy over the liver's tet faces
@@ -143,30 +234,34 @@ static int collide(const tb_mesh *tets, const tb_mesh *inst, int frames, size_ro
   if (liver.ntri < 0) return tb_error_set(err, "scaling", 0, "out of memory");
   w->ntri = liver.ntri;
   tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)liver.nv);
-  double *u = malloc(sizeof(double) * (size_t)frames), *q = malloc(sizeof(double) * (size_t)frames);
+  double *u = malloc(sizeof(double) * 3 * (size_t)frames), *q = u ? u + frames : NULL,
+         *b = u ? u + 2 * frames : NULL; /* refit CPU, query CPU, both wall */
   tb_pairlist pl = {0, 0, NULL};
   tb_collider *c =
-      x && u && q ? tb_collider_new("composite", &liver, inst, NULL, NULL, NULL, err) : NULL;
+      x && u ? tb_collider_new("composite", &liver, inst, NULL, NULL, NULL, err) : NULL;
   tb_mat3 R;
   tb_vec3 t;
   tb_collision_scene_pose(0.5, &R, &t); /* the tip inside the liver (the refit suite's pose) */
   int rc = !c || tb_collider_pose(c, R, t, err) ? -1 : 0;
   for (int f = 0; f < frames && !rc; f++) {
     tb_collision_scene_deform(tets->x, liver.nv, 0.1 * (f + 1), 0.25, x);
-    uint64_t t0 = tb_time_ns();
+    double w0, w1;
+    tb_clock c0 = tb_clock_start();
     rc = tb_collider_deform(c, x, 0, err);
-    uint64_t t1 = tb_time_ns();
+    tb_clock_ms(&c0, &w0, u + f);
+    tb_clock c1 = tb_clock_start();
     if (!rc) rc = tb_collider_query(c, &pl, NULL, err);
-    uint64_t t2 = tb_time_ns();
-    u[f] = (double)(t1 - t0) * 1e-6, q[f] = (double)(t2 - t1) * 1e-6;
+    tb_clock_ms(&c1, &w1, q + f);
+    b[f] = w0 + w1;
   }
   if (!rc) {
     w->refit_ms = tb_stats_of(u, frames).median, w->query_ms = tb_stats_of(q, frames).median;
+    w->both_wall = tb_stats_of(b, frames).median;
     w->pairs = pl.n;
   }
   tb_collider_free(c);
   tb_pairlist_free(&pl);
-  free(liver.tri), free(x), free(u), free(q);
+  free(liver.tri), free(x), free(u);
   return rc ? -1 : 0;
 }
 
@@ -219,12 +314,12 @@ static int size_case(tb_suite *su, scaling_mesh *sm, const tb_mesh *inst, int fr
       tb_threads_set(1);
       if (collide(m, inst, frames, w, &err)) {
         fprintf(stderr, "scaling: collision on %d tets: %s\n", m->ntet, err.msg);
-        w->refit_ms = w->query_ms = NAN;
+        w->refit_ms = w->query_ms = w->both_wall = NAN;
         failed = 1;
       }
     }
-    double v[] = {w->ok,    w->target, w->ntet,     w->nv,       w->ntri,
-                  w->pairs, w->gen_s,  w->refit_ms, w->query_ms, failed};
+    double v[] = {w->ok,    w->target,   w->ntet,     w->nv,  w->ntri,     w->pairs,
+                  w->gen_s, w->refit_ms, w->query_ms, failed, w->both_wall};
     memcpy(c.v, v, sizeof v);
     c.nv = (int)(sizeof v / sizeof v[0]), c.nt = 1;
     snprintf(c.t[0], sizeof c.t[0], "%s", w->why);
@@ -233,25 +328,25 @@ static int size_case(tb_suite *su, scaling_mesh *sm, const tb_mesh *inst, int fr
   }
   w->ok = (int)c.v[0], w->target = (int)c.v[1], w->ntet = (int)c.v[2], w->nv = (int)c.v[3];
   w->ntri = (int)c.v[4], w->pairs = (int)c.v[5], w->gen_s = c.v[6], w->refit_ms = c.v[7];
-  w->query_ms = c.v[8];
+  w->query_ms = c.v[8], w->both_wall = c.v[10];
   snprintf(w->why, sizeof w->why, "%.159s", c.t[0]);
   return (int)c.v[9];
 }
 
-/* model on the mesh, one thread (peak RSS measured), and with cores > 0 the
- * same steps on every core (all). 1 when the thread count changed a bit. */
+/* model on the mesh, one thread (peak RSS measured), and with cores > 0
+ * one thread against all cores (thr). 1 when the thread count changed a
+ * bit. */
 static int model_case(tb_suite *su, scaling_mesh *sm, const char *model, double budget, int cores,
-                      cell *one, cell *all) {
+                      int min_steps, cell *one, thread_cell *thr) {
   char key[96];
   snprintf(key, sizeof key, "tets:%d/%s%s", sm->tets, model, cores ? "/threads" : "");
   tb_case c;
   int mode = tb_suite_case(su, key, 0, &c);
   memset(one, 0, sizeof *one);
-  if (cores) memset(all, 0, sizeof *all);
+  if (cores) memset(thr, 0, sizeof *thr);
   if (mode == TB_CASE_SKIP) return 0;
   if (mode == TB_CASE_RUN) {
     const tb_mesh *m = mesh_of(sm, NULL);
-    tb_error err;
     if (!m)
       snprintf(one->why, sizeof one->why, "no mesh");
     else {
@@ -259,31 +354,48 @@ static int model_case(tb_suite *su, scaling_mesh *sm, const char *model, double 
       run_measured(m, model, budget, one);
       if (!one->ok) fprintf(stderr, "scaling: %s on %d tets: %s\n", model, m->ntet, one->why);
     }
-    if (m && cores && one->ok) { /* all cores, the same steps as the one-thread run */
-      if (run_model(m, model, cores, one->steps, 0, all, &err))
-        snprintf(all->why, sizeof all->why, "%.150s", err.msg);
-      else
-        all->ok = 1;
+    int pairs = one->steps > min_steps ? one->steps : min_steps;
+    double secs = 2e-3 * pairs * one->wall; /* the thread runs' time, about */
+    if (m && cores && one->ok && secs <= THREADS_CAP * budget)
+      run_threads(su, m, model, cores, pairs, thr);
+    else if (cores && one->ok)
+      snprintf(thr->why, sizeof thr->why, "not run: %.2g s a step (%d pairs would take %.0f s)",
+               one->wall * 1e-3, pairs, secs);
+    else if (cores)
+      snprintf(thr->why, sizeof thr->why, "-");
+    double *v = c.v;
+    v[0] = one->ok, v[1] = one->steps, v[2] = one->ms, v[3] = one->wall, v[4] = one->rss;
+    put_sum(v + 5, one->sum);
+    snprintf(c.t[0], sizeof c.t[0], "%s", one->why);
+    c.nv = 7, c.nt = 1;
+    if (cores) {
+      double *x = c.v + 7;
+      x[0] = thr->ok, x[1] = thr->steps, x[2] = thr->one_wall, x[3] = thr->one_cpu;
+      x[4] = thr->all_wall, x[5] = thr->all_cpu, x[6] = thr->speedup.value;
+      x[7] = thr->speedup.lo, x[8] = thr->speedup.hi, x[9] = thr->speedup.n;
+      put_sum(x + 10, thr->sum_one), put_sum(x + 12, thr->sum_all);
+      x[14] = thr->busy, x[15] = thr->others, x[16] = thr->cores;
+      snprintf(c.t[1], sizeof c.t[1], "%s", thr->why);
+      c.nv = 7 + 17, c.nt = 2;
     }
-    const cell *x[2] = {one, all};
-    for (int q = 0; q < 2; q++) {
-      double *v = c.v + 6 * q;
-      v[0] = x[q]->ok, v[1] = x[q]->steps, v[2] = x[q]->ms, v[3] = x[q]->rss;
-      put_sum(v + 4, x[q]->sum);
-      snprintf(c.t[q], sizeof c.t[q], "%s", x[q]->why);
-    }
-    c.nv = cores ? 12 : 6, c.nt = cores ? 2 : 1;
     tb_suite_case_done(su, &c);
   } else {
-    cell *x[2] = {one, all};
-    for (int q = 0; q < (cores ? 2 : 1); q++) {
-      const double *v = c.v + 6 * q;
-      x[q]->ok = (int)v[0], x[q]->steps = (int)v[1], x[q]->ms = v[2], x[q]->rss = v[3];
-      x[q]->sum = get_sum(v + 4);
-      snprintf(x[q]->why, sizeof x[q]->why, "%.159s", c.t[q]);
+    const double *v = c.v;
+    one->ok = (int)v[0], one->steps = (int)v[1], one->ms = v[2], one->wall = v[3];
+    one->rss = v[4], one->sum = get_sum(v + 5);
+    snprintf(one->why, sizeof one->why, "%.159s", c.t[0]);
+    if (cores) {
+      const double *x = c.v + 7;
+      thr->ok = (int)x[0], thr->steps = (int)x[1], thr->one_wall = x[2], thr->one_cpu = x[3];
+      thr->all_wall = x[4], thr->all_cpu = x[5];
+      thr->speedup = (tb_est){x[6], x[7], x[8], (int)x[9]};
+      thr->sum_one = get_sum(x + 10), thr->sum_all = get_sum(x + 12);
+      thr->busy = (int)x[14], thr->others = x[15], thr->cores = (int)x[16];
+      snprintf(thr->why, sizeof thr->why, "%.159s", c.t[1]);
     }
   }
-  return cores && one->ok && all->ok && all->sum != one->sum; /* must not change a bit */
+  /* the thread count must not change a bit */
+  return cores && one->ok && thr->ok && thr->sum_one != thr->sum_all;
 }
 
 int tb_suite_scaling(const tb_suite_opts *o) {
@@ -311,11 +423,12 @@ int tb_suite_scaling(const tb_suite_opts *o) {
   for (int r = 0; r < nsizes;
        r++) /* threads: at 100 000 tets (the size), else the largest */
     if (ladder[r] == THREADS_TETS) sr->threads_row = r;
-  int threads_before = tb_threads(), failed = 0, nm = sr->nm, cores = sr->cores;
+  int threads_before = tb_threads_setting(), failed = 0, nm = sr->nm, cores = sr->cores;
+  int min_steps = o->scale < 1 ? 3 : TB_EST_MIN; /* the thread runs' pairs */
   double budget = sr->budget;
   int frames = sr->frames;
   size_row *rows = sr->rows;
-  cell(*cells)[SCALING_MAX_SIZES] = sr->cells, *all = sr->all;
+  cell(*cells)[SCALING_MAX_SIZES] = sr->cells;
   /* big blocks from mmap, given back when freed: a model's arrays leave no
    * resident heap behind to hide the next one's (see run_measured) */
   mallopt(M_MMAP_THRESHOLD, 64 * 1024);
@@ -336,7 +449,7 @@ int tb_suite_scaling(const tb_suite_opts *o) {
     if (rows[r].ok) sr->big = r;
     for (int k = 0; k < nm; k++)
       failed |= model_case(su, &sm, tb_model_classes[k]->name, budget,
-                           r == sr->threads_row ? cores : 0, &cells[k][r], &all[k]);
+                           r == sr->threads_row ? cores : 0, min_steps, &cells[k][r], &sr->thr[k]);
     if (sm.made > 0) tb_mesh_free(&sm.mesh);
   }
   tb_progress("scaling", nsizes, nsizes);

@@ -509,7 +509,7 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const char *only, tb_
     tb_stab_text csv = {0}, bcsv = {0};
     char wb[96];
     int counts[ST_COUNT] = {0}, rc = 0;
-    uint64_t t0 = tb_time_ns();
+    tb_clock clock = tb_clock_start();
     for (int q = 0; q < g.nmesh && !rc; q++) {
       tb_progress("stability maps", done++, total);
       tb_sim_def sd;
@@ -527,14 +527,15 @@ static int maps_part(tb_suite *su, const tb_suite_opts *o, const char *only, tb_
       free(csv.s), free(bcsv.s);
       return rc ? -1 : tb_error_set(err, "stability", 0, "out of memory");
     }
-    double secs = (double)(tb_time_ns() - t0) * 1e-9;
+    double wall_ms, cpu_ms;
+    tb_clock_ms(&clock, &wall_ms, &cpu_ms);
     tb_suite_note(su,
                   "%s over %s: %d cells stable, %d NaN or inf, %d energy growth, %d inverted "
-                  "elements, %d velocity beyond bound, %d failed steps (%.1f s of wall time for "
-                  "the map%s).",
+                  "elements, %d velocity beyond bound, %d failed steps (%.1f s of wall time, "
+                  "%.1f s of CPU time, one thread, for the map%s).",
                   who(mm, wb, sizeof wb), mm->key, counts[ST_STABLE], counts[ST_NAN],
                   counts[ST_ENERGY], counts[ST_INVERTED], counts[ST_VELOCITY], counts[ST_FAILED],
-                  secs, mm == &maps[0] ? " and its bisections" : "");
+                  wall_ms * 1e-3, cpu_ms * 1e-3, mm == &maps[0] ? " and its bisections" : "");
     char csvname[48];
     snprintf(csvname, sizeof csvname, "map_%s.csv", tb_stab_tag(mm));
     rc = tb_suite_write_data(su, csvname, "dt,stiffness,status,cells,t,reason", csv.s, err);
@@ -634,7 +635,7 @@ int tb_suite_stability(const tb_suite_opts *o) {
   /* the runs are small beams and a sphere: one thread, so that a busy machine's
    * barriers do not stall them (a parallel model's barrier per colour waits a time
    * slice when the cores are shared); the answers do not depend on it */
-  int threads = tb_threads();
+  int threads = tb_threads_setting();
   tb_threads_set(1);
   int failed = maps_part(s, o, only, &err) || (deform && tb_stab_deform(s, o, only, &err)) ||
                (vvs && tb_stab_vvs(s, o, &err));

@@ -1,6 +1,6 @@
 /* Table 4.2's near-miss poses (suites/table42_near.c): the instrument just
  * clear of the liver, ours and SOFA's meshes, every method timed on one
- * thread. */
+ * thread in CPU time, the methods' repetitions taking turns. */
 #ifndef TB_NEAR_MISS_H
 #define TB_NEAR_MISS_H
 

@@ -45,7 +45,8 @@ typedef struct tb_sag_result {
   double spread;      /* (largest - smallest) / mean sag over the last window */
   double settle_time; /* simulated s until the settled window began (NAN: not settled) */
   long steps;
-  double ms_step; /* median wall time of a step */
+  double ms_step;      /* median CPU ms of a step */
+  double ms_step_wall; /* median wall ms of a step */
   char state[192];
 } tb_sag_result;
 

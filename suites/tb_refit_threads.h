@@ -1,5 +1,6 @@
 /* The refit suite's thread table (suites/refit_threads.c): our refit and
- * query on a large deforming mesh, one thread against several. */
+ * query on a large deforming mesh, one thread against several (wall time,
+ * CPU beside). */
 #ifndef TB_REFIT_THREADS_H
 #define TB_REFIT_THREADS_H
 

@@ -16,6 +16,7 @@
 
 #include "tb_test.h"
 #include "core/tb_mesh_io.h"
+#include "core/tb_threads.h"
 #include "reference/tb_oracles.h"
 
 #define SKIP_CODE 77
@@ -177,6 +178,7 @@ static const struct {
   const tb_test_case *cases;
 } suites[] = {
     {"layers", tb_tests_layers},
+    {"verdicts", tb_tests_verdicts},
     {"core", tb_tests_core},
     {"io", tb_tests_io},
     {"io_hostile", tb_tests_io_hostile},
@@ -268,6 +270,7 @@ static int list_cases(int argc, char **argv, int print) {
 }
 
 int main(int argc, char **argv) {
+  tb_threads_environment(0, argv);
   tb_oracles_register();
   int list = 0, k = 1; /* drop --list from the filters */
   for (int i = 1; i < argc; i++) {

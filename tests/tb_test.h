@@ -124,5 +124,6 @@ extern const tb_test_case tb_tests_shard[];
 extern const tb_test_case tb_tests_scaling[];
 extern const tb_test_case tb_tests_fuzz_regressions[];
 extern const tb_test_case tb_tests_layers[];
+extern const tb_test_case tb_tests_verdicts[];
 
 #endif

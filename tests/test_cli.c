@@ -7,8 +7,8 @@
 #include "tb_test.h"
 #include "collision/tb_pairs.h"
 #include "commands/tb_cli.h"
-#include "suites/tb_fidelity.h"
-#include "suites/tb_points.h"
+#include "measure/tb_fidelity.h"
+#include "measure/tb_points.h"
 
 static void help_lists_commands(void) {
   TB_CHECK(tb_test_cli_run("help") == 0);

@@ -1,4 +1,4 @@
-/* Tests of the fidelity work: the metrics (suites/fidelity.c), the Pareto
+/* Tests of the fidelity work: the metrics (measure/fidelity.c), the Pareto
  * front, the points file and advise's choice (commands/cmd_advise.c) on
  * synthetic tables, and the pareto, calibration and advise commands on the
  * smoke variants (tiny meshes). */
@@ -10,9 +10,9 @@
 #include "tb_test.h"
 #include "tb_test_models.h"
 #include "commands/tb_cli.h"
+#include "measure/tb_fidelity.h"
+#include "measure/tb_points.h"
 #include "meshgen/tb_meshgen.h"
-#include "suites/tb_fidelity.h"
-#include "suites/tb_points.h"
 
 /* ---- metrics on arrays ---- */
 

@@ -12,8 +12,8 @@
 
 #include "tb_test.h"
 #include "fuzz/fuzz_check.h"
+#include "measure/tb_points.h"
 #include "scenes/tb_scene_file.h"
-#include "suites/tb_points.h"
 
 static int by_name(const void *a, const void *b) {
   return strcmp(*(char *const *)a, *(char *const *)b);

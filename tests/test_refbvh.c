@@ -400,7 +400,7 @@ out:
 }
 
 /* The thesis scene: the liver's tet faces and the instrument moved along
- * x into it (as suites/collision_scene.c's path), plus two seeded random poses. */
+ * x into it (as measure/collision_scene.c's path), plus two seeded random poses. */
 static void test_liver(void) {
   tb_mesh liver = {0}, inst = {0};
   tb_error err = {""};

@@ -222,7 +222,7 @@ static const char *run_suite(const char *sub) {
   const double real[] = {3, 1, 2, 4}, cpu[] = {2, 1, 1, 2};
   tb_suite_bench(s, "solve", real, cpu, 4, "ms");
   const double one[] = {500};
-  tb_suite_bench(s, "odd \"name\"\\", one, NULL, 1, "us");
+  tb_suite_bench(s, "odd \"name\"\\", one, one, 1, "us");
   tb_suite_counter(s, "solve", "error", 0.25);
   tb_suite_counter(s, "solve", "pairs", 1e6);
   tb_suite_counter(s, "deflection", "tip_mm", 1.125); /* counters only */
@@ -261,7 +261,7 @@ static void test_table_md(void) {
                         "## counts",
                         "| mesh | vertices | vertices | closed, Euler |\n",
                         "| sphere | 252 | 250 | yes, 2 |\n",
-                        "| solve | 4 | 2.5 | 2.5 |"};
+                        "| 1.5 | 1 | 2 | 2.5 | 2.5 | 1 | 4 |"};
   for (size_t i = 0; i < sizeof want / sizeof want[0]; i++)
     TB_CHECK_MSG(strstr(md, want[i]), "table.md lacks \"%s\"", want[i]);
   /* notes and tables in the order added, the timings last */
@@ -270,7 +270,9 @@ static void test_table_md(void) {
              *e = strstr(md, "## Timings");
   TB_CHECK(a && b && c && d && e && a < b && b < c && c < d && d < e);
   /* the us benchmark converted to ms: 500 us = 0.5 ms */
-  TB_CHECK(strstr(md, "median (ms)") && strstr(md, "| 1 | 0.5 |"));
+  TB_CHECK(strstr(md, "median CPU (ms)") && strstr(md, "| 0.5 | 0.5 | 0.5 | 0.5 | 0.5 |"));
+  /* the machine's load over the suite, as a note */
+  TB_CHECK(strstr(md, "Machine load during this suite"));
   free(md);
 }
 
@@ -367,9 +369,12 @@ static void test_data_csv(void) {
     TB_CHECK_MSG(strcmp(counts, "mesh,vertices,vertices,closed,Euler\nsphere,252,250,yes,2\n") == 0,
                  "%s", counts);
   if (timings) {
-    TB_CHECK(strncmp(timings, "benchmark,repetitions,median (ms),mean (ms),", 44) == 0);
-    TB_CHECK(strstr(timings, "\nsolve,4,2.5,2.5,"));
-    TB_CHECK(strstr(timings, "\n\"odd \"\"name\"\"\\\",1,0.5,"));
+    const char *head =
+        "benchmark,repetitions,threads,median CPU (ms),CPU 95% low (ms),CPU 95% high (ms),"
+        "median wall (ms),mean wall (ms),min wall (ms),max wall (ms)\n";
+    TB_CHECK_MSG(strncmp(timings, head, strlen(head)) == 0, "%s", timings);
+    TB_CHECK(strstr(timings, "\nsolve,4,") && strstr(timings, ",1.5,1,2,2.5,2.5,1,4\n"));
+    TB_CHECK(strstr(timings, "\n\"odd \"\"name\"\"\\\",1,"));
     TB_CHECK(strstr(timings, "deflection") == NULL); /* counters only: no time */
     TB_CHECK_MSG(*csv_untidy(timings) == 0, "%s", csv_untidy(timings));
   }
@@ -512,6 +517,10 @@ static void test_misuse_reported(void) {
   s = tb_suite_begin(dir, "misuse", NULL, 1, &err);
   tb_suite_bench(s, "b", x, x, 1, "minutes");
   TB_CHECK(tb_suite_end(s, &err) != 0 && strstr(err.msg, "minutes"));
+  /* wall times without CPU times are refused, never passed off as CPU */
+  s = tb_suite_begin(dir, "misuse", NULL, 1, &err);
+  tb_suite_bench(s, "b", x, NULL, 1, "ms");
+  TB_CHECK(tb_suite_end(s, &err) != 0 && strstr(err.msg, "CPU times"));
   /* a folder below a regular file cannot be made */
   const char *file = tb_test_file("plain", "x", -1);
   snprintf(dir, sizeof dir, "%s/sub", file);

@@ -132,9 +132,11 @@ static void quick_form(void) {
   snprintf(args, sizeof args, "mesh beam --set nx=8 --set ny=2 --set nz=2 --out %s/qbeam.node",
            tb_test_tmpdir());
   TB_CHECK(tb_test_cli_run(args) == 0);
+  /* a small load: linear fem's large deflection (gravity 9.81: 14 units on
+   * this beam of 4) ends degraded, its volume grown by 228% */
   snprintf(args, sizeof args,
            "simulate --model fem --mesh %s/qbeam.node --fix-box -1,-1,-1,0.001,2,2 --gravity "
-           "0,0,-9.81 --static",
+           "0,0,-0.1 --static",
            tb_test_tmpdir());
   int rc = tb_test_cli_run(args);
   TB_CHECK_MSG(rc == 0 && strstr(tb_test_out, "max displacement ") &&

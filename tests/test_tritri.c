@@ -10,7 +10,7 @@
 #include "tb_test.h"
 #include "collision/tb_pairs.h"
 #include "collision/tb_tritri.h"
-#include "suites/tb_pairgen.h"
+#include "measure/tb_pairgen.h"
 
 #define DESIGNED TB_SOURCE_ROOT "/tests/data/designed40.txt"
 

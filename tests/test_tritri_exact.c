@@ -21,7 +21,7 @@
 #include "collision/tb_predicates.h"
 #include "collision/tb_tritri.h"
 #include "core/tb_rng.h"
-#include "suites/tb_pairgen.h"
+#include "measure/tb_pairgen.h"
 
 /* ---- oracles ---- */
 
@@ -455,7 +455,7 @@ static void families(void) {
   TB_CHECK(total_bad == 0);
 }
 
-/* The correctness table's own families (suites/pairgen.c), through our oracle. */
+/* The correctness table's own families (measure/pairgen.c), through our oracle. */
 static void table_families(void) {
   int nf, printed = 0;
   const tb_pair_family *fam = tb_pair_families(&nf);

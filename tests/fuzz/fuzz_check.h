@@ -14,7 +14,7 @@
 #include "core/tb_error.h"
 #include "core/tb_mesh.h"
 #include "core/tb_spheres.h"
-#include "suites/tb_points.h"
+#include "measure/tb_points.h"
 
 /* The message of a failed read of `path` (for a TetGen .node, the .ele or
  * .face read beside it may be the file named instead). */

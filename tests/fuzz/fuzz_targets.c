@@ -12,9 +12,9 @@
 #include "fuzz_check.h"
 #include "commands/tb_cli.h"
 #include "core/tb_mesh_io.h"
+#include "measure/tb_points.h"
 #include "report/tb_results.h"
 #include "scenes/tb_scene_file.h"
-#include "suites/tb_points.h"
 
 /* ---- the process's temporary folder ---- */
 

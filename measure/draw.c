@@ -1,4 +1,4 @@
-/* Drawing a simulation (suites/tb_draw.h). */
+/* Drawing a simulation (measure/tb_draw.h). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,4 +1,4 @@
-/* Fidelity metrics (suites/tb_fidelity.h): a scene's static problem posed
+/* Fidelity metrics (measure/tb_fidelity.h): a scene's static problem posed
  * to the reference solver (reference/tb_reference.h) with the loads the
  * scene gives its models (tb_sim_loads); a model run on the scene until it
  * settles, its surface nodes compared with the reference displacement
@@ -128,9 +128,11 @@ int tb_fid_reference(const char *scene, const tb_sim_def *def, double t_eq, cons
   p.nfixed = s.nfixed, p.fixed = s.fixed, p.fixed_x = s.fixed_x;
   tb_ref_def rd = tb_ref_default_def();
   rd.E = E, rd.nu = nu;
-  uint64_t t0 = tb_time_ns();
+  tb_clock c = tb_clock_start();
   out->sol = tb_ref_solve(&p, &rd, err);
-  out->seconds = (double)(tb_time_ns() - t0) * 1e-9;
+  double wall_ms, cpu_ms;
+  tb_clock_ms(&c, &wall_ms, &cpu_ms);
+  out->seconds = wall_ms * 1e-3, out->cpu_seconds = cpu_ms * 1e-3;
   if (!out->sol) goto done;
   double residual;
   tb_ref_stats(out->sol, &out->iterations, &out->load_steps, &residual);
@@ -232,23 +234,27 @@ typedef struct runner {
   const tb_fid_opts *o;
   double dt, window; /* settle window (simulated s) */
   tb_vec3 *px;
-  double *ms;
+  double *cpu, *wall; /* each step's CPU and wall ms */
   long nms, cap;
 } runner;
 
 /* One timed step; returns 0, or -1 with err. */
 static int timed_step(runner *r, tb_error *err) {
   memcpy(r->px, tb_model_positions(&r->s.model), sizeof(tb_vec3) * (size_t)r->s.mesh.nv);
-  uint64_t t0 = tb_time_ns();
+  tb_clock c = tb_clock_start();
   int rc = tb_sim_step(&r->s, err);
-  double ms = (double)(tb_time_ns() - t0) * 1e-6;
+  double wall, cpu;
+  tb_clock_ms(&c, &wall, &cpu);
   if (r->nms == r->cap) {
     long cap = r->cap ? 2 * r->cap : 4096;
-    double *p = realloc(r->ms, sizeof(double) * (size_t)cap);
+    double *p = realloc(r->cpu, sizeof(double) * (size_t)cap);
     if (!p) return tb_error_set(err, "fidelity", 0, "out of memory");
-    r->ms = p, r->cap = cap;
+    r->cpu = p;
+    p = realloc(r->wall, sizeof(double) * (size_t)cap);
+    if (!p) return tb_error_set(err, "fidelity", 0, "out of memory");
+    r->wall = p, r->cap = cap;
   }
-  r->ms[r->nms++] = ms;
+  r->cpu[r->nms] = cpu, r->wall[r->nms++] = wall;
   tb_progress_tick("model run: t = %.2f s", r->s.t);
   return rc;
 }
@@ -360,9 +366,10 @@ int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
   }
 timing:
   out->steps = r.s.steps;
-  out->ms_step = tb_stats_of(r.ms, (int)r.nms).median;
+  out->ms_step = tb_stats_of(r.cpu, (int)r.nms).median;
+  out->ms_step_wall = tb_stats_of(r.wall, (int)r.nms).median;
 done:
-  free(r.px), free(r.ms), free(x), free(v);
+  free(r.px), free(r.cpu), free(r.wall), free(x), free(v);
   tb_sim_destroy(&r.s);
   return rc;
 }

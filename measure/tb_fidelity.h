@@ -41,6 +41,7 @@ typedef struct tb_fid_ref {
   int has_reaction;     /* the scene prescribes the positions of its driven set */
   tb_vec3 reaction;     /* then: the total reaction force on the driven set */
   double seconds;       /* wall time of the solve */
+  double cpu_seconds;   /* CPU time of the solve (the process's when threads work) */
   int iterations, load_steps;
 } tb_fid_ref;
 
@@ -75,13 +76,14 @@ int tb_fid_mesh_make(const tb_fid_ref *ref, const tb_sim_def *def, tb_fid_mesh *
 void tb_fid_mesh_free(tb_fid_mesh *m);
 
 typedef struct tb_fid_result {
-  int stable;      /* 0: blew up or failed (state says why) */
-  int settled;     /* 1: reached settle_speed within max_time */
-  char state[192]; /* "settled", "not settled (...)", "unstable (reason)" */
-  double ms_step;  /* median wall time of one sim step (at the model's dt) */
-  long steps;      /* steps taken in all */
-  double rms_err;  /* surface nodes at equilibrium, / ref umax */
-  double max_err;  /* likewise, the largest */
+  int stable;          /* 0: blew up or failed (state says why) */
+  int settled;         /* 1: reached settle_speed within max_time */
+  char state[192];     /* "settled", "not settled (...)", "unstable (reason)" */
+  double ms_step;      /* median CPU ms of one sim step (at the model's dt) */
+  double ms_step_wall; /* median wall ms of one sim step */
+  long steps;          /* steps taken in all */
+  double rms_err;      /* surface nodes at equilibrium, / ref umax */
+  double max_err;      /* likewise, the largest */
   double volume_change;
   double reaction_err; /* |R - R_ref| / |R_ref| on the driven set; NAN when not prescribed */
   double settle_time;  /* simulated s from the full load to settled; NAN when not settled */

@@ -1,5 +1,5 @@
 /* The points file (points.csv): one row per measured run of `figure pareto`
- * (suites/suite_pareto.c writes it, `advise` reads it): suites/tb_points.h. */
+ * (suites/suite_pareto.c writes it, `advise` reads it): measure/tb_points.h. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>

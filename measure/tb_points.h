@@ -1,6 +1,6 @@
 /* points.csv: the measured runs of `figure pareto` (one row each: model,
  * resolution, parameters, speed, errors against the reference, state),
- * which `advise` chooses from (suites/points.c). */
+ * which `advise` chooses from (measure/points.c). */
 #ifndef TB_POINTS_H
 #define TB_POINTS_H
 
@@ -14,7 +14,7 @@ typedef struct tb_point {
   char model[32];
   int resolution, nodes;
   char params[160];
-  double steps_per_s, ms_step; /* per step of the scene's dt */
+  double steps_per_s, ms_step; /* per step of the scene's dt, CPU time on one thread */
   double rms_err, max_err, volume_change, reaction_err, settle_time, recovery_err;
   char state[192];
   int line; /* in the file */
