@@ -47,7 +47,7 @@
 
 #define MAX_STEPS 400
 #define THREADS_TETS 100000 /* one thread against all at this size */
-#define THREADS_CAP 80      /* the thread runs of a cell: at most this many times its budget */
+#define THREADS_QUICK_S 12  /* quick mode: a model's thread runs take at most this long */
 
 /* Tet counts: --full, the default (quick) and --scale < 1 (tests). */
 static const int ladder_full[] = {600, 1200, 2500, 5000, 10000, 20000, 50000, 100000, 200000};
@@ -337,7 +337,7 @@ static int size_case(tb_suite *su, scaling_mesh *sm, const tb_mesh *inst, int fr
  * one thread against all cores (thr). 1 when the thread count changed a
  * bit. */
 static int model_case(tb_suite *su, scaling_mesh *sm, const char *model, double budget, int cores,
-                      int min_steps, cell *one, thread_cell *thr) {
+                      int min_steps, double cap_s, cell *one, thread_cell *thr) {
   char key[96];
   snprintf(key, sizeof key, "tets:%d/%s%s", sm->tets, model, cores ? "/threads" : "");
   tb_case c;
@@ -356,7 +356,7 @@ static int model_case(tb_suite *su, scaling_mesh *sm, const char *model, double 
     }
     int pairs = one->steps > min_steps ? one->steps : min_steps;
     double secs = 2e-3 * pairs * one->wall; /* the thread runs' time, about */
-    if (m && cores && one->ok && secs <= THREADS_CAP * budget)
+    if (m && cores && one->ok && secs <= cap_s)
       run_threads(su, m, model, cores, pairs, thr);
     else if (cores && one->ok)
       snprintf(thr->why, sizeof thr->why, "not run: %.2g s a step (%d pairs would take %.0f s)",
@@ -425,6 +425,9 @@ int tb_suite_scaling(const tb_suite_opts *o) {
     if (ladder[r] == THREADS_TETS) sr->threads_row = r;
   int threads_before = tb_threads_setting(), failed = 0, nm = sr->nm, cores = sr->cores;
   int min_steps = o->scale < 1 ? 3 : TB_EST_MIN; /* the thread runs' pairs */
+  /* quick mode bounds a model's thread runs (a step of seconds would take
+   * minutes); --full and the smoke runs' tiny meshes run them all */
+  double cap_s = o->full || o->scale < 1 ? INFINITY : THREADS_QUICK_S;
   double budget = sr->budget;
   int frames = sr->frames;
   size_row *rows = sr->rows;
@@ -448,8 +451,9 @@ int tb_suite_scaling(const tb_suite_opts *o) {
     failed |= size_case(su, &sm, &inst, frames, &rows[r]);
     if (rows[r].ok) sr->big = r;
     for (int k = 0; k < nm; k++)
-      failed |= model_case(su, &sm, tb_model_classes[k]->name, budget,
-                           r == sr->threads_row ? cores : 0, min_steps, &cells[k][r], &sr->thr[k]);
+      failed |=
+          model_case(su, &sm, tb_model_classes[k]->name, budget, r == sr->threads_row ? cores : 0,
+                     min_steps, cap_s, &cells[k][r], &sr->thr[k]);
     if (sm.made > 0) tb_mesh_free(&sm.mesh);
   }
   tb_progress("scaling", nsizes, nsizes);
