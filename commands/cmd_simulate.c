@@ -131,9 +131,16 @@ static int make_dir(const char *dir, tb_error *err) {
   return 0;
 }
 
+/* 1 when path's extension names a surface format the writers know. */
+static int surface_format(const char *path) {
+  const char *dot = strrchr(path, '.');
+  return dot && (!strcmp(dot, ".obj") || !strcmp(dot, ".off") || !strcmp(dot, ".stl") ||
+                 !strcmp(dot, ".vtk"));
+}
+
 int tb_cmd_simulate(int argc, char **argv) {
   const char *model = NULL, *scene = NULL, *vtk = NULL, *mesh = NULL, *fix = NULL, *fixbox = NULL;
-  const char *gravity = NULL;
+  const char *gravity = NULL, *out_surface = NULL;
   long steps = 0, every = 0;
   int statik = 0;
   tb_sim_def sd;
@@ -157,14 +164,15 @@ int tb_cmd_simulate(int argc, char **argv) {
     }
     if (!v) return tb_cli_bad_option("simulate", a);
     i++;
-    const char **slot = !strcmp(a, "--model")     ? &model
-                        : !strcmp(a, "--scene")   ? &scene
-                        : !strcmp(a, "--vtk")     ? &vtk
-                        : !strcmp(a, "--mesh")    ? &mesh
-                        : !strcmp(a, "--fix")     ? &fix
-                        : !strcmp(a, "--fix-box") ? &fixbox
-                        : !strcmp(a, "--gravity") ? &gravity
-                                                  : NULL;
+    const char **slot = !strcmp(a, "--model")         ? &model
+                        : !strcmp(a, "--scene")       ? &scene
+                        : !strcmp(a, "--vtk")         ? &vtk
+                        : !strcmp(a, "--mesh")        ? &mesh
+                        : !strcmp(a, "--fix")         ? &fix
+                        : !strcmp(a, "--fix-box")     ? &fixbox
+                        : !strcmp(a, "--gravity")     ? &gravity
+                        : !strcmp(a, "--out-surface") ? &out_surface
+                                                      : NULL;
     if (slot) {
       if (*slot) return bad("%s given twice", a);
       *slot = v;
@@ -197,6 +205,9 @@ int tb_cmd_simulate(int argc, char **argv) {
   if (model && !tb_model_find(model)) return bad("unknown model '%s' (--list shows them)", model);
   if (model && tb_model_check_settings(model, &set, &err)) return bad("%s", err.msg);
   if (vtk && make_dir(vtk, &err)) return bad("--vtk: %s", err.msg);
+  if (out_surface && !surface_format(out_surface))
+    return bad("--out-surface %s: the format comes from the extension: .obj, .off, .stl or .vtk",
+               out_surface);
   tb_scene_desc d;
   char path[1024];
   if (scene) tb_sim_scene_path(scene, path, sizeof path);
@@ -335,8 +346,18 @@ int tb_cmd_simulate(int argc, char **argv) {
       printf("%s at t = %g s: max node speed %.3g (rest below %.3g)\n",
              rest ? "at rest" : "NOT at rest", s.t, speed, tol);
     if (vtk) printf("%d frames in %s (frame_NNNNN.vtu; frames.pvd for ParaView)\n", frame, vtk);
+    if (out_surface) {
+      if (tb_sim_write_surface(&s, out_surface, &err)) {
+        fprintf(stderr, PROG ": %s\n", err.msg);
+        rc = TB_EXIT_FAIL;
+      } else
+        printf("surface: %d points, %d triangles in %s\n", tb_model_surface(&s.model).nv,
+               tb_model_surface(&s.model).ntri, out_surface);
+    }
     char why[300];
-    if (tb_sim_degraded(&s, why, sizeof why)) {
+    if (rc != TB_EXIT_OK)
+      ;
+    else if (tb_sim_degraded(&s, why, sizeof why)) {
       printf("status: degraded (%s)\n", why);
       rc = TB_EXIT_DEGRADED;
     } else

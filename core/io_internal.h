@@ -97,6 +97,7 @@ int tb_read_vtk(const char *path, tb_build *b, tb_error *err); /* VTK legacy ASC
 
 int tb_write_obj(const char *path, const tb_mesh *m, tb_error *err);
 int tb_write_off(const char *path, const tb_mesh *m, tb_error *err);
+int tb_write_stl(const char *path, const tb_mesh *m, tb_error *err); /* ASCII */
 int tb_write_tetgen(const char *path, const tb_mesh *m, tb_error *err); /* .node + .ele */
 int tb_write_vtk(const char *path, const tb_mesh *m, tb_error *err);
 

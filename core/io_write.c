@@ -120,6 +120,33 @@ int tb_write_off(const char *path, const tb_mesh *m, tb_error *err) {
   return write_surface(path, m, 1, err);
 }
 
+/* ASCII STL: each triangle with its unit normal (right-handed order), the
+ * vertices %.17g as everywhere (a reader gets the same doubles back). */
+int tb_write_stl(const char *path, const tb_mesh *m, tb_error *err) {
+  const int *tri;
+  int *owned, n;
+  if (check(path, m, err) || (n = surface(path, m, &tri, &owned, err)) < 0) return -1;
+  FILE *f = open_out(path, err);
+  if (f) {
+    fputs("solid tissuebench\n", f);
+    for (int t = 0; t < n; t++) {
+      tb_vec3 a = m->x[tri[3 * t]], b = m->x[tri[3 * t + 1]], c = m->x[tri[3 * t + 2]];
+      tb_vec3 nrm = tb_cross(tb_sub(b, a), tb_sub(c, a));
+      double l = tb_len(nrm);
+      if (l > 0) nrm = tb_scale(nrm, 1 / l);
+      fprintf(f, "facet normal %.17g %.17g %.17g\nouter loop\n", nrm.x, nrm.y, nrm.z);
+      for (int k = 0; k < 3; k++) {
+        tb_vec3 p = m->x[tri[3 * t + k]];
+        fprintf(f, "vertex %.17g %.17g %.17g\n", p.x, p.y, p.z);
+      }
+      fputs("endloop\nendfacet\n", f);
+    }
+    fputs("endsolid tissuebench\n", f);
+  }
+  free(owned);
+  return f ? close_out(f, path, err) : -1;
+}
+
 /* base.node, base.ele and base.face (the mesh's triangles, maybe none). */
 int tb_write_tetgen(const char *path, const tb_mesh *m, tb_error *err) {
   static const char *const ext[] = {".node", ".ele", ".face"};

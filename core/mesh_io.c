@@ -21,6 +21,7 @@ static const reader readers[] = {{".obj", tb_read_obj},    {".off", tb_read_off}
                                  {".vtu", tb_read_vtu},    {".vtk", tb_read_vtk}};
 static const writer writers[] = {{".obj", tb_write_obj},
                                  {".off", tb_write_off},
+                                 {".stl", tb_write_stl},
                                  {".node", tb_write_tetgen},
                                  {".ele", tb_write_tetgen},
                                  {".vtk", tb_write_vtk}};
@@ -67,5 +68,5 @@ int tb_mesh_write(const char *path, const tb_mesh *m, tb_error *err) {
   const char *ext = extension(path);
   for (size_t i = 0; i < sizeof writers / sizeof writers[0]; i++)
     if (!strcasecmp(ext, writers[i].ext)) return writers[i].fn(path, m, err);
-  return tb_error_set(err, path, 0, "unknown mesh format '%s' (writes .obj .off .node .vtk)", ext);
+  return tb_error_set(err, path, 0, "unknown mesh format '%s' (writes .obj .off .stl .node .vtk)", ext);
 }

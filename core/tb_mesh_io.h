@@ -13,7 +13,7 @@
  * On failure *m is left empty and err holds "FILE:LINE: reason". */
 int tb_mesh_read(const char *path, tb_mesh *m, tb_error *err);
 
-/* Writes by extension: .obj/.off (triangles), .node (with .ele beside it,
+/* Writes by extension: .obj/.off/.stl (triangles; STL in ASCII), .node (with .ele beside it,
  * tets), .vtk (unstructured grid when the mesh has tets, else polydata).
  * Files holding only triangles (.obj, .off, polydata .vtk) carry only the
  * vertices the triangles use, renumbered in their original order. */

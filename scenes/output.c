@@ -19,6 +19,7 @@
 #include <sys/stat.h>
 
 #include "sim_priv.h"
+#include "core/tb_mesh_io.h"
 #include "core/tb_vtu.h"
 
 /* Green strain of one tet (rest positions X, current x). */
@@ -85,15 +86,29 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
   const tb_mesh *m = &s->mesh;
   const tb_vec3 *x = tb_model_positions(&s->model), *v = tb_model_velocities(&s->model);
   size_t nv = (size_t)m->nv, nt = (size_t)m->ntet;
-  tb_vec3 *disp = malloc(sizeof(tb_vec3) * nv);
+  /* a surface model: its current surface (cut, or refined), which may have
+   * more points than the rest mesh; the points beyond the model's own have
+   * no velocity of their own (0) */
+  tb_surface su = tb_model_surface(&s->model);
+  int np = tb_model_npoints(&s->model);
+  tb_vec3 *vel = NULL;
+  if (!nt && su.nv > 0) {
+    x = su.x, nv = (size_t)su.nv;
+    vel = calloc(nv, sizeof *vel);
+    if (vel) memcpy(vel, v, sizeof(tb_vec3) * (size_t)(np < su.nv ? np : su.nv));
+    v = vel;
+  }
+  tb_vec3 *disp = malloc(sizeof(tb_vec3) * (nv ? nv : 1));
   double *strain = malloc(sizeof(double) * (nt ? nt : 1)),
          *vm = malloc(sizeof(double) * (nt ? nt : 1));
   unsigned char *inv = malloc(nt ? nt : 1);
-  if (!disp || !strain || !vm || !inv) {
-    free(disp), free(strain), free(vm), free(inv);
+  if (!disp || !strain || !vm || !inv || (!nt && !vel)) {
+    free(disp), free(strain), free(vm), free(inv), free(vel);
     return tb_error_set(err, path, 0, "out of memory");
   }
-  for (size_t i = 0; i < nv; i++) disp[i] = tb_sub(x[i], m->x[i]);
+  const tb_vec3 *x0 = !nt && su.x0 ? su.x0 : m->x;
+  for (size_t i = 0; i < nv; i++)
+    disp[i] = i < (size_t)m->nv || x0 != m->x ? tb_sub(x[i], x0[i]) : tb_v3(0, 0, 0);
   int stress = tb_sim_tet_fields(s, strain, vm, inv);
   tb_vtu_array arrays[5] = {{"displacement", 3, &disp[0].x, NULL, 0},
                             {"velocity", 3, &v[0].x, NULL, 0},
@@ -101,13 +116,13 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
                             {"inverted", 1, NULL, inv, 1},
                             {"von_mises", 1, vm, NULL, 1}};
   tb_vtu_piece pieces[3];
-  int np = 0;
+  int npc = 0;
   if (nt) /* a tet mesh: its tets with cell data */
-    pieces[np++] = (tb_vtu_piece){m->nv, x, 0, NULL, m->ntet, m->tet, stress ? 5 : 4, arrays};
-  else /* a surface mesh: its triangles, point data alone */
-    pieces[np++] = (tb_vtu_piece){m->nv, x, m->ntri, m->tri, 0, NULL, 2, arrays};
+    pieces[npc++] = (tb_vtu_piece){m->nv, x, 0, NULL, m->ntet, m->tet, stress ? 5 : 4, arrays};
+  else /* a surface: its triangles now, point data alone */
+    pieces[npc++] = (tb_vtu_piece){(int)nv, x, su.ntri, su.tri, 0, NULL, 2, arrays};
   if (s->has_tool)
-    pieces[np++] = (tb_vtu_piece){
+    pieces[npc++] = (tb_vtu_piece){
         s->priv->tool.nv, s->priv->tool_x, s->priv->tool.ntri, s->priv->tool.tri, 0, NULL, 0, NULL};
   tb_vec3 quad[4];
   static const int quad_tri[6] = {0, 1, 2, 0, 2, 3};
@@ -123,11 +138,18 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
     quad[1] = tb_add(c, tb_add(tb_scale(u, r), tb_scale(w, -r)));
     quad[2] = tb_add(c, tb_add(tb_scale(u, r), tb_scale(w, r)));
     quad[3] = tb_add(c, tb_add(tb_scale(u, -r), tb_scale(w, r)));
-    pieces[np++] = (tb_vtu_piece){4, quad, 2, quad_tri, 0, NULL, 0, NULL};
+    pieces[npc++] = (tb_vtu_piece){4, quad, 2, quad_tri, 0, NULL, 0, NULL};
   }
-  int rc = tb_vtu_write(path, pieces, np, err);
-  free(disp), free(strain), free(vm), free(inv);
+  int rc = tb_vtu_write(path, pieces, npc, err);
+  free(disp), free(strain), free(vm), free(inv), free(vel);
   return rc;
+}
+
+int tb_sim_write_surface(const tb_sim *s, const char *path, tb_error *err) {
+  tb_surface su = tb_model_surface(&s->model);
+  tb_mesh m = {0};
+  m.nv = su.nv, m.x = (tb_vec3 *)su.x, m.ntri = su.ntri, m.tri = (int *)su.tri;
+  return tb_mesh_write(path, &m, err);
 }
 
 int tb_sim_write_pvd(const char *dir, int nframes, const double *times, tb_error *err) {

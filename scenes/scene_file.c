@@ -362,27 +362,43 @@ static int tool_key(parser *p, tb_scene_tool *t, const char *key, const char *va
   return mesh_key(p, &t->mesh, key, value);
 }
 
-static int cut_key(parser *p, const char *key, const char *value) {
-  tb_scene_desc *d = p->d;
+static int cut_key(parser *p, tb_scene_cut *c, const char *key, const char *value) {
   if (!strcmp(key, "point")) {
-    if (d->ncut_point == TB_SCENE_MAX_ITEMS)
+    if (c->npoint == TB_SCENE_MAX_ITEMS)
       return fail(p, "point: more than %s path points%s", "16", "");
-    if (tb_scene_parse_list(value, d->cut_point[d->ncut_point], 3, 3) < 0)
+    if (tb_scene_parse_list(value, c->point[c->npoint], 3, 3) < 0)
       return fail(p, "point: '%s' is not x,y,z%s", value, "");
-    d->ncut_point++;
+    c->npoint++;
     return 1;
   }
   if (!strcmp(key, "depth")) {
-    if (tb_scene_parse_list(value, d->cut_depth, 3, 3) < 0)
+    if (tb_scene_parse_list(value, c->depth, 3, 3) < 0)
       return fail(p, "depth: '%s' is not dx,dy,dz%s", value, "");
     return 1;
   }
   if (!strcmp(key, "start") || !strcmp(key, "stop")) {
-    if (tb_scene_parse_expr(value, key[2] == 'a' ? &d->cut_start : &d->cut_stop))
+    if (tb_scene_parse_expr(value, key[2] == 'a' ? &c->start : &c->stop))
       return fail(p, "%s: '%s' is not a time", key, value);
     return 1;
   }
   return -1;
+}
+
+/* The [cut] or [cut NAME] section being read: a new scalpel at its first
+ * key (a section of the same name again, not next to it, is another). */
+static tb_scene_cut *cut_item(parser *p, const char *section) {
+  tb_scene_desc *d = p->d;
+  if (!strcmp(p->section, section) && p->item) return p->item;
+  if (d->ncut == TB_SCENE_MAX_CUTS)
+    return fail(p, "more than %s [cut] sections%s", "8", ""), NULL;
+  tb_scene_cut *c = &d->cut[d->ncut++];
+  memset(c, 0, sizeof *c);
+  c->line = (int)p->line;
+  snprintf(c->name, sizeof c->name, "%s", section[3] ? section + 4 : "");
+  c->start = (tb_expr){0, -1}, c->stop = (tb_expr){-1, -1};
+  for (int i = 0; i < 3; i++) c->depth[i] = (tb_expr){0, -1};
+  p->item = c;
+  return c;
 }
 
 /* Items of repeatable sections ([fix], [fix back], [force tip], ...). */
@@ -403,7 +419,7 @@ static void *section_item(parser *p, const char *kind, const char *section) {
 }
 
 static int repeatable(const char *section, const char *key) {
-  return !strcmp(key, "keyframe") || (!strcmp(section, "cut") && !strcmp(key, "point")) ||
+  return !strcmp(key, "keyframe") || (!strncmp(section, "cut", 3) && !strcmp(key, "point")) ||
          (strncmp(section, "scene", 5) && strncmp(section, "model", 5) &&
           strncmp(section, "mesh", 4) &&
           (!strcmp(key, "ids") || !strcmp(key, "box") || !strcmp(key, "box_fraction") ||
@@ -453,13 +469,9 @@ static int handler(void *user, const char *section, const char *key, const char 
       for (int i = 0; i < 3; i++) d->tool.motion.centre[i] = (tb_expr){0, -1};
     }
     r = tool_key(p, &d->tool, key, value);
-  } else if (!strcmp(section, "cut")) {
-    if (!d->has_cut) {
-      d->has_cut = 1, d->cut_line = (int)p->line;
-      d->cut_start = (tb_expr){0, -1}, d->cut_stop = (tb_expr){-1, -1};
-      for (int i = 0; i < 3; i++) d->cut_depth[i] = (tb_expr){0, -1};
-    }
-    r = cut_key(p, key, value);
+  } else if (!strcmp(kind, "cut")) {
+    tb_scene_cut *c = cut_item(p, section);
+    r = c ? cut_key(p, c, key, value) : 0;
   } else if (!strcmp(section, "output")) {
     if (!strcmp(key, "every")) {
       char *end;
@@ -525,15 +537,17 @@ static int check(parser *p) {
     if (!d->tool.motion.nkey)
       return tb_error_set(err, d->path, d->tool.line, "[instrument] has no keyframe");
   }
-  if (d->has_cut) {
-    if (d->ncut_point < 2)
-      return tb_error_set(err, d->path, d->cut_line,
-                          "[cut] needs two or more 'point = x,y,z' lines (the blade's path), "
+  for (int i = 0; i < d->ncut; i++) {
+    const tb_scene_cut *c = &d->cut[i];
+    if (c->npoint < 2)
+      return tb_error_set(err, d->path, c->line,
+                          "[cut%s%s] needs two or more 'point = x,y,z' lines (the blade's path), "
                           "not %d",
-                          d->ncut_point);
-    if (d->cut_stop.param < 0 && d->cut_stop.k < 0)
-      return tb_error_set(err, d->path, d->cut_line,
-                          "[cut] needs stop = TIME (the blade at the path's last point)");
+                          c->name[0] ? " " : "", c->name, c->npoint);
+    if (c->stop.param < 0 && c->stop.k < 0)
+      return tb_error_set(err, d->path, c->line,
+                          "[cut%s%s] needs stop = TIME (the blade at the path's last point)",
+                          c->name[0] ? " " : "", c->name);
   }
   if (d->has_ground) {
     tb_scene_ground *g = &d->ground;

@@ -26,6 +26,16 @@ typedef struct tb_sim_group {
   tb_sim_motion motion; /* move */
 } tb_sim_group;
 
+/* A scalpel of the scene resolved to numbers; state 0 before, 1 cutting,
+ * 2 done; the path handed last; what its cut did. */
+typedef struct tb_sim_blade {
+  int n, line;
+  tb_vec3 *path, *now, depth, last;
+  double start, stop;
+  int state, last_n;
+  tb_cut_stats stats;
+} tb_sim_blade;
+
 /* The driver's own state of a simulation (tb_sim.priv). */
 typedef struct tb_sim_priv {
   double param[TB_P_COUNT]; /* the scene's parameters, resolved */
@@ -54,12 +64,11 @@ typedef struct tb_sim_priv {
   int *ids_buf; /* scratch for contact corrections */
   tb_vec3 *xc_buf, *vc_buf;
   double *depth_buf, *keep_buf;
-  /* the scalpel ([cut], scenes/cut.c): path, depth, times; state 0 before,
-   * 1 cutting, 2 done; the path handed last; what the cut did */
-  int cut_n, cut_state, cut_last_n;
-  tb_vec3 *cut_path, *cut_now, cut_depth, cut_last;
-  double cut_start, cut_stop;
-  tb_cut_stats cut_stats;
+  /* the scalpels ([cut], scenes/cut.c): one a model cuts with at a time */
+  int nblade, active; /* active: the blade cutting now, -1 none */
+  tb_sim_blade *blade;
+  tb_cut_stats cut_stats; /* what the last cut did */
+  int nforce_points;      /* points the force array holds beyond the mesh's nodes */
   /* the energy-growth detector (tb_sim_step) */
   double total_mass;
   double load_max;

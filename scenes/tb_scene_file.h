@@ -139,6 +139,17 @@ extern const char *const tb_scene_param_names[TB_P_COUNT];
 #define TB_SCENE_MAX_ITEMS 16
 #define TB_SCENE_MAX_SETTINGS 24
 
+/* A scalpel: its edge runs along the path at constant speed from `start`
+ * (at the first point) to `stop` (at the last), the blade's depth fixed. */
+#define TB_SCENE_MAX_CUTS 8 /* (scene_file.c names 8 in a message) */
+typedef struct tb_scene_cut {
+  int line, npoint;
+  char name[32];                        /* the section's name after "cut" ("" for [cut]) */
+  tb_expr point[TB_SCENE_MAX_ITEMS][3]; /* the blade edge's path, in order */
+  tb_expr depth[3];                     /* the blade's depth vector */
+  tb_expr start, stop;
+} tb_scene_cut;
+
 typedef struct tb_scene_desc {
   char path[1024]; /* the file ("" for a description built in code) */
   char name[64], summary[256];
@@ -161,12 +172,9 @@ typedef struct tb_scene_desc {
   tb_scene_ground ground;
   int has_tool;
   tb_scene_tool tool;
-  int has_cut; /* [cut]: a scalpel along a path (models that can be cut) */
-  int cut_line, ncut_point;
-  tb_expr cut_point[TB_SCENE_MAX_ITEMS][3]; /* the blade edge's path, in order */
-  tb_expr cut_depth[3];                     /* the blade's depth vector */
-  tb_expr cut_start, cut_stop;              /* at the first point, at the last */
-  double frame_interval;                    /* [output] every: seconds between frames (0: 1/30 s) */
+  int ncut; /* [cut] and [cut NAME] sections: scalpels (models that can be cut) */
+  tb_scene_cut cut[TB_SCENE_MAX_CUTS];
+  double frame_interval; /* [output] every: seconds between frames (0: 1/30 s) */
   tb_selection probe; /* [output] selectors: nodes whose displacement the summary reports */
 } tb_scene_desc;
 

@@ -174,5 +174,8 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err);
  * Returns 1 when the model has a stress (E and nu). */
 int tb_sim_tet_fields(const tb_sim *s, double *strain, double *vm, unsigned char *inv);
 int tb_sim_write_pvd(const char *dir, int nframes, const double *times, tb_error *err);
+/* The model's current surface (cut, or refined) into path, by extension
+ * (core/tb_mesh_io.h's writers: .obj, .off, .stl, .vtk). */
+int tb_sim_write_surface(const tb_sim *s, const char *path, tb_error *err);
 
 #endif

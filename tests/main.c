@@ -220,6 +220,7 @@ static const struct {
     {"organs", tb_tests_organs},
     {"metaball_model", tb_tests_metaball_model},
     {"organ_cut", tb_tests_organ_cut},
+    {"cuts", tb_tests_cuts},
     {"metaball_cut", tb_tests_metaball_cut},
     {"cut_surface", tb_tests_cut_surface},
     {"metaball_suite", tb_tests_metaball_suite},

@@ -125,5 +125,6 @@ extern const tb_test_case tb_tests_scaling[];
 extern const tb_test_case tb_tests_fuzz_regressions[];
 extern const tb_test_case tb_tests_layers[];
 extern const tb_test_case tb_tests_verdicts[];
+extern const tb_test_case tb_tests_cuts[];
 
 #endif

@@ -1,0 +1,136 @@
+/* Cutting through the scene driver: several scalpels in a scene file, in
+ * time order and overlapping, and what a cut leaves for other tools (the
+ * surface at the end of a run, ParaView frames of the current surface). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_test.h"
+#include "core/tb_mesh.h"
+#include "core/tb_mesh_io.h"
+#include "cutting/tb_cut_surface.h"
+#include "scenes/tb_scene_file.h"
+#include "scenes/tb_sim.h"
+
+/* The patent's steak held at its left end; cuts appended by the caller. */
+#define STEAK                                                           \
+  "[scene]\ndt = 0.01\nduration = %g\ngravity = 9.81\n"                 \
+  "[mesh]\ngenerate = steak\n[model]\nname = metaball\nspheres = 539\n" \
+  "[fix left end]\nbox = -5,-4,-2, -2.5,4,2\n"
+
+static const char *steak_file(const char *name, double duration, const char *cuts) {
+  char text[2048];
+  snprintf(text, sizeof text, STEAK "%s", duration, cuts);
+  return tb_test_file(name, text, -1);
+}
+
+#define CUT(name, x, t0, t1)                              \
+  "[cut " name "]\npoint = " #x ",-3.5,-1.5\npoint = " #x \
+  ",3.5,-1.5\ndepth = 0,0,3\n"                            \
+  "start = " #t0 "\nstop = " #t1 "\n"
+
+static void several_cuts_parse(void) {
+  tb_scene_desc d;
+  tb_error err;
+  const char *p = steak_file("two-cuts.ini", 1, CUT("a", 0.3, 0.1, 0.3) CUT("b", 2, 0.4, 0.6));
+  TB_CHECK_MSG(tb_scene_desc_load(&d, p, &err) == 0, "%s", err.msg);
+  TB_CHECK(d.ncut == 2 && !strcmp(d.cut[0].name, "a") && !strcmp(d.cut[1].name, "b") &&
+           d.cut[0].npoint == 2 && d.cut[1].npoint == 2);
+  tb_scene_desc_free(&d);
+  /* a plain [cut] has no name; a missing stop names its section */
+  p = steak_file("no-stop.ini", 1,
+                 "[cut]\npoint = 0,-3,-1\npoint = 0,3,-1\ndepth = 0,0,3\nstop = 0.3\n"
+                 "[cut second]\npoint = 1,-3,-1\npoint = 1,3,-1\ndepth = 0,0,3\nstart = 0.5\n");
+  TB_CHECK(tb_scene_desc_load(&d, p, &err) != 0);
+  TB_CHECK_MSG(
+      strstr(err.msg, "no-stop.ini:") && strstr(err.msg, "[cut second]") && strstr(err.msg, "stop"),
+      "%s", err.msg);
+  tb_scene_desc_free(&d);
+  char many[4096] = "";
+  for (int k = 0; k < 9; k++) {
+    char one[256];
+    snprintf(one, sizeof one,
+             "[cut c%d]\npoint = %d,-3,-1\npoint = %d,3,-1\ndepth = 0,0,3\nstop = 1\n", k, k - 4,
+             k - 4);
+    strcat(many, one);
+  }
+  p = steak_file("nine.ini", 1, many);
+  TB_CHECK(tb_scene_desc_load(&d, p, &err) != 0 && strstr(err.msg, "more than 8 [cut]"));
+  tb_scene_desc_free(&d);
+}
+
+/* Pieces of the model's current surface. */
+static int pieces(tb_sim *s) {
+  tb_surface su = tb_model_surface(&s->model);
+  return tb_cut_components(su.nv, su.ntri, su.tri);
+}
+
+/* Two cuts across the steak, one after the other and overlapping in time
+ * (the second begins when the first has ended): three pieces, closed. */
+static void several_cuts_run(void) {
+  const char *files[2] = {
+      steak_file("seq.ini", 0.8, CUT("a", 0.3, 0.1, 0.3) CUT("b", 2, 0.35, 0.55)),
+      steak_file("overlap.ini", 0.8, CUT("a", 0.3, 0.1, 0.3) CUT("b", 2, 0.2, 0.4))};
+  for (int f = 0; f < 2; f++) {
+    tb_sim s;
+    tb_error err;
+    if (tb_sim_create(&s, files[f], NULL, NULL, NULL, NULL, &err)) {
+      TB_CHECK_MSG(0, "%s", err.msg);
+      continue;
+    }
+    int seen[3] = {0, 0, 0}, bad = 0;
+    while (s.t < s.def.duration - 1e-9 && !bad) {
+      bad = tb_sim_step(&s, &err);
+      int n = pieces(&s);
+      if (n >= 1 && n <= 3) seen[n - 1] = 1;
+    }
+    TB_CHECK_MSG(!bad, "%s: %s", files[f], err.msg);
+    tb_surface su = tb_model_surface(&s.model);
+    TB_CHECK_MSG(pieces(&s) == 3 && seen[0] && seen[1],
+                 "%s: %d pieces at the end (seen 1: %d, 2: %d)", files[f], pieces(&s), seen[0],
+                 seen[1]);
+    TB_CHECK(tb_cut_is_closed_manifold(su.nv, su.ntri, su.tri));
+    tb_sim_destroy(&s);
+  }
+}
+
+/* --out-surface writes the cut surface; --vtk frames hold it (more points
+ * after the cut than before). */
+static void exports_show_the_cut(void) {
+  char args[1400];
+  const char *exts[3] = {"obj", "off", "stl"};
+  for (int k = 0; k < 3; k++) {
+    snprintf(args, sizeof args, "simulate --scene steak-cut --out-surface %s/cut.%s%s",
+             tb_test_tmpdir(), exts[k], k == 0 ? " --vtk " : "");
+    if (k == 0)
+      snprintf(args + strlen(args), sizeof args - strlen(args), "%s/frames", tb_test_tmpdir());
+    int rc = tb_test_cli_run(args);
+    TB_CHECK_MSG(rc == 0 && strstr(tb_test_out, "surface: "), "exit %d: %s", rc, tb_test_out);
+    char path[1100];
+    snprintf(path, sizeof path, "%s/cut.%s", tb_test_tmpdir(), exts[k]);
+    tb_mesh m;
+    tb_error err;
+    TB_CHECK_MSG(tb_mesh_read(path, &m, &err) == 0, "%s", err.msg);
+    TB_CHECK_MSG(m.nv > 1266 && tb_cut_components(m.nv, m.ntri, m.tri) == 2 &&
+                     tb_cut_is_closed_manifold(m.nv, m.ntri, m.tri),
+                 "%s: %d vertices, %d pieces", path, m.nv, tb_cut_components(m.nv, m.ntri, m.tri));
+    tb_mesh_free(&m);
+  }
+  char first[1100], last[1100];
+  snprintf(first, sizeof first, "%s/frames/frame_00000.vtu", tb_test_tmpdir());
+  snprintf(last, sizeof last, "%s/frames/frame_00026.vtu", tb_test_tmpdir());
+  char *a = tb_test_slurp(first), *b = tb_test_slurp(last);
+  TB_CHECK(a && b && strstr(a, "NumberOfPoints=\"1266\"") && !strstr(b, "NumberOfPoints=\"1266\""));
+  free(a), free(b);
+  snprintf(args, sizeof args, "simulate --scene steak-cut --out-surface %s/cut.ply",
+           tb_test_tmpdir());
+  TB_CHECK(tb_test_cli_run(args) == 2 && strstr(tb_test_out, ".obj, .off, .stl or .vtk"));
+}
+
+const tb_test_case tb_tests_cuts[] = {
+    {"several_cuts_parse", several_cuts_parse},
+    {"several_cuts_run", several_cuts_run},
+    {"exports_show_the_cut", exports_show_the_cut},
+    {NULL, NULL},
+};
