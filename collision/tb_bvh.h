@@ -141,6 +141,12 @@ typedef struct tb_collide_stats {
  * triangles were checked against the other leaf's box). */
 int tb_bvh_collide(const tb_bvh *a, const tb_vec3 *xa, const tb_bvh *b, const tb_vec3 *xb,
                    tb_tritri_fn test, tb_pairlist *out, tb_collide_stats *stats);
+/* The surface's self-intersecting triangle pairs (i < j, sorted): pairs
+ * that cross other than in a vertex or an edge they share, decided by the
+ * exact test; coplanar pairs (touching sheets) are not counted
+ * (collision/self.c says how). Returns 0, or -1 with err (a coordinate the
+ * hierarchy refuses, no memory). */
+int tb_collide_self(const tb_vec3 *x, const int *tri, int ntri, tb_pairlist *out, tb_error *err);
 /* Brute force over all ntri_a * ntri_b pairs; for a test the method table
  * marks exact, pairs with disjoint triangle boxes are skipped (such a test
  * says 0 for them), any other test is called on every pair. */

@@ -10,6 +10,7 @@
 #include <strings.h>
 
 #include "tb_cli.h"
+#include "collision/tb_bvh.h"
 #include "core/tb_butterfly.h"
 #include "core/tb_mesh_io.h"
 #include "meshgen/tb_generators.h"
@@ -50,6 +51,16 @@ static void print_info(FILE *f, const char *name, const tb_mesh *m) {
           t.misoriented_edges ? "no" : "yes", t.misoriented_edges);
   fprintf(f, "volume      %.9g%s\n", tb_mesh_volume(m),
           m->ntet ? " (sum of tet volumes)" : (t.closed ? "" : " (surface not closed)"));
+  tb_pairlist self = {0, 0, NULL};
+  tb_error err;
+  if (surf.ntri > 0 && tb_collide_self(surf.x, surf.tri, surf.ntri, &self, &err) == 0) {
+    fprintf(f, "self-intersecting %d triangle pair%s", self.n, self.n == 1 ? "" : "s");
+    for (int k = 0; k < self.n && k < 5; k++)
+      fprintf(f, "%s%d-%d", k ? ", " : " (0-based: ", self.ij[2 * k], self.ij[2 * k + 1]);
+    fprintf(f, "%s\n", self.n > 5 ? ", ...)" : self.n ? ")" : "");
+  } else if (surf.ntri > 0)
+    fprintf(f, "self-intersecting unknown (%s)\n", err.msg);
+  tb_pairlist_free(&self);
   free(bnd);
 }
 

@@ -156,15 +156,18 @@ typedef struct tb_cut_stats {
   int components;              /* connected pieces of the surface after the cut */
 } tb_cut_stats;
 
-/* Spheres of a sphere-based model, for pictures: n centres and radii,
- * alive flags (removed spheres keep their index), nlinks links (2 nlinks
- * indices). */
+/* Spheres of a sphere-based model, for pictures and checks: n centres and
+ * radii, alive flags (removed spheres keep their index), nlinks links (2
+ * nlinks indices), and for each of the model's nbound points the spheres
+ * its skin follows (up to 3; -1 for none). */
 typedef struct tb_model_spheres {
   int n, nlinks;
   const tb_vec3 *c;
   const double *r;
   const unsigned char *alive;
   const int *links;
+  int nbound;
+  const int (*bound)[3];
 } tb_model_spheres;
 
 /* Groups of a model's points, for pictures (shape matching's clusters):

@@ -59,6 +59,10 @@ static const tb_suite_entry suites[] = {
      "ms per step against mesh size (600 to 100k+ tets) for every model of the table, fitted "
      "exponents, 30/300 Hz limits, peak RSS per tet, 1 vs all threads, collision refit + query",
      tb_suite_scaling, 1},
+    {"cuts", NULL, "cuts",
+     "cut torture: the metaball model's cut on five organs, designed and seeded random "
+     "paths, each judged (closed pieces, no self-intersection, spheres split alike, volume)",
+     tb_suite_cuts, 0},
     {"figures", NULL, "pictures",
      "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures, 0},
 };
@@ -101,6 +105,7 @@ static const char *const report_order[] = {
     "bao",
     "#The metaball patent: organs of overlapping spheres, PBD, hybrid sphere - point set cutting",
     "metaball",
+    "cuts",
     "#Scaling: every model and the collision hierarchy against mesh size",
     "scaling",
     "#Pictures: the documents' figures, rendered",

@@ -60,5 +60,6 @@ int tb_suite_pbd(const tb_suite_opts *opts);
 int tb_suite_bao(const tb_suite_opts *opts);
 int tb_suite_metaball(const tb_suite_opts *opts);
 int tb_suite_scaling(const tb_suite_opts *opts);
+int tb_suite_cuts(const tb_suite_opts *opts);
 
 #endif

@@ -1,0 +1,127 @@
+/* The pieces of a surface after a cut (measure/tb_pieces.h). Pieces are
+ * the connected components of the triangles through shared vertices
+ * (union-find), so two pieces touching in one vertex count as one (and
+ * that vertex makes the surface non-manifold: not closed). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "tb_pieces.h"
+#include "collision/tb_bvh.h"
+#include "cutting/tb_cut_surface.h"
+
+static int find(int *uf, int a) {
+  while (uf[a] != a) uf[a] = uf[uf[a]], a = uf[a];
+  return a;
+}
+static void join(int *uf, int a, int b) {
+  a = find(uf, a), b = find(uf, b);
+  if (a != b) uf[a < b ? b : a] = a < b ? a : b;
+}
+
+int tb_pieces_measure(int nv, const tb_vec3 *x, int ntri, const int *tri, int self, tb_pieces *p,
+                      tb_error *err) {
+  memset(p, 0, sizeof *p);
+  p->nv = nv, p->ntri = ntri, p->self_pairs = p->overlap_pairs = -1;
+  int *uf = malloc(sizeof(int) * (size_t)(nv > 0 ? nv : 1)), *id = NULL, *sub = NULL;
+  p->of_vertex = malloc(sizeof(int) * (size_t)(nv > 0 ? nv : 1));
+  p->of_tri = malloc(sizeof(int) * (size_t)(ntri > 0 ? ntri : 1));
+  if (!uf || !p->of_vertex || !p->of_tri) goto oom;
+  for (int v = 0; v < nv; v++) uf[v] = v, p->of_vertex[v] = -1;
+  for (int t = 0; t < ntri; t++)
+    join(uf, tri[3 * t], tri[3 * t + 1]), join(uf, tri[3 * t], tri[3 * t + 2]);
+  id = malloc(sizeof(int) * (size_t)(nv > 0 ? nv : 1));
+  if (!id) goto oom;
+  for (int v = 0; v < nv; v++) id[v] = -1;
+  for (int t = 0; t < ntri; t++) { /* pieces numbered in the order of their first triangle */
+    int r = find(uf, tri[3 * t]);
+    if (id[r] < 0) id[r] = p->n++;
+    p->of_tri[t] = id[r];
+  }
+  for (int v = 0; v < nv; v++) p->of_vertex[v] = id[find(uf, v)];
+  for (int t = 0; t < ntri; t++) /* unused vertices stay -1 */
+    for (int k = 0; k < 3; k++) uf[tri[3 * t + k]] = -2;
+  for (int v = 0; v < nv; v++)
+    if (uf[v] != -2) p->of_vertex[v] = -1;
+  p->volume = calloc((size_t)(p->n > 0 ? p->n : 1), sizeof *p->volume);
+  sub = malloc(sizeof(int) * 3 * (size_t)(ntri > 0 ? ntri : 1));
+  if (!p->volume || !sub) goto oom;
+  p->closed = 1;
+  for (int k = 0; k < p->n; k++) { /* each piece on its own */
+    int m = 0;
+    for (int t = 0; t < ntri; t++)
+      if (p->of_tri[t] == k) memcpy(sub + 3 * m++, tri + 3 * t, 3 * sizeof *sub);
+    p->closed &= tb_cut_is_closed_manifold(nv, m, sub);
+  }
+  tb_pieces_volumes(p, x, tri, p->volume);
+  if (self) {
+    tb_pairlist pl = {0, 0, NULL};
+    if (tb_collide_self(x, tri, ntri, &pl, err)) goto fail;
+    p->self_pairs = p->overlap_pairs = 0;
+    for (int k = 0; k < pl.n; k++) {
+      int same = p->of_tri[pl.ij[2 * k]] == p->of_tri[pl.ij[2 * k + 1]];
+      if (same)
+        p->self_pairs++;
+      else
+        p->overlap_pairs++;
+    }
+    tb_pairlist_free(&pl);
+  }
+  free(uf), free(id), free(sub);
+  return 0;
+oom:
+  tb_error_set(err, "pieces", 0, "out of memory");
+fail:
+  free(uf), free(id), free(sub);
+  tb_pieces_free(p);
+  return -1;
+}
+
+void tb_pieces_volumes(const tb_pieces *p, const tb_vec3 *x, const int *tri, double *volume) {
+  for (int k = 0; k < p->n; k++) volume[k] = 0;
+  for (int t = 0; t < p->ntri; t++) { /* divergence theorem: a . (b x c) / 6 */
+    tb_vec3 a = x[tri[3 * t]], b = x[tri[3 * t + 1]], c = x[tri[3 * t + 2]];
+    volume[p->of_tri[t]] += tb_dot(a, tb_cross(b, c)) / 6.0;
+  }
+}
+
+void tb_pieces_free(tb_pieces *p) {
+  free(p->volume), free(p->of_vertex), free(p->of_tri);
+  memset(p, 0, sizeof *p);
+}
+
+int tb_pieces_spheres(const tb_pieces *p, const tb_model_spheres *sp, int *components,
+                      int *crossing) {
+  int n = sp->n, *uf = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+  int *comp = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+  int *owner = NULL; /* per sphere component: the piece bound to it, -1 none, -2 several */
+  *components = 0, *crossing = 0;
+  if (!uf || !comp) goto done;
+  for (int s = 0; s < n; s++) uf[s] = s, comp[s] = -1;
+  for (int e = 0; e < sp->nlinks; e++) {
+    int a = sp->links[2 * e], b = sp->links[2 * e + 1];
+    if (sp->alive[a] && sp->alive[b]) join(uf, a, b);
+  }
+  for (int s = 0; s < n; s++)
+    if (sp->alive[s] && comp[find(uf, s)] < 0) comp[find(uf, s)] = (*components)++;
+  owner = malloc(sizeof(int) * (size_t)(*components > 0 ? *components : 1));
+  if (!owner) goto done;
+  for (int k = 0; k < *components; k++) owner[k] = -1;
+  int nb = sp->nbound < p->nv ? sp->nbound : p->nv;
+  for (int v = 0; v < nb; v++) {
+    int piece = p->of_vertex[v], c0 = -1, bad = 0;
+    if (piece < 0) continue;
+    for (int q = 0; q < 3; q++) {
+      int s = sp->bound[v][q];
+      if (s < 0 || s >= n || !sp->alive[s]) continue;
+      int c = comp[find(uf, s)];
+      if (c0 < 0) c0 = c;
+      bad |= c != c0; /* bound across a cut */
+      if (owner[c] == -1) owner[c] = piece;
+      bad |= owner[c] != piece; /* a component two pieces are bound to */
+    }
+    *crossing += bad;
+  }
+done:
+  free(uf), free(comp), free(owner);
+  return *crossing == 0 && *components == p->n;
+}
