@@ -93,7 +93,7 @@ int tb_pieces_spheres(const tb_pieces *p, const tb_model_spheres *sp, int *compo
                       int *crossing) {
   int n = sp->n, *uf = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
   int *comp = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
-  int *owner = NULL; /* per sphere component: the piece bound to it, -1 none, -2 several */
+  int *owner = NULL, one_to_one = 0; /* per sphere component: its piece, -1 none */
   *components = 0, *crossing = 0;
   if (!uf || !comp) goto done;
   for (int s = 0; s < n; s++) uf[s] = s, comp[s] = -1;
@@ -103,25 +103,43 @@ int tb_pieces_spheres(const tb_pieces *p, const tb_model_spheres *sp, int *compo
   }
   for (int s = 0; s < n; s++)
     if (sp->alive[s] && comp[find(uf, s)] < 0) comp[find(uf, s)] = (*components)++;
-  owner = malloc(sizeof(int) * (size_t)(*components > 0 ? *components : 1));
-  if (!owner) goto done;
-  for (int k = 0; k < *components; k++) owner[k] = -1;
+  /* each component's piece: the one most of the points bound to it are on */
+  size_t nc = (size_t)(*components > 0 ? *components : 1), npc = (size_t)(p->n > 0 ? p->n : 1);
+  int *votes = calloc(nc * npc, sizeof *votes);
+  owner = malloc(sizeof(int) * nc);
+  if (!votes || !owner) {
+    free(votes);
+    goto done;
+  }
   int nb = sp->nbound < p->nv ? sp->nbound : p->nv;
-  for (int v = 0; v < nb; v++) {
-    int piece = p->of_vertex[v], c0 = -1, bad = 0;
-    if (piece < 0) continue;
-    for (int q = 0; q < 3; q++) {
+  for (int v = 0; v < nb; v++)
+    for (int q = 0; q < 3 && p->of_vertex[v] >= 0; q++) {
       int s = sp->bound[v][q];
-      if (s < 0 || s >= n || !sp->alive[s]) continue;
-      int c = comp[find(uf, s)];
-      if (c0 < 0) c0 = c;
-      bad |= c != c0; /* bound across a cut */
-      if (owner[c] == -1) owner[c] = piece;
-      bad |= owner[c] != piece; /* a component two pieces are bound to */
+      if (s >= 0 && s < n && sp->alive[s])
+        votes[(size_t)comp[find(uf, s)] * npc + (size_t)p->of_vertex[v]]++;
+    }
+  for (size_t k = 0; k < nc; k++) {
+    owner[k] = -1;
+    for (size_t q = 0, best = 0; q < npc; q++)
+      if (votes[k * npc + q] > (int)best) best = (size_t)votes[k * npc + q], owner[k] = (int)q;
+  }
+  free(votes);
+  one_to_one = 1;
+  for (int v = 0; v < nb; v++) { /* a point bound across: to another piece's component */
+    int piece = p->of_vertex[v], bad = 0;
+    for (int q = 0; q < 3 && piece >= 0; q++) {
+      int s = sp->bound[v][q];
+      if (s >= 0 && s < n && sp->alive[s]) bad |= owner[comp[find(uf, s)]] != piece;
     }
     *crossing += bad;
   }
+  /* one to one: every piece owns exactly one component (as many of each) */
+  for (int q = 0; q < p->n; q++) {
+    int k = 0;
+    for (int c = 0; c < *components; c++) k += owner[c] == q;
+    one_to_one &= k == 1;
+  }
 done:
   free(uf), free(comp), free(owner);
-  return *crossing == 0 && *components == p->n;
+  return one_to_one && *crossing == 0 && *components == p->n;
 }

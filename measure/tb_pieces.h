@@ -29,10 +29,10 @@ void tb_pieces_volumes(const tb_pieces *p, const tb_vec3 *x, const int *tri, dou
 void tb_pieces_free(tb_pieces *p);
 
 /* The sphere graph against the pieces: components of the alive spheres
- * through their links (*components); the model's points bound to spheres
- * of more than one component, or to a component another piece's points are
- * bound to (*crossing, points); returns 1 when the graph's components are
- * the pieces (as many, each piece's points bound to its own). */
+ * through their links (*components); each component's piece is the one
+ * most of the points bound to it lie on; the points bound to a component of
+ * another piece (*crossing). Returns 1 when the graph's components are the
+ * pieces: as many, one each, no point bound across. */
 int tb_pieces_spheres(const tb_pieces *p, const tb_model_spheres *sp, int *components,
                       int *crossing);
 
