@@ -137,7 +137,8 @@ static const tb_command commands[] = {
      "mesh info FILE, subdivide a surface, fill it with spheres, or generate a mesh (liver, "
      "instrument, sphere, beam, spleen, gallbladder, steak)",
      "tissuebench mesh info FILE\n"
-     "  counts, bounding box, closed/manifold, Euler characteristic and volume of a mesh file\n"
+     "  counts, bounding box, closed/manifold, Euler characteristic, volume and self-\n"
+     "  intersecting triangle pairs (crossing, not touching) of a mesh file\n"
      "  (.obj .off .stl .node/.ele .msh); for a .sph file, as mesh spheres --info;\n"
      "  malformed input: FILE:LINE: reason, exit 2\n"
      "tissuebench mesh subdivide IN --levels N --out OUT\n"

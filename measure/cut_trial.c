@@ -68,6 +68,9 @@ int tb_cut_trial_run(const tb_cut_trial *t, tb_cut_outcome *o, tb_error *err) {
     last_stop = fmax(last_stop, t->blade[b].stop),
     first_start = fmin(first_start, t->blade[b].start);
   long n = lround(s.def.duration / s.def.dt), nframe = 0;
+  tb_pieces before;
+  if (measure(&s, 1, &before, &e) == 0) o->self_before = before.self_pairs;
+  tb_pieces_free(&before);
   double *ms = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1)), *vol = NULL;
   tb_pieces cut = {0};
   int measured = 0, failed = !ms;
@@ -130,9 +133,9 @@ const char *tb_cut_outcome_verdict(const tb_cut_outcome *o, double max_drift, ch
   else if (!o->closed_cut || !o->closed_end)
     snprintf(buf, cap, "a piece not a closed 2-manifold (%s)",
              o->closed_cut ? "later" : "at the cut");
-  else if (o->self_cut || o->self_end)
-    snprintf(buf, cap, "self-intersecting (%d pairs at the cut, %d a second later)", o->self_cut,
-             o->self_end);
+  else if (o->self_cut > o->self_before || o->self_end > o->self_before)
+    snprintf(buf, cap, "self-intersecting (%d pairs at the cut, %d a second later, %d before)",
+             o->self_cut, o->self_end, o->self_before);
   else if (o->overlap_cut || o->overlap_end)
     snprintf(buf, cap, "pieces inside each other (%d pairs at the cut, %d a second later)",
              o->overlap_cut, o->overlap_end);

@@ -36,6 +36,7 @@ typedef struct tb_cut_outcome {
   /* at the last blade's end, and at the run's end */
   int pieces_cut, pieces_end, closed_cut, closed_end, self_cut, self_end;
   int overlap_cut, overlap_end; /* crossing triangle pairs of two pieces */
+  int self_before;              /* crossing pairs of the organ's surface before the cut */
   int spheres_cut;              /* components of the sphere graph at the cut's end */
   int consistent_cut;           /* they are the pieces (tb_pieces_spheres) */
   int crossing_cut;             /* points bound across the cut */
@@ -49,9 +50,10 @@ typedef struct tb_cut_outcome {
  * run that blows up is an outcome, not an error. */
 int tb_cut_trial_run(const tb_cut_trial *t, tb_cut_outcome *o, tb_error *err);
 
-/* "ok" when the outcome meets everything a cut must (ran, closed and free
- * of self-intersections at both ends, the sphere graph's components the
- * pieces, drift at most max_drift), else the first thing it misses. */
+/* "ok" when the outcome meets everything a cut must (ran, closed and with
+ * no self-intersection the organ did not have at both ends, no piece
+ * inside another, the sphere graph's components the pieces, drift at most
+ * max_drift), else the first thing it misses. */
 const char *tb_cut_outcome_verdict(const tb_cut_outcome *o, double max_drift, char *buf,
                                    size_t cap);
 

@@ -292,10 +292,13 @@ int tb_suite_cuts(const tb_suite_opts *o) {
   char v[200];
   tb_suite_note(su,
                 "%d of %d cuts met everything (%d failed): every piece a closed, oriented "
-                "2-manifold without self-intersections at the last blade's end and a second "
-                "later, the sphere graph's components the pieces (no skin point bound across the "
-                "cut), each piece's volume within %.0f%% of its value at the cut's end over that "
-                "second, and the pieces expected where the case says. Goal: no failure: %s.",
+                "2-manifold at the last blade's end and a second later, crossing itself nowhere "
+                "the organ did not before the cut (SOFA's liver-smooth crosses itself in 7 "
+                "triangle pairs), no piece inside another, the sphere graph's components the "
+                "pieces (no skin point bound across the cut), each piece's volume within %.0f%% "
+                "of its value at the cut's end over that second, and the pieces expected where "
+                "the case says. Touching sheets (the two sides of a fresh cut) do not count as "
+                "crossing (collision/self.c). Goal: no failure: %s.",
                 good, total, total - good, 100 * MAX_DRIFT, good == total ? "met" : "not met");
   tb_suite_note(su,
                 "Cut frame on the 8128-vertex liver (the designed cases' median CPU ms of the "
