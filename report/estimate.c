@@ -69,6 +69,15 @@ tb_est tb_ratio_est(const double *a, const double *b, int n) {
   return e;
 }
 
+void tb_table_est(tb_table *t, tb_est e, const char *fmt, const char *unit) {
+  char f[64];
+  snprintf(f, sizeof f, "%s%s (%s-%s)", fmt, unit, fmt, fmt);
+  if (isfinite(e.value))
+    tb_table_numf(t, e.value, f, e.value, e.lo, e.hi);
+  else
+    tb_table_cell(t, "-");
+}
+
 int tb_verdict(tb_est e, double goal, int at_least) {
   if (e.n < TB_EST_MIN || !isfinite(e.lo) || !isfinite(e.hi)) return TB_NOISE;
   if (at_least ? e.lo >= goal : e.hi <= goal) return TB_MET;

@@ -77,47 +77,6 @@ typedef struct tb_context {
 /* Fills c; fields that cannot be read say "unknown" (numbers 0). */
 void tb_context_collect(tb_context *c, uint64_t seed);
 
-/* ---- tables ---- */
-typedef struct tb_table tb_table;
-/* Column names carry their units, e.g. "time (ms)". NULL on bad arguments
- * or no memory (tb_suite_table then records the error). A row with more
- * cells than columns, or a cell before the first row, is an error reported
- * by tb_suite_end; missing cells are empty. */
-tb_table *tb_table_new(const char *name, const char *title, int ncols, const char *const *cols);
-void tb_table_row(tb_table *t); /* starts a new row */
-/* A text cell (names, status words). A cell of only "-" means "no value"
- * and is empty in the CSV. A column whose cells mix numbers and other text
- * (e.g. "2.1x" among numbers) is a misuse reported by tb_suite_end: use
- * tb_table_num for such cells. */
-void tb_table_cell(tb_table *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-/* A numeric cell: table.md shows value through fmt, one floating conversion
- * with any decoration, e.g. "%.3f", "%.1fx", "%+.1f%%"; the CSV holds the
- * bare value (%.10g) in the column header's unit. A non-finite value shows
- * "-" and is empty in the CSV. */
-void tb_table_num(tb_table *t, double value, const char *fmt);
-/* The same when table.md's text needs more than the value, e.g.
- * "725 (+0.4%)" or "< 0.001": text from fmt and its arguments, the CSV
- * holds value (empty when not finite). */
-void tb_table_numf(tb_table *t, double value, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-/* The header of column col in the CSV when it differs from table.md's, e.g.
- * to name a unit that table.md shows in the cells. */
-void tb_table_csv_name(tb_table *t, int col, const char *name);
-/* Column col only in table.md (TB_MD_ONLY), e.g. "yes, yes, 2" for reading,
- * or only in the CSV (TB_CSV_ONLY), e.g. the same as three clean columns. */
-enum { TB_MD_ONLY = 1, TB_CSV_ONLY = 2 };
-void tb_table_only(tb_table *t, int col, int where);
-void tb_table_free(tb_table *t);
-
-/* ---- timing samples -> aggregates ---- */
-typedef struct tb_stats {
-  int n;
-  double mean, median, stddev, min, max;
-} tb_stats;
-/* Sorts a copy; n may be 0 (all zero). Median of an even count: the mean
- * of the middle two; stddev: the sample deviation (n - 1), 0 for n < 2. */
-tb_stats tb_stats_of(const double *samples, int n);
-
 /* ---- estimates with intervals, and verdicts (report/estimate.c) ----
  * A measurement that decides a ratio or a verdict is repeated, the two
  * sides interleaved (A, B, A, B, ...), and carries its 95% interval; a
@@ -143,6 +102,51 @@ int tb_verdict(tb_est e, double goal, int at_least);
 /* "met", "not met", "inconclusive (noise: the 95% interval LO-HI holds
  * GOAL)" or "inconclusive (N repetitions: ...)" into buf; returns buf. */
 const char *tb_verdict_text(tb_est e, double goal, int at_least, char *buf, size_t cap);
+
+/* ---- tables ---- */
+typedef struct tb_table tb_table;
+/* Column names carry their units, e.g. "time (ms)". NULL on bad arguments
+ * or no memory (tb_suite_table then records the error). A row with more
+ * cells than columns, or a cell before the first row, is an error reported
+ * by tb_suite_end; missing cells are empty. */
+tb_table *tb_table_new(const char *name, const char *title, int ncols, const char *const *cols);
+void tb_table_row(tb_table *t); /* starts a new row */
+/* A text cell (names, status words). A cell of only "-" means "no value"
+ * and is empty in the CSV. A column whose cells mix numbers and other text
+ * (e.g. "2.1x" among numbers) is a misuse reported by tb_suite_end: use
+ * tb_table_num for such cells. */
+void tb_table_cell(tb_table *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* A numeric cell: table.md shows value through fmt, one floating conversion
+ * with any decoration, e.g. "%.3f", "%.1fx", "%+.1f%%"; the CSV holds the
+ * bare value (%.10g) in the column header's unit. A non-finite value shows
+ * "-" and is empty in the CSV. */
+void tb_table_num(tb_table *t, double value, const char *fmt);
+/* The same when table.md's text needs more than the value, e.g.
+ * "725 (+0.4%)" or "< 0.001": text from fmt and its arguments, the CSV
+ * holds value (empty when not finite). */
+void tb_table_numf(tb_table *t, double value, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* An estimate's cell: table.md shows "median (low-high)" through fmt (one
+ * floating conversion, e.g. "%.3g") and unit ("x", " ms", or ""), the CSV
+ * the median; a non-finite median shows "-". */
+void tb_table_est(tb_table *t, tb_est e, const char *fmt, const char *unit);
+/* The header of column col in the CSV when it differs from table.md's, e.g.
+ * to name a unit that table.md shows in the cells. */
+void tb_table_csv_name(tb_table *t, int col, const char *name);
+/* Column col only in table.md (TB_MD_ONLY), e.g. "yes, yes, 2" for reading,
+ * or only in the CSV (TB_CSV_ONLY), e.g. the same as three clean columns. */
+enum { TB_MD_ONLY = 1, TB_CSV_ONLY = 2 };
+void tb_table_only(tb_table *t, int col, int where);
+void tb_table_free(tb_table *t);
+
+/* ---- timing samples -> aggregates ---- */
+typedef struct tb_stats {
+  int n;
+  double mean, median, stddev, min, max;
+} tb_stats;
+/* Sorts a copy; n may be 0 (all zero). Median of an even count: the mean
+ * of the middle two; stddev: the sample deviation (n - 1), 0 for n < 2. */
+tb_stats tb_stats_of(const double *samples, int n);
 
 /* ---- a suite run ---- */
 typedef struct tb_suite tb_suite;

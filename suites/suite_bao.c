@@ -275,16 +275,6 @@ static void estimate(row *w, int reps) {
   }
 }
 
-/* "x (lo-hi)" of an estimate in table.md, the value alone in the CSV. */
-static void est_cell(tb_table *t, tb_est e, const char *fmt, const char *unit) {
-  char f[64];
-  snprintf(f, sizeof f, "%s%s (%s-%s)", fmt, unit, fmt, fmt);
-  if (isfinite(e.value))
-    tb_table_numf(t, e.value, f, e.value, e.lo, e.hi);
-  else
-    tb_table_cell(t, "-");
-}
-
 static void table1(tb_suite *su, const row *w) {
   static const char *cols[] = {"mesh (paper)",
                                "settings",
@@ -330,12 +320,12 @@ static void table1(tb_suite *su, const row *w) {
     tb_table_num(t, w[r].med_wall, "%.2f");
     tb_table_num(t, 1e3 * w[r].med.value / STEPS, "%.2f");
     tb_est nan = {NAN, NAN, NAN, 0}, tb = w[BASE].ok ? w[r].to_base : nan;
-    est_cell(t, tb, "%.2f", "x");
+    tb_table_est(t, tb, "%.2f", "x");
     tb_table_num(t, tb.lo, "%.6g"), tb_table_num(t, tb.hi, "%.6g");
     tb_table_num(t, paper[r].ms / paper[BASE].ms, "%.2fx");
     tb_table_num(t, w[r].rebuilds, "%.0f");
     tb_table_num(t, w[r].med_rebuild, "%.2f");
-    est_cell(t, w[BASE].ok ? w[r].other : nan, "%.2f", "x");
+    tb_table_est(t, w[BASE].ok ? w[r].other : nan, "%.2f", "x");
   }
   tb_suite_table(su, t);
 }

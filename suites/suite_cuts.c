@@ -127,13 +127,13 @@ static int designed(const organ *g, spec *s, int max) {
          b1 = comp(g->hi, 1 - g->ax), L = a1 - a0, W = b1 - b0, m = 0.15 * W;
   double mid = a0 + 0.55 * L, far = a0 + 0.93 * L;
   int n = 0;
-#define ADD(nm, ex)                                        \
-  if (n < max) {                                           \
-    memset(&s[n], 0, sizeof s[n]);                         \
-    snprintf(s[n].name, sizeof s[n].name, "%s", nm);       \
-    s[n].expect = ex;                                      \
-    s[n].t.nblade = 1;                                     \
-  }                                                        \
+#define ADD(nm, ex)                                  \
+  if (n < max) {                                     \
+    memset(&s[n], 0, sizeof s[n]);                   \
+    snprintf(s[n].name, sizeof s[n].name, "%s", nm); \
+    s[n].expect = ex;                                \
+    s[n].t.nblade = 1;                               \
+  }                                                  \
   if (n < max)
   const double straight[2][2] = {{mid, b0 - m}, {mid, b1 + m}};
   ADD("straight", 2) s[n++].t.blade[0] = blade(g, 2, straight, 1, 0, 0.1, 0.3);
@@ -149,7 +149,8 @@ static int designed(const organ *g, spec *s, int max) {
   const double miss[2][2] = {{a1 + 0.3 * L, b0 - m}, {a1 + 0.3 * L, b1 + m}};
   ADD("miss", 1) s[n++].t.blade[0] = blade(g, 2, miss, 1, 0, 0.1, 0.3);
   ADD("tilted blade", 2) s[n++].t.blade[0] = blade(g, 2, straight, 1, 0.5, 0.1, 0.3);
-  const double lengthwise[2][2] = {{a0 + 0.3 * L, 0.5 * (b0 + b1)}, {a1 + 0.1 * L, 0.5 * (b0 + b1)}};
+  const double lengthwise[2][2] = {{a0 + 0.3 * L, 0.5 * (b0 + b1)},
+                                   {a1 + 0.1 * L, 0.5 * (b0 + b1)}};
   ADD("crossing", 0) {
     s[n].t.blade[0] = blade(g, 2, straight, 1, 0, 0.1, 0.3);
     s[n].t.blade[1] = blade(g, 2, lengthwise, 1, 0, 0.35, 0.55);
@@ -304,7 +305,8 @@ int tb_suite_cuts(const tb_suite_opts *o) {
                 "Cut frame on the 8128-vertex liver (the designed cases' median CPU ms of the "
                 "frames the blade moved in, one thread): %.3f ms, 95%% interval %.3f-%.3f over "
                 "%d cases; goal <= %.0f ms: %s.",
-                ms.value, ms.lo, ms.hi, ms.n, GOAL_MS, tb_verdict_text(ms, GOAL_MS, 0, v, sizeof v));
+                ms.value, ms.lo, ms.hi, ms.n, GOAL_MS,
+                tb_verdict_text(ms, GOAL_MS, 0, v, sizeof v));
   tb_suite_note(
       su,
       "Each case: the organ's surface and its spheres (ours packed to the patent's counts, seed "

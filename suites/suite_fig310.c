@@ -97,19 +97,6 @@ static void variant_name(int v, char *buf, size_t cap) {
            v < 3 ? "linear" : "quadratic");
 }
 
-/* A ratio with its interval: "r (lo-hi)" in table.md, then lo and hi in
- * their own columns (CSV only). */
-static void ratio_cells(tb_table *t, tb_est e, const char *fmt) {
-  char f[64];
-  snprintf(f, sizeof f, "%s (%s-%s)", fmt, fmt, fmt);
-  if (isfinite(e.value))
-    tb_table_numf(t, e.value, f, e.value, e.lo, e.hi);
-  else
-    tb_table_cell(t, "-");
-  tb_table_num(t, e.lo, fmt);
-  tb_table_num(t, e.hi, fmt);
-}
-
 /* The series' time per frame (median over repetitions of each
  * repetition's median frame), CPU or wall, one row per size. */
 static tb_table *frame_table(const char *name, const char *title, const int *sizes, int nsizes,
@@ -212,7 +199,8 @@ static int fig310(tb_suite *s, const tb_suite_opts *o) {
     tb_table_cell(lt, "%s", name);
     tb_table_num(lt, 1e3 * b, "%.4f");
     tb_table_num(lt, rr * rr, "%.4f");
-    ratio_cells(lt, grow, "%.1f");
+    tb_table_est(lt, grow, "%.1f", "");
+    tb_table_num(lt, grow.lo, "%.1f"), tb_table_num(lt, grow.hi, "%.1f");
     tb_table_num(lt, (double)sizes[nsizes - 1] / sizes[0], "%.1f");
     char bname[96];
     snprintf(bname, sizeof bname, "linearity/clusters:%d/%s", clusters[v % 3],
@@ -248,7 +236,8 @@ static int fig310(tb_suite *s, const tb_suite_opts *o) {
     tb_table_row(st);
     tb_table_cell(st, "%s / %s", a, b);
     tb_table_num(st, sizes[nsizes - 1], "%.0f");
-    ratio_cells(st, e, "%.3g");
+    tb_table_est(st, e, "%.3g", "");
+    tb_table_num(st, e.lo, "%.3g"), tb_table_num(st, e.hi, "%.3g");
     tb_table_cell(st, "%s", tb_verdict_text(e, 1, 1, verdict, sizeof verdict));
     char bname[160];
     snprintf(bname, sizeof bname, "shape/clusters:%d/%s/over/clusters:%d/%s",

@@ -346,16 +346,6 @@ static int row_alloc(row *x, int reps, int nblocks) {
 
 static double med(const double *s, int n) { return n ? tb_stats_of(s, n).median : NAN; }
 
-/* "x (lo-hi)" of an estimate in table.md, the value alone in the CSV. */
-static void est_cell(tb_table *t, tb_est e, const char *fmt) {
-  char f[64];
-  snprintf(f, sizeof f, "%s (%s-%s)", fmt, fmt, fmt);
-  if (isfinite(e.value))
-    tb_table_numf(t, e.value, f, e.value, e.lo, e.hi);
-  else
-    tb_table_cell(t, "-");
-}
-
 static void table1(tb_suite *su, const organ *g, const row *w, int n) {
   static const char *cols[] = {"organ",
                                "surface",
@@ -484,11 +474,11 @@ static void goal_table(tb_suite *su, const organ *g, const row *w, int nblocks) 
   tb_table_num(t, g->surf.nv, "%.0f");
   tb_table_num(t, w->ok ? w->nsph : NAN, "%.0f");
   tb_table_num(t, w->ok ? w->nrep : NAN, "%.0f");
-  est_cell(t, d, "%.3f");
+  tb_table_est(t, d, "%.3f", "");
   tb_table_num(t, d.lo, "%.6g"), tb_table_num(t, d.hi, "%.6g");
   tb_table_num(t, GOAL_DEFORM, "%.0f");
   tb_table_cell(t, "%s", w->ok ? vd : "-");
-  est_cell(t, c, "%.3f");
+  tb_table_est(t, c, "%.3f", "");
   tb_table_num(t, c.lo, "%.6g"), tb_table_num(t, c.hi, "%.6g");
   tb_table_num(t, GOAL_CUT, "%.0f");
   tb_table_cell(t, "%s", w->ok ? vc : "-");

@@ -324,16 +324,6 @@ done:
   free(store);
 }
 
-/* "x (lo-hi)" of an estimate in table.md, the value alone in the CSV. */
-static void est_cell(tb_table *t, tb_est e, const char *fmt, const char *unit) {
-  char f[64];
-  snprintf(f, sizeof f, "%s%s (%s-%s)", fmt, unit, fmt, fmt);
-  if (isfinite(e.value))
-    tb_table_numf(t, e.value, f, e.value, e.lo, e.hi);
-  else
-    tb_table_cell(t, "-");
-}
-
 /* An estimate's interval as two CSV-only columns. */
 static void est_bounds(tb_table *t, tb_est e) {
   tb_table_num(t, e.lo, "%.6g");
@@ -385,7 +375,7 @@ static void solve_table(tb_suite *su, const row *rows) {
     tb_table_num(t, patent[r].ms, "%.2f");
     tb_table_num(t, w->one.value / w->ntet, "%.3e");
     tb_table_num(t, patent[r].ms_elem, "%.3e");
-    est_cell(t, w->us_elem, "%.3f", "");
+    tb_table_est(t, w->us_elem, "%.3f", "");
     est_bounds(t, w->us_elem);
     tb_table_num(t, 1e3 * patent[r].ms_elem, "%.3f");
     tb_table_num(t, w->deepest / w->size, "%.2e");
@@ -443,7 +433,7 @@ static void thread_table(tb_suite *su, const row *rows, int cores, const tb_nois
       tb_table_num(t, w->all.value, "%.3f");
       tb_table_num(t, w->one.value, "%.3f");
       tb_table_num(t, w->all_cpu.value, "%.3f");
-      est_cell(t, w->speedup, "%.2f", "x");
+      tb_table_est(t, w->speedup, "%.2f", "x");
       est_bounds(t, w->speedup);
       tb_table_cell(t, "%s", why ? why : "yes");
     } else {
@@ -492,7 +482,7 @@ static void bullet_table(tb_suite *su, const row *rows) {
     tb_table_num(t, 1, "%.0f");
     tb_table_num(t, w->bullet.value, "%.3f");
     tb_table_num(t, w->one.value, "%.3f");
-    est_cell(t, w->peer, "%.2f", "x");
+    tb_table_est(t, w->peer, "%.2f", "x");
     est_bounds(t, w->peer);
     tb_table_num(t, w->bullet_wall.value, "%.3f");
     tb_table_num(t, w->bt_deepest / w->size, "%.2e");

@@ -148,16 +148,6 @@ static void time_one(const tb_mesh *liver, const char *label, const char *model,
   w->wall_first[k] = tb_stats_of(wall, (int)first).median;
 }
 
-/* "x (lo-hi)" of an estimate, for table.md. */
-static void est_cell(tb_table *t, tb_est e, const char *fmt) {
-  char f[64];
-  snprintf(f, sizeof f, "%s (%s-%s)", fmt, fmt, fmt);
-  if (isfinite(e.value))
-    tb_table_numf(t, e.value, f, e.value, e.lo, e.hi);
-  else
-    tb_table_cell(t, "-");
-}
-
 /* The peers' table: Bullet's steps/s beside ours, the ratios from
  * repetitions that took turns with ours (w: the rows, then the peers). */
 static void peer_table(tb_suite *su, const tb_sim_def *sd, long first, int reps, const timed *w) {
@@ -198,7 +188,7 @@ static void peer_table(tb_suite *su, const tb_sim_def *sd, long first, int reps,
         continue;
       }
       tb_est e = tb_ratio_est(u->cpu_first, w[r].cpu_first, reps);
-      est_cell(t, e, "%.3g");
+      tb_table_est(t, e, "%.3g", "");
       tb_suite_counter(su, name, key[r], e.value);
     }
     tb_table_cell(t, "stable; max displacement %.3g, volume %+.2f%%", u->end.max_disp,
