@@ -199,7 +199,7 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
       if (pt[j].id == c->sg[i].b) b = j;
     }
     if (a < 0 || b < 0) {
-      rc = RETRY;
+      rc = RETRY_BECAUSE(c, "a cut segment's end is not among its crack piece's points");
       goto done;
     }
     if (GROW(sg, 2 * (nseg + 1), capseg)) goto done;
@@ -229,7 +229,7 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
   if (!xy) goto done;
   for (int i = 0; i < np; i++) xy[2 * i] = pt[i].s * el, xy[2 * i + 1] = pt[i].t * dl;
   if (tb_cdt2_build(xy, np, sg, nseg, &cdt)) {
-    rc = RETRY;
+    rc = RETRY_BECAUSE(c, "the crack's constraints cross or its points coincide");
     goto done;
   }
   /* Each region: inside the organ or not, from its largest triangles' centroids. */
@@ -256,7 +256,8 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
         s += pt[cdt.tri[3 * best + m]].s / 3, t += pt[cdt.tri[3 * best + m]].t / 3;
       keep[g] = cut_inside_organ(c->x, c->ntri, c->tri, piece_point(f, k, s, t));
     }
-    if (keep[g] < 0) rc = RETRY;
+    if (keep[g] < 0)
+      rc = RETRY_BECAUSE(c, "inside or outside the organ undecided for a crack region");
   }
   for (int i = 0; i < cdt.ntri && rc == OK; i++) {
     if (!keep[cdt.region[i]]) continue;

@@ -31,6 +31,10 @@ int cut_find_edge(const vstar *vs, const int *tri, int a, int b);
 /* Union-find over p (p[i] = i at the start): the root of i; joins a and b. */
 int cut_uf_find(int *p, int i);
 void cut_uf_join(int *p, int a, int b);
+/* The ray from p along +z, +x or +y (r = 0, 1, 2: projected on (x, y), (z, x), (y, z))
+ * against triangle ABC, with exact signs: 1 it crosses the triangle's inside, 0 it
+ * misses, -1 it grazes an edge or a corner, -2 p lies on the triangle. */
+int cut_ray(tb_vec3 A, tb_vec3 B, tb_vec3 C, tb_vec3 p, int r);
 /* 1 inside the closed surface, 0 outside, -1 undecided (exact ray parity). */
 int cut_inside_organ(const tb_vec3 *x, int ntri, const int *tri, tb_vec3 p);
 
@@ -80,7 +84,11 @@ typedef struct cutter {
   int *corner_id; /* 2 count: the vertex of p_i and q_i, or -1 */
   int *crease_id; /* CREASE_MAX count: the vertex of point j on the crease at p_i, or -1 */
   int nsplit, ncrack;
+  const char *why; /* what made the last attempt inconsistent */
 } cutter;
+
+/* An attempt found the cut inconsistent (why: for the error message). */
+#define RETRY_BECAUSE(c, reason) ((c)->why = (reason), RETRY)
 
 /* A new vertex at x (its record zeroed); its index, or -1. */
 int cut_new_vertex(cutter *c, tb_vec3 x);

@@ -80,7 +80,8 @@ static int collect_triangle(cutter *c, int t, const tb_fold_cut *cut) {
       continue;
     }
     if (p->tri_loc == TB_FOLD_TRI_INTERIOR) {
-      if (p->bary[0] <= 0 || p->bary[1] <= 0 || p->bary[2] <= 0) return RETRY;
+      if (p->bary[0] <= 0 || p->bary[1] <= 0 || p->bary[2] <= 0)
+        return RETRY_BECAUSE(c, "a cut point inside a triangle lies on its boundary");
       r->u = p->bary[1], r->v = p->bary[2];
       continue;
     }
@@ -226,7 +227,7 @@ static int split_triangle(cutter *c, int t, int r0, int r1) {
   }
   tb_cdt2 cdt;
   if (tb_cdt2_build(xy, np, sg, nseg, &cdt)) {
-    rc = RETRY;
+    rc = RETRY_BECAUSE(c, "a split triangle's cut segments cross");
     goto done;
   }
   rc = OK;
@@ -316,7 +317,10 @@ static int unweld(cutter *c) {
         }
         if (firstpos == a) rc = join_edge(uf, e, n); /* each edge once */
       }
-    if (rc != OK) break;
+    if (rc != OK) {
+      c->why = "un-welding: a crack vertex's edge is not in 2 or 4 consistent triangles";
+      break;
+    }
     /* One copy per fan: sides from the crack triangles in it. */
     int nroot = 0;
     for (int a = 0; a < m; a++)
@@ -330,7 +334,7 @@ static int unweld(cutter *c) {
     }
     int keep = -1, side[64];
     if (nroot > 64) {
-      rc = RETRY;
+      rc = RETRY_BECAUSE(c, "un-welding: more than 64 fans around a vertex");
       break;
     }
     for (int r = 0; r < nroot; r++) {
@@ -401,12 +405,14 @@ static int attempt(cutter *c, int *cut_any) {
     const int *T = c->tri + 3 * t;
     const tb_vec3 tx[3] = {c->x[T[0]], c->x[T[1]], c->x[T[2]]};
     tb_fold_triangle(f, tx, &cut);
-    if (cut.degenerate || cut.truncated) return RETRY;
+    if (cut.degenerate || cut.truncated)
+      return RETRY_BECAUSE(c, cut.degenerate ? "a triangle of zero area on the cut"
+                                             : "a triangle crossed by more than 64 cut points");
     if (cut.coplanar)
       for (int k = 0; k < 3; k++) {
         tb_fold_near nr;
         tb_fold_nearest(f, tx[k], &nr);
-        if (nr.dist <= c->snapd) return RETRY; /* a piece in the triangle's plane */
+        if (nr.dist <= c->snapd) return RETRY_BECAUSE(c, "a fold piece lies in a triangle's plane");
       }
     int rc = collect_triangle(c, t, &cut);
     if (rc != OK) return rc;
@@ -414,7 +420,8 @@ static int attempt(cutter *c, int *cut_any) {
   int *unpaired = NULL, rc = name_points(c, &unpaired);
   if (rc == OK) rc = make_segments(c);
   for (int i = 0; rc == OK && i < c->nrp; i++)
-    if (unpaired[i] && c->v[c->rp[i].id].active) rc = RETRY;
+    if (unpaired[i] && c->v[c->rp[i].id].active)
+      rc = RETRY_BECAUSE(c, "an edge point one triangle sees and its neighbour does not");
   free(unpaired);
   if (rc != OK) return rc;
   if (c->nsg == 0) return OK; /* missed, or only touched */
@@ -431,7 +438,7 @@ static int attempt(cutter *c, int *cut_any) {
     if (!need) continue;
     int first = c->nout;
     if ((rc = split_triangle(c, t, r0, r1)) != OK) return rc;
-    if (c->nout == first) return RETRY;
+    if (c->nout == first) return RETRY_BECAUSE(c, "a split triangle gave no triangles");
     memcpy(c->otri + 3 * t, c->otri + 3 * first, 3 * sizeof *c->otri);
     c->ofrom[first] = -2; /* moved */
     c->split[t] = 1, c->nsplit++;
@@ -460,7 +467,9 @@ static int attempt(cutter *c, int *cut_any) {
   }
   c->nout = m;
   if ((rc = unweld(c)) != OK) return rc;
-  return tb_cut_is_closed_manifold(c->nvr, c->nout, c->otri) ? OK : RETRY;
+  return tb_cut_is_closed_manifold(c->nvr, c->nout, c->otri)
+             ? OK
+             : RETRY_BECAUSE(c, "the result is not a closed, oriented 2-manifold");
 }
 
 /* ---- the result ---- */
@@ -605,10 +614,8 @@ int tb_cut_surface(int nv, const tb_vec3 *x, int ntri, const int *tri, const tb_
   }
   if (rc == OK && used < 0) {
     cutter_free(&c);
-    return tb_error_set(err, NAME, 0,
-                        "the cut stays inconsistent after %d shifts of the fold (a piece in "
-                        "the surface, or a blade edge grazing it)",
-                        MAX_ATTEMPTS - 1);
+    return tb_error_set(err, NAME, 0, "the cut stays inconsistent after %d shifts of the fold (%s)",
+                        MAX_ATTEMPTS - 1, c.why ? c.why : "?");
   }
   if (rc == OK) rc = fill_result(&c, cut_any, out);
   if (rc == OK) {

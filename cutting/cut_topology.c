@@ -113,32 +113,36 @@ double tb_cut_volume(const tb_vec3 *x, int ntri, const int *tri) {
 
 /* ---- inside the organ: exact ray parity ---- */
 
+/* The axis projections of cut_ray: (i, j) the plane, a the ray's axis. */
+static const int ray_axes[3][3] = {{0, 1, 2}, {2, 0, 1}, {1, 2, 0}};
+
+int cut_ray(tb_vec3 A, tb_vec3 B, tb_vec3 C, tb_vec3 p, int r) {
+  int i = ray_axes[r][0], j = ray_axes[r][1], a = ray_axes[r][2];
+  double pi = tb_comp(p, i), pj = tb_comp(p, j), pa = tb_comp(p, a);
+  double ai = tb_comp(A, i), bi = tb_comp(B, i), ci = tb_comp(C, i);
+  if ((pi < ai && pi < bi && pi < ci) || (pi > ai && pi > bi && pi > ci)) return 0;
+  double aj = tb_comp(A, j), bj = tb_comp(B, j), cj = tb_comp(C, j);
+  if ((pj < aj && pj < bj && pj < cj) || (pj > aj && pj > bj && pj > cj)) return 0;
+  if (pa > tb_comp(A, a) && pa > tb_comp(B, a) && pa > tb_comp(C, a)) return 0;
+  int o0 = tb_orient2d(bi, bj, ci, cj, pi, pj), o1 = tb_orient2d(ci, cj, ai, aj, pi, pj);
+  int o2 = tb_orient2d(ai, aj, bi, bj, pi, pj);
+  if ((o0 > 0 || o1 > 0 || o2 > 0) && (o0 < 0 || o1 < 0 || o2 < 0)) return 0;
+  if (!o0 && !o1 && !o2) return 0; /* a triangle seen edge-on along the ray */
+  if (!o0 || !o1 || !o2) return -1;
+  int o3 = tb_orient3d(A, B, C, p);
+  if (o3 == 0) return -2;
+  return o3 * o0 < 0;
+}
+
 /* 1 inside, 0 outside, -1 undecided (on the surface, or every axis ray
- * grazes an edge). The ray from p along +axis crosses a triangle when p
- * projects strictly inside it and lies below its plane (exact signs). */
+ * grazes an edge). */
 int cut_inside_organ(const tb_vec3 *x, int ntri, const int *tri, tb_vec3 p) {
-  static const int ax[3][3] = {{0, 1, 2}, {2, 0, 1}, {1, 2, 0}}; /* (i, j, along) */
   for (int r = 0; r < 3; r++) {
-    int i = ax[r][0], j = ax[r][1], a = ax[r][2], n = 0, grazed = 0;
-    double pi = tb_comp(p, i), pj = tb_comp(p, j), pa = tb_comp(p, a);
+    int n = 0, grazed = 0;
     for (int t = 0; t < ntri && !grazed; t++) {
-      tb_vec3 A = x[tri[3 * t]], B = x[tri[3 * t + 1]], C = x[tri[3 * t + 2]];
-      double ai = tb_comp(A, i), bi = tb_comp(B, i), ci = tb_comp(C, i);
-      if ((pi < ai && pi < bi && pi < ci) || (pi > ai && pi > bi && pi > ci)) continue;
-      double aj = tb_comp(A, j), bj = tb_comp(B, j), cj = tb_comp(C, j);
-      if ((pj < aj && pj < bj && pj < cj) || (pj > aj && pj > bj && pj > cj)) continue;
-      if (pa > tb_comp(A, a) && pa > tb_comp(B, a) && pa > tb_comp(C, a)) continue;
-      int o0 = tb_orient2d(bi, bj, ci, cj, pi, pj), o1 = tb_orient2d(ci, cj, ai, aj, pi, pj);
-      int o2 = tb_orient2d(ai, aj, bi, bj, pi, pj);
-      if ((o0 > 0 || o1 > 0 || o2 > 0) && (o0 < 0 || o1 < 0 || o2 < 0)) continue;
-      if (!o0 && !o1 && !o2) continue; /* a triangle seen edge-on along the ray */
-      if (!o0 || !o1 || !o2) {
-        grazed = 1;
-        break;
-      }
-      int o3 = tb_orient3d(A, B, C, p);
-      if (o3 == 0) return -1;
-      if (o3 * o0 < 0) n++;
+      int h = cut_ray(x[tri[3 * t]], x[tri[3 * t + 1]], x[tri[3 * t + 2]], p, r);
+      if (h == -2) return -1;
+      grazed = h == -1, n += h == 1;
     }
     if (!grazed) return n & 1;
   }

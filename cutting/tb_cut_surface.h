@@ -82,6 +82,16 @@ void tb_cut_result_free(tb_cut_result *r);
 int tb_cut_is_closed_manifold(int nv, int ntri, const int *tri);
 /* Connected components of the triangles (joined through shared vertices). */
 int tb_cut_components(int nv, int ntri, const int *tri);
+/* The piece (component) of each triangle, numbered in the order of their
+ * first triangles, into of_tri (ntri); returns the count, or -1 out of
+ * memory. */
+int tb_cut_piece_of(int nv, int ntri, const int *tri, int *of_tri);
+/* Which piece of a closed surface (triangles tri on points x, pieces
+ * of_tri numbered 0 .. npieces - 1) holds each of the nq points q, by exact
+ * ray parity per piece: out[k] is the lowest piece holding q[k], -1 when
+ * none does, -2 when q[k] lies on the surface. 0, or -1 out of memory. */
+int tb_cut_locate(const tb_vec3 *x, int ntri, const int *tri, const int *of_tri, int npieces,
+                  int nq, const tb_vec3 *q, int *out);
 /* Enclosed signed volume (divergence theorem). */
 double tb_cut_volume(const tb_vec3 *x, int ntri, const int *tri);
 
