@@ -20,7 +20,10 @@
  * hence the recovery. Applied once per step after the sweeps (a polar decomposition per sphere is
  * the step's largest cost); its R is also the sphere's rotation for the skin;
  *  - energy (能量约束, the coupling to the cut's point set) is the
- *    per-sphere force input here; fixed spheres hold.
+ *    per-sphere force input here; fixed spheres hold;
+ *  - contact across a crack (after a cut, models/metaball_pieces.c): sphere
+ *    pairs the blade parted keep at least their distance at the cut's end,
+ *    in each sweep and once after the unit constraints.
  * Then v = (p - c) / dt, damped by exp(-damping dt), c = p.
  *
  * Skin (step 2 (2), 高斯绑定): each surface vertex is bound to the (at
@@ -54,6 +57,8 @@ void tb_metaball_destroy(tb_metaball *m) {
   free(m->alive), free(m->fixed), free(m->link), free(m->len0), free(m->cstart), free(m->cmember);
   free(m->cm0), free(m->rot), free(m->x0), free(m->x), free(m->bind), free(m->bw);
   free(m->em), free(m->eq), free(m->smq), free(m->wf), free(m->xo);
+  free(m->contact), free(m->cdist), free(m->twin), free(m->tsph), free(m->tn), free(m->treach);
+  free(m->tpush);
   free(m);
 }
 
@@ -124,7 +129,7 @@ static void bind_vertex(tb_metaball *m, int v, int ncand, const int *cand) {
     while (at > 0 && k < kb[at - 1]) kb[at] = kb[at - 1], best[at] = best[at - 1], at--;
     kb[at] = k, best[at] = s;
   }
-  if (best[0] < 0 && cand) { /* the fallback: the nearest of all */
+  if (any < 0 && cand) { /* no candidate alive: all spheres */
     bind_vertex(m, v, 0, NULL);
     return;
   }
@@ -283,6 +288,7 @@ int tb_metaball_add(tb_metaball *m, int k, const tb_vec3 *c0, const tb_vec3 *c, 
   TB_GROW(alive, unsigned char);
   TB_GROW(fixed, unsigned char);
   TB_GROW(rot, tb_mat3);
+  if (m->tpush) TB_GROW(tpush, tb_vec3);
 #undef TB_GROW
   int *cs = realloc(m->cstart, sizeof(int) * (N + 1));
   if (!cs) return -1;
@@ -293,6 +299,7 @@ int tb_metaball_add(tb_metaball *m, int k, const tb_vec3 *c0, const tb_vec3 *c, 
     m->r[i] = r[q], m->m[i] = m->set.density * 4.0 / 3.0 * M_PI * r[q] * r[q] * r[q];
     m->w[i] = m->m[i] > 0 ? 1 / m->m[i] : 0;
     m->alive[i] = 1, m->fixed[i] = 0, m->rot[i] = rot ? rot[q] : tb_m3_identity();
+    if (m->tpush) m->tpush[i] = tb_v3(0, 0, 0);
   }
   m->n = (int)N;
   return build_units(m);
@@ -311,6 +318,35 @@ void tb_metaball_fix(tb_metaball *m, int i, int fixed) {
   if (i < 0 || i >= m->n) return;
   m->fixed[i] = fixed != 0;
   if (fixed) m->v[i] = tb_v3(0, 0, 0);
+}
+
+/* The alive spheres nearest to the spheres `from` in the
+ * sphere graph, through gone ones, at most GRAPH_HOPS links away (the unit
+ * constraints' member lists are the graph: removal keeps them), into cand
+ * (room for 2 m->n); mark[] holds `stamp` for the spheres seen. Their
+ * count. */
+#define GRAPH_HOPS 3
+static int graph_near(const tb_metaball *m, const int *from, int nfrom, int *cand, int *mark,
+                      int stamp) {
+  int *queue = cand + m->n, nq = 0, nc = 0;
+  for (int k = 0; k < nfrom; k++)
+    if (mark[from[k]] != stamp) mark[from[k]] = stamp, queue[nq++] = from[k];
+  for (int hop = 0, head = 0; hop < GRAPH_HOPS && nc == 0 && head < nq; hop++) {
+    int end = nq;
+    for (; head < end; head++) {
+      int i = queue[head];
+      for (int e = m->cstart[i] + 1; e < m->cstart[i + 1]; e++) {
+        int j = m->cmember[e];
+        if (mark[j] == stamp) continue;
+        mark[j] = stamp;
+        if (m->alive[j])
+          cand[nc++] = j;
+        else
+          queue[nq++] = j;
+      }
+    }
+  }
+  return nc;
 }
 
 void tb_metaball_remove_set(tb_metaball *m, int k, const int *ids) {
@@ -344,36 +380,30 @@ void tb_metaball_remove_set(tb_metaball *m, int k, const int *ids) {
       if (!gone[j]) gone[j] = 2, rest_centre(m, j);
     }
   }
-  /* their vertices: the other spheres, or bound anew (among the spheres
-   * that reach the box of those vertices, d <= 2 r) */
-  int nre = 0, *re = malloc(sizeof(int) * (size_t)(m->nv + m->n)), *cand = re + m->nv, nc = 0;
-  tb_vec3 lo = tb_v3(INFINITY, INFINITY, INFINITY), hi = tb_scale(lo, -1);
+  /* their vertices: the other spheres, or bound anew among the alive
+   * spheres nearest to the lost ones in the sphere graph (through removed
+   * ones, up to GRAPH_HOPS links away): a vertex stays with its piece and
+   * its side of every earlier cut, which the links never cross */
+  int *cand = malloc(sizeof(int) * 2 * (size_t)m->n), *mark = calloc((size_t)m->n, sizeof(int));
+  int fallbacks = m->nfallback;
   for (int v = 0; v < m->nv; v++) {
     double left = 1;
-    int hit = 0;
+    int lost[3], nlost = 0;
     for (int q = 0; q < 3; q++) {
       int b = m->bind[v][q];
       if (b < 0 || gone[b] != 1) continue;
-      left -= m->bw[v][q], m->bind[v][q] = -1, m->bw[v][q] = 0, hit = 1;
+      left -= m->bw[v][q], m->bind[v][q] = -1, m->bw[v][q] = 0, lost[nlost++] = b;
     }
-    if (!hit) continue;
+    if (!nlost) continue;
     if (left > 1e-12) {
       for (int q = 0; q < 3; q++) m->bw[v][q] /= left;
-    } else if (re) {
-      re[nre++] = v, lo = tb_vmin(lo, m->x0[v]), hi = tb_vmax(hi, m->x0[v]);
-    } else {
-      bind_vertex(m, v, 0, NULL), m->nfallback--; /* not a fallback of the packing */
+      continue;
     }
+    int nc = cand && mark ? graph_near(m, lost, nlost, cand, mark, v + 1) : 0;
+    bind_vertex(m, v, nc, nc ? cand : NULL);
   }
-  for (int s = 0; s < m->n && nre; s++) {
-    double R = 2 * m->r[s] * (1 + 1e-9); /* d <= 2 r, with room for rounding */
-    tb_vec3 c = m->c0[s];
-    if (m->alive[s] && c.x + R >= lo.x && c.x - R <= hi.x && c.y + R >= lo.y && c.y - R <= hi.y &&
-        c.z + R >= lo.z && c.z - R <= hi.z)
-      cand[nc++] = s;
-  }
-  for (int k = 0; k < nre; k++) bind_vertex(m, re[k], nc, cand), m->nfallback--;
-  free(re), free(gone);
+  m->nfallback = fallbacks; /* not fallbacks of the packing */
+  free(cand), free(mark), free(gone);
 }
 
 void tb_metaball_remove(tb_metaball *m, int i) { tb_metaball_remove_set(m, 1, &i); }
@@ -542,6 +572,24 @@ static void stretch_link(tb_vec3 *p, const double *wf, int a, int b, double len0
   p[a] = tb_madd(p[a], wa * s, d), p[b] = tb_madd(p[b], -wb * s, d);
 }
 
+/* Contacts across cracks: a pair closer than its least distance is pushed
+ * apart to it, by inverse masses (a one-sided distance constraint, Müller
+ * et al. 2007 §4.3's collision constraint between two particles). */
+static void contacts(tb_metaball *m) {
+  const double *wf = m->wf;
+  tb_vec3 *p = m->p;
+  for (int k = 0; k < m->ncontact; k++) {
+    int a = m->contact[2 * k], b = m->contact[2 * k + 1];
+    double wa = wf[a], wb = wf[b];
+    if (wa + wb == 0) continue;
+    tb_vec3 d = tb_sub(p[b], p[a]);
+    double l = tb_len(d), l0 = m->cdist[k];
+    if (!(l < l0) || !(l > 0)) continue;
+    double s = (l - l0) / ((wa + wb) * l);
+    p[a] = tb_madd(p[a], wa * s, d), p[b] = tb_madd(p[b], -wb * s, d);
+  }
+}
+
 /* The stretch sweeps: Gauss-Seidel in link order. Two consecutive links
  * sharing no sphere (the rule within a colour, colour_links) are projected
  * together, one in each lane of SSE2 registers: the scalar operations in
@@ -592,6 +640,52 @@ static void stretch_sweeps(tb_metaball *m) {
     }
 #endif
     for (; e < nl; e++) stretch_link(p, wf, L[2 * e], L[2 * e + 1], len0[e], stretch);
+    contacts(m);
+  }
+}
+
+/* The crack's faces on the skin (models/metaball_pieces.c makes the
+ * twins): a twin whose + vertex has come within TWIN_GAP x its reach of the
+ * - one's side (along the crack's normal, carried by a sphere's rotation)
+ * while still facing it pushes the spheres of both apart along that normal,
+ * half each (all on one side when the other's are held), each sphere taking
+ * the largest push of its vertices, as the ground does (metaball_model.c):
+ * then the skin again, up to three times while a twin is short. The push
+ * enters the spheres' velocities (position-based: v = dx / dt). */
+#define TWIN_GAP 1e-4
+static void twin_contact(tb_metaball *m, double dt) {
+  for (int pass = 0; pass < 3; pass++) {
+    int any = 0;
+    for (int k = 0; k < m->ntwin; k++) {
+      int a = m->twin[2 * k], b = m->twin[2 * k + 1], s = m->tsph[k];
+      if (!m->alive[s]) continue;
+      tb_vec3 n = tb_m3_mulv(m->rot[s], m->tn[k]), d = tb_sub(m->x[a], m->x[b]);
+      double g = tb_dot(d, n), gap = TWIN_GAP * m->treach[k];
+      if (!(g < gap) || tb_len(tb_madd(d, -g, n)) > m->treach[k]) continue;
+      int free_a = 0, free_b = 0;
+      for (int q = 0; q < 3; q++) {
+        int sa = m->bind[a][q], sb = m->bind[b][q];
+        free_a |= sa >= 0 && m->wf[sa] > 0, free_b |= sb >= 0 && m->wf[sb] > 0;
+      }
+      if (!free_a && !free_b) continue;
+      double need = gap - g, share_a = free_b ? (free_a ? 0.5 : 0) : 1;
+      for (int side = 0; side < 2; side++) {
+        int v = side ? b : a;
+        double push = (side ? -(1 - share_a) : share_a) * need;
+        for (int q = 0; q < 3 && push != 0; q++) {
+          int t = m->bind[v][q];
+          if (t < 0 || m->wf[t] == 0 || fabs(push) <= tb_len(m->tpush[t])) continue;
+          m->tpush[t] = tb_scale(n, push), any = 1;
+        }
+      }
+    }
+    if (!any) return;
+    for (int s = 0; s < m->n; s++) {
+      if (m->tpush[s].x == 0 && m->tpush[s].y == 0 && m->tpush[s].z == 0) continue;
+      m->c[s] = tb_add(m->c[s], m->tpush[s]), m->v[s] = tb_madd(m->v[s], 1 / dt, m->tpush[s]);
+      m->tpush[s] = tb_v3(0, 0, 0);
+    }
+    skin(m);
   }
 }
 
@@ -610,6 +704,7 @@ void tb_metaball_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_vec3 
   }
   stretch_sweeps(m);
   unit_constraints(m);
+  contacts(m);
   double keep = exp(-m->set.damping * dt);
   for (int i = 0; i < n; i++) {
     if (!m->alive[i] || m->fixed[i]) continue;
@@ -617,6 +712,7 @@ void tb_metaball_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_vec3 
     m->c[i] = m->p[i];
   }
   skin(m);
+  twin_contact(m, dt);
 }
 
 int tb_metaball_count(const tb_metaball *m) { return m->n; }

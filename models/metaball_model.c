@@ -405,7 +405,7 @@ static tb_model_spheres spheres(const void *self) {
   const mb_model *s = self;
   const int *links;
   int nl = tb_metaball_links(s->mb, &links);
-  tb_model_spheres out = {s->mb->n,     nl,        s->mb->c,          s->mb->r,
+  tb_model_spheres out = {s->mb->n,     nl,    s->mb->c,  s->mb->r,
                           s->mb->alive, links, s->mb->nv, (const int(*)[3])s->mb->bind};
   return out;
 }

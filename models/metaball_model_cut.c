@@ -53,6 +53,7 @@ static int cut_end(mb_model *s, tb_cut_stats *st, tb_error *err) {
     free(extra);
     if (failed) return -1;
   }
+  int first_new = m->n;
   if (tb_metaball_cut_end(m, &rep, err)) return tb_cut_result_free(&cr), -1;
   if (st)
     st->removed = rep.removed, st->created = rep.created, st->removed_r = rep.removed_r,
@@ -61,17 +62,24 @@ static int cut_end(mb_model *s, tb_cut_stats *st, tb_error *err) {
   int rc = 0, old = s->nv;
   signed char *side = malloc((size_t)cr.nv);
   unsigned char *rebind = calloc((size_t)cr.nv, 1);
-  if (!side || !rebind || mb_grow(s, cr.nv, m->n)) {
+  tb_vec3 *vel = malloc(sizeof(tb_vec3) * (size_t)cr.nv);
+  if (!side || !rebind || !vel) {
     rc = tb_error_set(err, "metaball", 0, "out of memory (cut: %d points)", cr.nv);
     goto done;
   }
-  for (int v = 0; v < cr.nv; v++) side[v] = (signed char)cr.side[v];
-  for (int k = 0; k < cr.nreskin; k++) rebind[cr.reskin[k]] = 1;
-  if ((rc = tb_metaball_set_skin(m, cr.nv, cr.x, side, rebind, err))) goto done;
-  for (int v = old; v < cr.nv; v++) { /* a copy moves on as its original did */
+  for (int v = 0; v < cr.nv; v++) { /* a copy moves on as its original did */
     int o = cr.origin[v];
-    s->v[v] = o >= 0 && o < old ? s->v[o] : tb_v3(0, 0, 0);
+    side[v] = (signed char)cr.side[v];
+    vel[v] = v < old ? s->v[v] : (o >= 0 && o < old ? s->v[o] : tb_v3(0, 0, 0));
   }
+  for (int k = 0; k < cr.nreskin; k++) rebind[cr.reskin[k]] = 1;
+  tb_metaball_skin_def sd = {cr.nv, cr.x, vel, side, rebind, cr.ntri, cr.tri, first_new};
+  if ((rc = tb_metaball_set_skin(m, &sd, &s->last_skin, err))) goto done;
+  if (mb_grow(s, cr.nv, m->n)) {
+    rc = tb_error_set(err, "metaball", 0, "out of memory (cut: %d points)", cr.nv);
+    goto done;
+  }
+  memcpy(s->v + old, vel + old, sizeof(tb_vec3) * (size_t)(cr.nv - old));
   s->nv = cr.nv, s->ns = m->n;
   memcpy(s->x, m->x, sizeof(tb_vec3) * (size_t)s->nv);
   if ((rc = mb_share_masses(s, err))) goto done;
@@ -82,7 +90,7 @@ static int cut_end(mb_model *s, tb_cut_stats *st, tb_error *err) {
     st->split_tris = cr.split_tris, st->crack_tris = cr.crack_tris, st->new_points = cr.nv - old,
     st->components = cr.components_after;
 done:
-  free(side), free(rebind);
+  free(side), free(rebind), free(vel);
   tb_cut_result_free(&cr);
   return rc;
 }

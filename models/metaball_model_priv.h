@@ -38,6 +38,7 @@ typedef struct mb_model {
   unsigned long version;  /* changes with every cut that changes the surface */
   int cutting, have_fold; /* a cut is running; its folded plane exists (2+ path points) */
   tb_fold fold;           /* the blade's folded plane so far */
+  tb_metaball_skin_report last_skin; /* what the last cut's end did to the spheres and skin */
 } mb_model;
 
 /* Point masses as shares of the alive spheres' masses, and each point's

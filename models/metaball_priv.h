@@ -31,6 +31,19 @@ struct tb_metaball {
   tb_vec3 *smq;     /* per unit constraint: sum_k em_k eq_k (0 but for rounding) */
   double *wf;       /* per sphere, set each step: 1 / mass, 0 when fixed or removed */
   tb_vec3 (*xo)[3]; /* per skin vertex and binding q: x0 - c0 of its sphere */
+  /* Contacts across cracks (models/metaball_pieces.c): sphere pairs kept at
+   * least their distance at the cut's end apart (the step projects them). */
+  int ncontact, contact_cap;
+  int *contact;  /* 2 ncontact spheres */
+  double *cdist; /* ncontact least distances */
+  /* ... and the crack's faces on the skin: twin vertices (one point of the
+   * crack, a copy on each side) kept on their sides of each other. */
+  int ntwin, twin_cap;
+  int *twin;      /* 2 ntwin vertices: on the + side, on the - side */
+  int *tsph;      /* the sphere whose rotation carries the twin's normal */
+  tb_vec3 *tn;    /* the crack's normal (to the + side) in that sphere's rest frame */
+  double *treach; /* beyond this tangential offset the two no longer face each other */
+  tb_vec3 *tpush; /* per sphere: the push of a step's contact (scratch, m->n) */
 };
 
 /* The cut's state (models/metaball_cut.c, metaball_repack.c). */

@@ -1,8 +1,8 @@
 /* The end of the metaball patent's cut: the point set back to spheres
- * (CN doc. 12722810, step 3 (4), "维诺图生成元球") and the skin re-bound at
- * the current configuration (step 3 (5), "重新绑定"). models/metaball_cut.c's
+ * (CN doc. 12722810, step 3 (4), "维诺图生成元球"). models/metaball_cut.c's
  * head says how boundary points, poles, the greedy choice, rest centres and
- * links are defined; this file follows it top to bottom. */
+ * links are defined; this file follows it top to bottom. The skin and the
+ * spheres made to follow the cut surface's pieces: models/metaball_pieces.c. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -312,89 +312,4 @@ oom:
 fail:
   work_free(&w);
   return rc;
-}
-
-/* ---- the skin re-bound at the current configuration ---- */
-
-/* Vertex v at x bound to the spheres with the smallest k = d / r in [1, 2]
- * on side `side` (0: any; sside[s] the sphere's side), else the smallest k
- * on that side, else on any; x0 solves the skin formula (tb_metaball.h). */
-static void bind_current(tb_metaball *m, int v, tb_vec3 x, int side, const signed char *sside) {
-  int best[3] = {-1, -1, -1};
-  double kb[3] = {INFINITY, INFINITY, INFINITY};
-  for (int pass = 0; pass < 3 && best[0] < 0; pass++)
-    for (int s = 0; s < m->n; s++) {
-      if (!m->alive[s] || (pass < 2 && side && sside[s] != side)) continue;
-      double k = tb_dist(x, m->c[s]) / m->r[s];
-      if ((pass == 0 && (k < 1 || k > 2)) || !(k < kb[pass == 0 ? 2 : 0])) continue;
-      int at = pass == 0 ? 2 : 0;
-      while (at > 0 && k < kb[at - 1]) kb[at] = kb[at - 1], best[at] = best[at - 1], at--;
-      kb[at] = k, best[at] = s;
-    }
-  double sum = 0, sg = m->set.sigma;
-  for (int q = 0; q < 3; q++) {
-    m->bind[v][q] = best[q];
-    m->bw[v][q] = best[q] < 0 ? 0 : exp(-kb[q] * kb[q] / (2 * sg * sg));
-    sum += m->bw[v][q];
-  }
-  for (int q = 0; q < 3; q++) m->bw[v][q] = sum > 0 ? m->bw[v][q] / sum : (q == 0);
-  tb_mat3 M = {{{0}}};
-  tb_vec3 b = x;
-  for (int q = 0; q < 3; q++) {
-    int s = m->bind[v][q];
-    if (s < 0) continue;
-    double wq = m->bw[v][q];
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) M.m[i][j] += wq * m->rot[s].m[i][j];
-    b = tb_madd(b, -wq, tb_sub(m->c[s], tb_m3_mulv(m->rot[s], m->c0[s])));
-  }
-  double det = tb_m3_det(M);
-  if (!(fabs(det) > 1e-6)) { /* rotations too far apart to average: the nearest alone */
-    int s = m->bind[v][0];
-    m->bind[v][1] = m->bind[v][2] = -1, m->bw[v][0] = 1, m->bw[v][1] = m->bw[v][2] = 0;
-    M = m->rot[s], det = tb_m3_det(M);
-    b = tb_sub(x, tb_sub(m->c[s], tb_m3_mulv(m->rot[s], m->c0[s])));
-  }
-  m->x0[v] = tb_scale(tb_m3_mulv(tb_m3_transpose(tb_m3_cofactor(M)), b), 1 / det);
-  m->x[v] = x;
-}
-
-int tb_metaball_set_skin(tb_metaball *m, int nv, const tb_vec3 *x, const signed char *side,
-                         const unsigned char *rebind, tb_error *err) {
-  if (nv < m->nv || !x)
-    return tb_error_set(err, "metaball skin", 0, "%d vertices, fewer than %d", nv, m->nv);
-  int alive = 0;
-  for (int s = 0; s < m->n; s++) alive += m->alive[s];
-  if (!alive) return tb_error_set(err, "metaball skin", 0, "no sphere left");
-  const tb_fold *f = m->cut && m->cut->has_fold ? &m->cut->fold : NULL;
-  for (int v = 0; v < nv; v++) {
-    if (!tb_isfinite3(x[v]))
-      return tb_error_set(err, "metaball skin", 0, "vertex %d not finite", v);
-    if (side && side[v] && (!f || (side[v] != 1 && side[v] != -1)))
-      return tb_error_set(err, "metaball skin", 0, "vertex %d: side %d without a cut", v, side[v]);
-  }
-  size_t V = (size_t)(nv > 0 ? nv : 1);
-  tb_vec3 *x0 = realloc(m->x0, sizeof(tb_vec3) * V);
-  if (x0) m->x0 = x0;
-  tb_vec3 *xs = realloc(m->x, sizeof(tb_vec3) * V);
-  if (xs) m->x = xs;
-  int(*bind)[3] = realloc(m->bind, sizeof *m->bind * V);
-  if (bind) m->bind = bind;
-  double(*bw)[3] = realloc(m->bw, sizeof *m->bw * V);
-  if (bw) m->bw = bw;
-  tb_vec3(*xo)[3] = realloc(m->xo, sizeof *m->xo * V);
-  if (xo) m->xo = xo;
-  signed char *sside = malloc((size_t)m->n);
-  if (!x0 || !xs || !bind || !bw || !xo || !sside)
-    return free(sside), tb_error_set(err, "metaball skin", 0, "out of memory");
-  for (int s = 0; s < m->n; s++)
-    sside[s] = f && m->alive[s] ? (signed char)tb_fold_side(f, m->c[s]) : 0;
-  for (int v = 0; v < nv; v++)
-    if (v >= m->nv || (rebind && rebind[v])) {
-      bind_current(m, v, x[v], side ? side[v] : 0, sside);
-      tb_metaball_bind_offsets(m, v);
-    }
-  m->nv = nv;
-  free(sside);
-  return 0;
 }

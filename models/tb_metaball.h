@@ -141,15 +141,51 @@ int tb_metaball_cut_driver(const tb_metaball *m, int i);
 /* 1 when sphere i has not been removed. */
 int tb_metaball_alive(const tb_metaball *m, int i);
 
-/* Replaces the skin by nv >= the old count vertices at current positions x
- * (a surface cutter keeps the old vertices first). Vertices past the old
- * count and those with rebind[v] != 0 (rebind may be NULL) are bound anew
- * at the current configuration: the spheres with the smallest k = d / r in
- * [1, 2] on current positions, and a rest offset so that the skin formula
- * gives x exactly; side[v] = +1 or -1 (side may be NULL) restricts them to
- * spheres whose centre is on that side of the last cut's folded plane.
- * The others keep their binding. 0, or -1 (err). */
-int tb_metaball_set_skin(tb_metaball *m, int nv, const tb_vec3 *x, const signed char *side,
-                         const unsigned char *rebind, tb_error *err);
+/* The skin after a cut (models/metaball_pieces.c). */
+typedef struct tb_metaball_skin_def {
+  int nv;                      /* vertices, at least the skin's count: the old ones first */
+  const tb_vec3 *x;            /* their current positions */
+  const tb_vec3 *v;            /* their velocities (NULL: at rest): a piece's new sphere's */
+  const signed char *side;     /* +1 / -1: on that side of the last cut's crack; 0 (NULL: all) */
+  const unsigned char *rebind; /* 1: bound anew (NULL: none but the new vertices) */
+  int ntri;                    /* the surface's triangles (0: the pieces are not followed) */
+  const int *tri;
+  int first_new; /* spheres from this index on are the last cut's new ones */
+} tb_metaball_skin_def;
+
+typedef struct tb_metaball_skin_report {
+  int pieces;    /* the surface's pieces */
+  int outside;   /* new spheres whose centre lay in no piece, removed */
+  int links_cut; /* links between spheres of two pieces, removed */
+  int joined;    /* links added to join a piece's sphere groups into one */
+  int anchored;  /* links added to spheres that had fewer than three */
+  int seeded;    /* spheres made for pieces that had none */
+  int rebound;   /* vertices bound anew */
+  int contacts;  /* sphere pairs across the crack kept apart from now on */
+  int twins;     /* crack points with a copy on each side, kept on their sides */
+} tb_metaball_skin_report;
+
+/* Replaces the skin by d->nv vertices at current positions d->x (a surface
+ * cutter keeps the old vertices first). New vertices, those with rebind set
+ * and those bound to a removed sphere are bound anew at the current
+ * configuration: the spheres with the smallest k = d / r in [1, 2] on
+ * current positions, then the smallest k, with a rest offset so that the
+ * skin formula gives x exactly; side +1 / -1 restricts a vertex to spheres
+ * whose centre is on that side of the last cut's folded plane.
+ *
+ * With the surface's triangles (ntri > 0; a closed surface) the spheres
+ * follow its pieces: each alive sphere belongs to the piece holding its
+ * centre (a new sphere in none is removed, an old one goes with the piece
+ * most of its vertices are on); links between two pieces go; a piece whose
+ * spheres fall into groups has them joined by a link between the nearest
+ * spheres (not across the last fold where another pair will do); a piece
+ * with no sphere gets one, inside it, reaching its nearest vertex. Every
+ * vertex is then bound to spheres of its own piece only, and a vertex off
+ * the cut to none whose centre lies across the last fold. Sphere pairs
+ * across the last fold within reach of each other are kept from coming
+ * closer than they are (the crack's faces do not pass through each other).
+ * rep may be NULL. 0, or -1 (err). */
+int tb_metaball_set_skin(tb_metaball *m, const tb_metaball_skin_def *d,
+                         tb_metaball_skin_report *rep, tb_error *err);
 
 #endif

@@ -1,0 +1,575 @@
+/* The skin and the spheres after a cut (tb_metaball_set_skin; the metaball
+ * patent's step 3 (5), re-binding, 重新绑定). The cut surface is the truth of
+ * what the blade parted: the spheres follow its pieces, and the skin of a
+ * piece is bound to spheres of that piece only.
+ *
+ * 1. Pieces: the components of the surface's triangles; a sphere's piece is
+ *    the one holding its current centre (exact ray parity,
+ *    tb_cut_locate). A new sphere (from the point set) in no piece lies
+ *    outside the organ and is removed; an old one in none (a packing may put
+ *    a centre just outside) goes with the piece most vertices bound to it
+ *    are on, else with its nearest vertex's.
+ * 2. Links between two pieces go. A piece whose spheres fall into several
+ *    groups (components through the links) has them joined, one link at a
+ *    time, between the two nearest spheres of different groups (gap
+ *    |c_i - c_j| - r_i - r_j), not across the last fold where another pair
+ *    will do. A sphere with fewer than three links is linked to its nearest
+ *    spheres of its piece (not across the fold) until it has three: with
+ *    one or two it swings about them, its skin folding over its
+ *    neighbours'. A piece with no sphere (a severed sliver) gets one: centred at
+ *    the inward-pushed triangle centroid farthest from the piece's vertices
+ *    (its inscribed ball, roughly), reaching its nearest vertex, moving
+ *    with the piece's mean velocity.
+ * 3. Contact: pairs of spheres on either side of the last fold (their centre
+ *    segment crosses it, or they are in two pieces) within 1.5 (r_i + r_j)
+ *    are kept at least their present distance apart by the step
+ *    (models/metaball.c): the two faces of the crack touch now and do not
+ *    pass through each other.
+ * 4. The skin: a vertex is bound anew when it is new, asked for, bound to a
+ *    removed sphere or one of another piece, or (off the fold) to one whose
+ *    centre lies across the fold; then to the spheres with the smallest
+ *    k = d / r in [1, 2] among those of its piece on its side (its crack
+ *    side, or not across the fold), else the smallest k among them, else in
+ *    its piece, else anywhere; its rest offset solves the skin formula at
+ *    the current configuration, so the skin reproduces x. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "metaball_priv.h"
+#include "cutting/tb_cut_surface.h"
+
+#define REACH 1.5 /* contact pairs: centres within REACH (r_i + r_j) */
+
+typedef struct pieces {
+  int n;
+  int *of_tri, *of_vertex; /* a vertex no triangle uses: -1 */
+  int *of_sphere;          /* -1: removed, or no pieces */
+} pieces;
+
+static void pieces_free(pieces *P) { free(P->of_tri), free(P->of_vertex), free(P->of_sphere); }
+
+static int uf_find(int *p, int i) {
+  while (p[i] != i) i = p[i] = p[p[i]];
+  return i;
+}
+
+/* ---- 1. pieces of the surface and of the spheres ---- */
+
+static int surface_pieces(const tb_metaball_skin_def *d, pieces *P) {
+  P->of_tri = malloc(sizeof(int) * (size_t)d->ntri);
+  P->of_vertex = malloc(sizeof(int) * (size_t)d->nv);
+  if (!P->of_tri || !P->of_vertex) return -1;
+  if ((P->n = tb_cut_piece_of(d->nv, d->ntri, d->tri, P->of_tri)) < 0) return -1;
+  for (int v = 0; v < d->nv; v++) P->of_vertex[v] = -1;
+  for (int t = 0; t < d->ntri; t++)
+    for (int k = 0; k < 3; k++) P->of_vertex[d->tri[3 * t + k]] = P->of_tri[t];
+  return 0;
+}
+
+/* An old sphere in no piece: the piece most of its (old) vertices are on,
+ * else its nearest vertex's. */
+static int piece_by_vertices(const tb_metaball *m, const tb_metaball_skin_def *d, const pieces *P,
+                             int s, int *votes) {
+  memset(votes, 0, sizeof(int) * (size_t)P->n);
+  int best = -1;
+  for (int v = 0; v < m->nv; v++)
+    for (int q = 0; q < 3; q++)
+      if (m->bind[v][q] == s && P->of_vertex[v] >= 0) votes[P->of_vertex[v]]++;
+  for (int p = 0; p < P->n; p++)
+    if (votes[p] > 0 && (best < 0 || votes[p] > votes[best])) best = p;
+  double dmin = INFINITY;
+  for (int v = 0; v < d->nv && best < 0; v++)
+    if (P->of_vertex[v] >= 0 && tb_dist(d->x[v], m->c[s]) < dmin) dmin = tb_dist(d->x[v], m->c[s]);
+  for (int v = 0; v < d->nv && best < 0; v++)
+    if (P->of_vertex[v] >= 0 && tb_dist(d->x[v], m->c[s]) == dmin) best = P->of_vertex[v];
+  return best;
+}
+
+static int sphere_pieces(tb_metaball *m, const tb_metaball_skin_def *d, pieces *P,
+                         tb_metaball_skin_report *rep) {
+  int n = m->n, *loc = malloc(sizeof(int) * (size_t)n), *gone = malloc(sizeof(int) * (size_t)n);
+  int *votes = malloc(sizeof(int) * (size_t)(P->n + 1)), ngone = 0;
+  P->of_sphere = malloc(sizeof(int) * (size_t)n);
+  if (!loc || !gone || !votes || !P->of_sphere ||
+      tb_cut_locate(d->x, d->ntri, d->tri, P->of_tri, P->n, n, m->c, loc)) {
+    free(loc), free(gone), free(votes);
+    return -1;
+  }
+  for (int s = 0; s < n; s++) {
+    P->of_sphere[s] = -1;
+    if (!m->alive[s]) continue;
+    if (loc[s] >= 0)
+      P->of_sphere[s] = loc[s];
+    else if (s >= d->first_new)
+      gone[ngone++] = s;
+    else
+      P->of_sphere[s] = piece_by_vertices(m, d, P, s, votes);
+  }
+  tb_metaball_remove_set(m, ngone, gone);
+  rep->outside = ngone;
+  free(loc), free(gone), free(votes);
+  return 0;
+}
+
+/* ---- 2. links: none between pieces, one group of spheres per piece ---- */
+
+static int crosses(const tb_metaball *m, tb_vec3 a, tb_vec3 b) {
+  return m->cut && m->cut->has_fold && tb_metaball_cut_crosses(m->cut, a, b);
+}
+
+typedef struct linkset {
+  int n, cap, *pairs, *deg;
+} linkset;
+
+static int link_add(linkset *L, int a, int b) {
+  if (2 * L->n + 2 > L->cap) {
+    int *grown = realloc(L->pairs, sizeof(int) * (size_t)(L->cap *= 2));
+    if (!grown) return -1;
+    L->pairs = grown;
+  }
+  L->pairs[2 * L->n] = a, L->pairs[2 * L->n + 1] = b, L->n++, L->deg[a]++, L->deg[b]++;
+  return 0;
+}
+
+static int linked(const linkset *L, int a, int b) {
+  for (int e = 0; e < L->n; e++)
+    if ((L->pairs[2 * e] == a && L->pairs[2 * e + 1] == b) ||
+        (L->pairs[2 * e] == b && L->pairs[2 * e + 1] == a))
+      return 1;
+  return 0;
+}
+
+/* Sphere s, linked to fewer than MIN_LINKS others of its piece, linked to
+ * the nearest ones (gap) not across the fold: a sphere with one or two links
+ * swings about them (its unit constraint has no rotation to hold), and the
+ * skin bound to it folds over its neighbours'. */
+#define MIN_LINKS 3
+static int anchor(tb_metaball *m, const pieces *P, linkset *L, int s,
+                  tb_metaball_skin_report *rep) {
+  while (L->deg[s] < MIN_LINKS) {
+    int best = -1;
+    double bg = INFINITY;
+    for (int j = 0; j < m->n; j++) {
+      if (j == s || !m->alive[j] || P->of_sphere[j] != P->of_sphere[s]) continue;
+      double g = tb_dist(m->c[s], m->c[j]) - m->r[s] - m->r[j];
+      if (!(g < bg) || linked(L, s, j) || crosses(m, m->c[s], m->c[j])) continue;
+      bg = g, best = j;
+    }
+    if (best < 0) return 0;
+    if (link_add(L, s, best)) return -1;
+    rep->anchored++;
+  }
+  return 0;
+}
+
+/* The links kept and added, into m (tb_metaball_set_links). */
+static int relink(tb_metaball *m, const pieces *P, tb_metaball_skin_report *rep) {
+  int n = m->n;
+  linkset L = {0, 2 * m->nl + 16, NULL, NULL};
+  L.pairs = malloc(sizeof(int) * (size_t)L.cap), L.deg = calloc((size_t)n, sizeof(int));
+  int *uf = malloc(sizeof(int) * (size_t)n), *size = calloc((size_t)P->n + 1, sizeof(int)), rc = 0;
+  if (!L.pairs || !L.deg || !uf || !size) rc = -1;
+  for (int s = 0; s < n && rc == 0; s++) {
+    uf[s] = s;
+    if (m->alive[s]) size[P->of_sphere[s]]++;
+  }
+  for (int e = 0; e < m->nl && rc == 0; e++) {
+    int a = m->link[2 * e], b = m->link[2 * e + 1];
+    if (P->of_sphere[a] != P->of_sphere[b]) {
+      rep->links_cut++;
+      continue;
+    }
+    rc = link_add(&L, a, b);
+    int ra = uf_find(uf, a), rb = uf_find(uf, b);
+    if (ra != rb) uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
+  }
+  for (int p = 0; p < P->n && rc == 0; p++)
+    for (;;) { /* the nearest pair of two groups of piece p, until one group */
+      int bi = -1, bj = -1, ai = -1, aj = -1;
+      double bg = INFINITY, ag = INFINITY; /* best not across the fold; best of all */
+      for (int i = 0; i < n; i++) {
+        if (!m->alive[i] || P->of_sphere[i] != p) continue;
+        for (int j = i + 1; j < n; j++) {
+          if (!m->alive[j] || P->of_sphere[j] != p || uf_find(uf, i) == uf_find(uf, j)) continue;
+          double g = tb_dist(m->c[i], m->c[j]) - m->r[i] - m->r[j];
+          if (g < ag) ag = g, ai = i, aj = j;
+          if (g < bg && !crosses(m, m->c[i], m->c[j])) bg = g, bi = i, bj = j;
+        }
+      }
+      if (ai < 0) break;
+      if (bi < 0) bi = ai, bj = aj;
+      if ((rc = link_add(&L, bi, bj))) break;
+      rep->joined++;
+      int ra = uf_find(uf, bi), rb = uf_find(uf, bj);
+      uf[ra > rb ? ra : rb] = ra < rb ? ra : rb;
+    }
+  int before = L.n;
+  for (int s = 0; s < n && rc == 0; s++)
+    if (m->alive[s] && size[P->of_sphere[s]] > MIN_LINKS) rc = anchor(m, P, &L, s, rep);
+  if (rc == 0 && (rep->links_cut || rep->joined || L.n != before))
+    rc = tb_metaball_set_links(m, L.n, L.pairs);
+  free(L.pairs), free(L.deg), free(uf), free(size);
+  return rc;
+}
+
+/* A sphere for each piece with none (see the head). */
+static int seed(tb_metaball *m, const tb_metaball_skin_def *d, pieces *P,
+                tb_metaball_skin_report *rep) {
+  int *has = calloc((size_t)P->n, sizeof(int));
+  if (!has) return -1;
+  for (int s = 0; s < m->n; s++)
+    if (m->alive[s] && P->of_sphere[s] >= 0) has[P->of_sphere[s]] = 1;
+  int rc = 0;
+  for (int p = 0; p < P->n && rc == 0; p++) {
+    if (has[p]) continue;
+    int nt = 0, nvp = 0;
+    for (int t = 0; t < d->ntri; t++) nt += P->of_tri[t] == p;
+    int stride = nt > 64 ? nt / 64 : 1, nc = 0;
+    tb_vec3 *cand = malloc(sizeof(tb_vec3) * 70), vel = tb_v3(0, 0, 0);
+    int *at = malloc(sizeof(int) * 70);
+    if (!cand || !at) {
+      free(cand), free(at);
+      rc = -1;
+      break;
+    }
+    for (int t = 0, k = 0; t < d->ntri && nc < 70; t++) {
+      if (P->of_tri[t] != p || k++ % stride) continue;
+      tb_vec3 A = d->x[d->tri[3 * t]], B = d->x[d->tri[3 * t + 1]], C = d->x[d->tri[3 * t + 2]];
+      tb_vec3 n = tb_cross(tb_sub(B, A), tb_sub(C, A));
+      double area2 = tb_len(n);
+      if (!(area2 > 0)) continue;
+      tb_vec3 g = tb_scale(tb_add(tb_add(A, B), C), 1.0 / 3);
+      cand[nc++] = tb_madd(g, -0.3 * sqrt(area2) / area2, n); /* 0.3 sqrt(2 area) inwards */
+    }
+    tb_vec3 best = tb_v3(0, 0, 0), sum = tb_v3(0, 0, 0);
+    for (int v = 0; v < d->nv; v++)
+      if (P->of_vertex[v] == p) {
+        sum = tb_add(sum, d->x[v]), nvp++;
+        if (d->v) vel = tb_add(vel, d->v[v]);
+      }
+    if (nvp) best = tb_scale(sum, 1.0 / nvp), vel = tb_scale(vel, 1.0 / nvp);
+    double far = -1;
+    if (nc && tb_cut_locate(d->x, d->ntri, d->tri, P->of_tri, P->n, nc, cand, at)) rc = -1;
+    for (int k = 0; k < nc && rc == 0; k++) {
+      if (at[k] != p) continue;
+      double near = INFINITY;
+      for (int v = 0; v < d->nv; v++)
+        if (P->of_vertex[v] == p) near = fmin(near, tb_dist(cand[k], d->x[v]));
+      if (near > far) far = near, best = cand[k];
+    }
+    double r = INFINITY;
+    for (int v = 0; v < d->nv; v++)
+      if (P->of_vertex[v] == p) r = fmin(r, tb_dist(best, d->x[v]));
+    if (!(r > 0) || !isfinite(r)) r = 1e-6;
+    free(cand), free(at);
+    if (rc) break;
+    int s = m->n;
+    if (tb_metaball_add(m, 1, &best, &best, NULL, &r, &vel)) {
+      rc = -1;
+      break;
+    }
+    int *grown = realloc(P->of_sphere, sizeof(int) * (size_t)m->n);
+    if (!grown) {
+      rc = -1;
+      break;
+    }
+    P->of_sphere = grown, P->of_sphere[s] = p, rep->seeded++;
+  }
+  free(has);
+  return rc;
+}
+
+/* ---- 3. contact across the crack ---- */
+
+static int add_contact(tb_metaball *m, int a, int b, double l) {
+  if (m->ncontact == m->contact_cap) {
+    int cap = m->contact_cap ? 2 * m->contact_cap : 256;
+    int *c = realloc(m->contact, sizeof(int) * 2 * (size_t)cap);
+    if (c) m->contact = c;
+    double *dd = realloc(m->cdist, sizeof(double) * (size_t)cap);
+    if (dd) m->cdist = dd;
+    if (!c || !dd) return -1;
+    m->contact_cap = cap;
+  }
+  m->contact[2 * m->ncontact] = a, m->contact[2 * m->ncontact + 1] = b;
+  m->cdist[m->ncontact++] = l;
+  return 0;
+}
+
+static int contacts(tb_metaball *m, const pieces *P, tb_metaball_skin_report *rep) {
+  int k = 0; /* the old pairs of spheres still alive */
+  for (int q = 0; q < m->ncontact; q++) {
+    int a = m->contact[2 * q], b = m->contact[2 * q + 1];
+    if (!m->alive[a] || !m->alive[b]) continue;
+    m->contact[2 * k] = a, m->contact[2 * k + 1] = b, m->cdist[k++] = m->cdist[q];
+  }
+  m->ncontact = k;
+  if (!m->cut || !m->cut->has_fold) return 0;
+  double rmax = 0;
+  for (int s = 0; s < m->n; s++)
+    if (m->alive[s]) rmax = fmax(rmax, m->r[s]);
+  tb_vec3 grow = tb_v3(2 * REACH * rmax, 2 * REACH * rmax, 2 * REACH * rmax);
+  tb_vec3 lo = tb_sub(m->cut->flo, grow), hi = tb_add(m->cut->fhi, grow);
+  int n = m->n, near = 0, *list = malloc(sizeof(int) * (size_t)n);
+  if (!list) return -1;
+  for (int s = 0; s < n; s++) {
+    tb_vec3 c = m->c[s];
+    if (m->alive[s] && c.x >= lo.x && c.y >= lo.y && c.z >= lo.z && c.x <= hi.x && c.y <= hi.y &&
+        c.z <= hi.z)
+      list[near++] = s;
+  }
+  for (int i = 0; i < near; i++)
+    for (int j = i + 1; j < near; j++) {
+      int a = list[i], b = list[j];
+      double l = tb_dist(m->c[a], m->c[b]);
+      if (!(l < REACH * (m->r[a] + m->r[b]))) continue;
+      int apart = P && P->of_sphere && P->of_sphere[a] != P->of_sphere[b];
+      if (!apart && !crosses(m, m->c[a], m->c[b])) continue;
+      if (add_contact(m, a, b, l)) return free(list), -1;
+      rep->contacts++;
+    }
+  free(list);
+  return 0;
+}
+
+/* ---- 4. the skin ---- */
+
+typedef struct binder {
+  const signed char *sside; /* per sphere: its side of the fold (0: no fold) */
+  const int *spiece;        /* per sphere: its piece (NULL: no pieces) */
+  int fold;                 /* 1: the last cut's fold is there for the crossing test */
+} binder;
+
+/* 1 when vertex v (at x, on crack side `side`, in piece `piece`, off the
+ * fold when `off`) may be bound to sphere s at this level: 0 everything,
+ * 1 its piece only, 2 any alive sphere; a vertex no triangle uses has piece -1
+ * and takes any. */
+static int admits(const tb_metaball *m, const binder *b, int s, tb_vec3 x, int side, int piece,
+                  int off, int level) {
+  if (!m->alive[s]) return 0;
+  if (level < 2 && b->spiece && piece >= 0 && b->spiece[s] != piece) return 0;
+  if (level > 0) return 1;
+  if (side) return b->sside[s] == side;
+  return !(off && b->fold && crosses(m, x, m->c[s]));
+}
+
+/* Vertex v at x bound at the current configuration (see the head). */
+static void bind_current(tb_metaball *m, const binder *b, int v, tb_vec3 x, int side, int piece,
+                         int off) {
+  int best[3] = {-1, -1, -1};
+  double kb[3] = {INFINITY, INFINITY, INFINITY};
+  for (int pass = 0; pass < 4 && best[0] < 0; pass++)
+    for (int s = 0; s < m->n; s++) {
+      double k = tb_dist(x, m->c[s]) / m->r[s];
+      if ((pass == 0 && (k < 1 || k > 2)) || !(k < kb[pass == 0 ? 2 : 0])) continue;
+      if (!admits(m, b, s, x, side, piece, off, pass == 0 ? 0 : pass - 1)) continue;
+      int at = pass == 0 ? 2 : 0;
+      while (at > 0 && k < kb[at - 1]) kb[at] = kb[at - 1], best[at] = best[at - 1], at--;
+      kb[at] = k, best[at] = s;
+    }
+  double sum = 0, sg = m->set.sigma;
+  for (int q = 0; q < 3; q++) {
+    m->bind[v][q] = best[q];
+    m->bw[v][q] = best[q] < 0 ? 0 : exp(-kb[q] * kb[q] / (2 * sg * sg));
+    sum += m->bw[v][q];
+  }
+  for (int q = 0; q < 3; q++) m->bw[v][q] = sum > 0 ? m->bw[v][q] / sum : (q == 0);
+  tb_mat3 M = {{{0}}};
+  tb_vec3 rhs = x;
+  for (int q = 0; q < 3; q++) {
+    int s = m->bind[v][q];
+    if (s < 0) continue;
+    double wq = m->bw[v][q];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) M.m[i][j] += wq * m->rot[s].m[i][j];
+    rhs = tb_madd(rhs, -wq, tb_sub(m->c[s], tb_m3_mulv(m->rot[s], m->c0[s])));
+  }
+  double det = tb_m3_det(M);
+  if (!(fabs(det) > 1e-6)) { /* rotations too far apart to average: the nearest alone */
+    int s = m->bind[v][0];
+    m->bind[v][1] = m->bind[v][2] = -1, m->bw[v][0] = 1, m->bw[v][1] = m->bw[v][2] = 0;
+    M = m->rot[s], det = tb_m3_det(M);
+    rhs = tb_sub(x, tb_sub(m->c[s], tb_m3_mulv(m->rot[s], m->c0[s])));
+  }
+  m->x0[v] = tb_scale(tb_m3_mulv(tb_m3_transpose(tb_m3_cofactor(M)), rhs), 1 / det);
+  m->x[v] = x;
+  tb_metaball_bind_offsets(m, v);
+}
+
+/* 1 when vertex v's binding breaks a rule of the head's step 4. */
+static int bound_wrong(const tb_metaball *m, const binder *b, int v, tb_vec3 x, int side, int piece,
+                       int off) {
+  for (int q = 0; q < 3; q++) {
+    int s = m->bind[v][q];
+    if (s >= 0 && !admits(m, b, s, x, side, piece, off, 0)) return 1;
+  }
+  return 0;
+}
+
+static int grow_skin(tb_metaball *m, int nv) {
+  size_t V = (size_t)(nv > 0 ? nv : 1);
+  tb_vec3 *x0 = realloc(m->x0, sizeof(tb_vec3) * V);
+  if (x0) m->x0 = x0;
+  tb_vec3 *xs = realloc(m->x, sizeof(tb_vec3) * V);
+  if (xs) m->x = xs;
+  int(*bind)[3] = realloc(m->bind, sizeof *m->bind * V);
+  if (bind) m->bind = bind;
+  double(*bw)[3] = realloc(m->bw, sizeof *m->bw * V);
+  if (bw) m->bw = bw;
+  tb_vec3(*xo)[3] = realloc(m->xo, sizeof *m->xo * V);
+  if (xo) m->xo = xo;
+  return x0 && xs && bind && bw && xo ? 0 : -1;
+}
+
+static int rebind_skin(tb_metaball *m, const tb_metaball_skin_def *d, const pieces *P,
+                       tb_metaball_skin_report *rep) {
+  const tb_fold *f = m->cut && m->cut->has_fold ? &m->cut->fold : NULL;
+  signed char *sside = malloc((size_t)m->n);
+  if (!sside) return -1;
+  for (int s = 0; s < m->n; s++)
+    sside[s] = f && m->alive[s] ? (signed char)tb_fold_side(f, m->c[s]) : 0;
+  binder b = {sside, P ? P->of_sphere : NULL, f != NULL};
+  double rmax = 0, scale = 0;
+  for (int s = 0; s < m->n; s++)
+    if (m->alive[s]) rmax = fmax(rmax, m->r[s]), scale = fmax(scale, tb_len(m->c[s]));
+  tb_vec3 grow = tb_v3(2 * rmax, 2 * rmax, 2 * rmax);
+  tb_vec3 lo = f ? tb_sub(m->cut->flo, grow) : tb_v3(0, 0, 0);
+  tb_vec3 hi = f ? tb_add(m->cut->fhi, grow) : tb_v3(0, 0, 0);
+  int old = m->nv;
+  m->nv = d->nv;
+  for (int v = 0; v < d->nv; v++) {
+    tb_vec3 x = d->x[v];
+    int side = d->side ? d->side[v] : 0, piece = P ? P->of_vertex[v] : -1, off = 0;
+    if (f && x.x >= lo.x && x.y >= lo.y && x.z >= lo.z && x.x <= hi.x && x.y <= hi.y &&
+        x.z <= hi.z) {
+      tb_fold_near nr;
+      tb_fold_nearest(f, x, &nr);
+      off = nr.dist > 1e-12 * (scale + rmax);
+    }
+    int again =
+        v >= old || (d->rebind && d->rebind[v]) || bound_wrong(m, &b, v, x, side, piece, off);
+    if (!again) continue;
+    bind_current(m, &b, v, x, side, piece, off);
+    rep->rebound++;
+  }
+  free(sside);
+  return 0;
+}
+
+/* ---- 5. the crack's faces on the skin: twins ---- */
+
+static const tb_vec3 *twin_x; /* qsort's context: positions */
+static int by_place(const void *pa, const void *pb) {
+  int a = *(const int *)pa, b = *(const int *)pb;
+  tb_vec3 p = twin_x[a], q = twin_x[b];
+  for (int k = 0; k < 3; k++)
+    if (tb_comp(p, k) != tb_comp(q, k)) return tb_comp(p, k) < tb_comp(q, k) ? -1 : 1;
+  return a - b;
+}
+
+/* The old twins whose sphere lives, then the new cut's: a vertex on the +
+ * side and one on the - side at the same place (the cutter copies a crack
+ * point bit for bit), with the nearest fold piece's normal in the rest frame
+ * of the - vertex's first sphere, and a reach of twice its mean edge. */
+static int twins(tb_metaball *m, const tb_metaball_skin_def *d, tb_metaball_skin_report *rep) {
+  int k = 0;
+  for (int q = 0; q < m->ntwin; q++) {
+    if (!m->alive[m->tsph[q]]) continue;
+    m->twin[2 * k] = m->twin[2 * q], m->twin[2 * k + 1] = m->twin[2 * q + 1];
+    m->tsph[k] = m->tsph[q], m->tn[k] = m->tn[q], m->treach[k++] = m->treach[q];
+  }
+  m->ntwin = k;
+  tb_vec3 *grown = realloc(m->tpush, sizeof(tb_vec3) * (size_t)(m->n > 0 ? m->n : 1));
+  if (!grown) return -1;
+  m->tpush = grown;
+  memset(m->tpush, 0, sizeof(tb_vec3) * (size_t)m->n);
+  const tb_fold *f = m->cut && m->cut->has_fold ? &m->cut->fold : NULL;
+  if (!f || !d->side) return 0;
+  int n = 0, *on = malloc(sizeof(int) * (size_t)d->nv), *deg = calloc((size_t)d->nv, sizeof(int));
+  double *len = calloc((size_t)d->nv, sizeof(double));
+  if (!on || !deg || !len) return free(on), free(deg), free(len), -1;
+  for (int t = 0; t < d->ntri; t++)
+    for (int e = 0; e < 3; e++) {
+      int a = d->tri[3 * t + e], b = d->tri[3 * t + (e + 1) % 3];
+      double l = tb_dist(d->x[a], d->x[b]);
+      len[a] += l, len[b] += l, deg[a]++, deg[b]++;
+    }
+  for (int v = 0; v < d->nv; v++)
+    if (d->side[v] && deg[v]) on[n++] = v;
+  twin_x = d->x;
+  qsort(on, (size_t)n, sizeof(int), by_place);
+  int rc = 0;
+  for (int i = 0; i + 1 < n && rc == 0; i++) {
+    int a = on[i], b = on[i + 1];
+    if (memcmp(&d->x[a], &d->x[b], sizeof(tb_vec3)) || d->side[a] == d->side[b]) continue;
+    if (d->side[a] < 0) a = on[i + 1], b = on[i];
+    int s = m->bind[b][0];
+    if (s < 0) continue;
+    if (m->ntwin == m->twin_cap) {
+      int cap = m->twin_cap ? 2 * m->twin_cap : 256;
+      int *tw = realloc(m->twin, sizeof(int) * 2 * (size_t)cap);
+      if (tw) m->twin = tw;
+      int *ts = realloc(m->tsph, sizeof(int) * (size_t)cap);
+      if (ts) m->tsph = ts;
+      tb_vec3 *tn = realloc(m->tn, sizeof(tb_vec3) * (size_t)cap);
+      if (tn) m->tn = tn;
+      double *tr = realloc(m->treach, sizeof(double) * (size_t)cap);
+      if (tr) m->treach = tr;
+      if (!tw || !ts || !tn || !tr) {
+        rc = -1;
+        break;
+      }
+      m->twin_cap = cap;
+    }
+    tb_fold_near nr;
+    tb_fold_nearest(f, d->x[b], &nr);
+    int q = m->ntwin++;
+    m->twin[2 * q] = a, m->twin[2 * q + 1] = b, m->tsph[q] = s;
+    m->tn[q] = tb_m3_mulv(tb_m3_transpose(m->rot[s]), f->piece[nr.piece].n);
+    m->treach[q] = 2 * len[b] / deg[b];
+    rep->twins++, i++;
+  }
+  free(on), free(deg), free(len);
+  return rc;
+}
+
+int tb_metaball_set_skin(tb_metaball *m, const tb_metaball_skin_def *d,
+                         tb_metaball_skin_report *rep, tb_error *err) {
+  tb_metaball_skin_report r;
+  memset(&r, 0, sizeof r);
+  if (!d || d->nv < m->nv || !d->x || d->ntri < 0 || (d->ntri > 0 && !d->tri))
+    return tb_error_set(err, "metaball skin", 0, "%d vertices, fewer than %d, or no triangles",
+                        d ? d->nv : 0, m->nv);
+  int alive = 0;
+  for (int s = 0; s < m->n; s++) alive += m->alive[s];
+  if (!alive && d->ntri == 0) return tb_error_set(err, "metaball skin", 0, "no sphere left");
+  const tb_fold *f = m->cut && m->cut->has_fold ? &m->cut->fold : NULL;
+  for (int v = 0; v < d->nv; v++) {
+    if (!tb_isfinite3(d->x[v]))
+      return tb_error_set(err, "metaball skin", 0, "vertex %d not finite", v);
+    if (d->side && d->side[v] && (!f || (d->side[v] != 1 && d->side[v] != -1)))
+      return tb_error_set(err, "metaball skin", 0, "vertex %d: side %d without a cut", v,
+                          d->side[v]);
+  }
+  for (int i = 0; i < 3 * d->ntri; i++)
+    if (d->tri[i] < 0 || d->tri[i] >= d->nv)
+      return tb_error_set(err, "metaball skin", 0, "triangle %d: vertex %d out of range", i / 3,
+                          d->tri[i]);
+  pieces P = {0, NULL, NULL, NULL};
+  int rc = grow_skin(m, d->nv);
+  if (rc == 0 && d->ntri > 0) {
+    rc = surface_pieces(d, &P);
+    if (rc == 0) rc = sphere_pieces(m, d, &P, &r);
+    if (rc == 0) rc = relink(m, &P, &r);
+    if (rc == 0) rc = seed(m, d, &P, &r);
+    r.pieces = P.n;
+  }
+  if (rc == 0) rc = contacts(m, d->ntri > 0 ? &P : NULL, &r);
+  if (rc == 0) rc = rebind_skin(m, d, d->ntri > 0 ? &P : NULL, &r);
+  if (rc == 0) rc = twins(m, d, &r);
+  pieces_free(&P);
+  if (rc) return tb_error_set(err, "metaball skin", 0, "out of memory (%d vertices)", d->nv);
+  if (rep) *rep = r;
+  return 0;
+}
