@@ -23,7 +23,8 @@
  *    per-sphere force input here; fixed spheres hold;
  *  - contact across a crack (after a cut, models/metaball_pieces.c): sphere
  *    pairs the blade parted keep at least their distance at the cut's end,
- *    in each sweep and once after the unit constraints.
+ *    in each sweep and once after the unit constraints; and after the skin,
+ *    its two faces (models/metaball_contact.c).
  * Then v = (p - c) / dt, damped by exp(-damping dt), c = p.
  *
  * Skin (step 2 (2), 高斯绑定): each surface vertex is bound to the (at
@@ -57,8 +58,8 @@ void tb_metaball_destroy(tb_metaball *m) {
   free(m->alive), free(m->fixed), free(m->link), free(m->len0), free(m->cstart), free(m->cmember);
   free(m->cm0), free(m->rot), free(m->x0), free(m->x), free(m->bind), free(m->bw);
   free(m->em), free(m->eq), free(m->smq), free(m->wf), free(m->xo);
-  free(m->contact), free(m->cdist), free(m->twin), free(m->tsph), free(m->tn), free(m->treach);
-  free(m->tpush);
+  free(m->contact), free(m->cdist), free(m->cnormal), free(m->piece);
+  tb_metaball_zone_free(m);
   free(m);
 }
 
@@ -152,7 +153,7 @@ void tb_metaball_bind_offsets(tb_metaball *m, int v) {
 }
 
 /* x = sum_s w_s (c_s + R_s (x0 - c0_s)), the offsets x0 - c0_s stored. */
-static void skin(tb_metaball *m) {
+void tb_metaball_reskin(tb_metaball *m) {
 #pragma omp parallel for schedule(static) if (m->nv > 2048) /* each vertex alone: any count */
   for (int v = 0; v < m->nv; v++) {
     tb_vec3 x = tb_v3(0, 0, 0);
@@ -258,7 +259,7 @@ tb_metaball *tb_metaball_create(int n, const tb_vec3 *c, const double *r, const 
   if (surface) {
     memcpy(m->x0, surface->x, sizeof(tb_vec3) * (size_t)m->nv);
     for (int v = 0; v < m->nv; v++) bind_vertex(m, v, 0, NULL);
-    skin(m);
+    tb_metaball_reskin(m);
   }
   return m;
 oom:
@@ -288,7 +289,7 @@ int tb_metaball_add(tb_metaball *m, int k, const tb_vec3 *c0, const tb_vec3 *c, 
   TB_GROW(alive, unsigned char);
   TB_GROW(fixed, unsigned char);
   TB_GROW(rot, tb_mat3);
-  if (m->tpush) TB_GROW(tpush, tb_vec3);
+  if (m->piece) TB_GROW(piece, int);
 #undef TB_GROW
   int *cs = realloc(m->cstart, sizeof(int) * (N + 1));
   if (!cs) return -1;
@@ -299,7 +300,7 @@ int tb_metaball_add(tb_metaball *m, int k, const tb_vec3 *c0, const tb_vec3 *c, 
     m->r[i] = r[q], m->m[i] = m->set.density * 4.0 / 3.0 * M_PI * r[q] * r[q] * r[q];
     m->w[i] = m->m[i] > 0 ? 1 / m->m[i] : 0;
     m->alive[i] = 1, m->fixed[i] = 0, m->rot[i] = rot ? rot[q] : tb_m3_identity();
-    if (m->tpush) m->tpush[i] = tb_v3(0, 0, 0);
+    if (m->piece) m->piece[i] = -1;
   }
   m->n = (int)N;
   return build_units(m);
@@ -414,7 +415,7 @@ void tb_metaball_transform(tb_metaball *m, const double R[9], tb_vec3 t) {
     m->c[i] = tb_add(tb_m3_mulv(rot, m->c[i]), t), m->v[i] = tb_m3_mulv(rot, m->v[i]);
     m->rot[i] = tb_m3_mul(rot, m->rot[i]);
   }
-  skin(m);
+  tb_metaball_reskin(m);
 }
 
 /* The rotation of the polar decomposition of a, iterated from r (Müller,
@@ -572,9 +573,11 @@ static void stretch_link(tb_vec3 *p, const double *wf, int a, int b, double len0
   p[a] = tb_madd(p[a], wa * s, d), p[b] = tb_madd(p[b], -wb * s, d);
 }
 
-/* Contacts across cracks: a pair closer than its least distance is pushed
- * apart to it, by inverse masses (a one-sided distance constraint, Müller
- * et al. 2007 §4.3's collision constraint between two particles). */
+/* Contacts across cracks: a pair (a, b) whose separation along the crack's
+ * normal n (a's rotation turns it) is below its least one, while the two
+ * face each other (their offset across n under r_a + r_b), is pushed apart
+ * along n to it, by inverse masses (a one-sided constraint, as Müller et al.
+ * 2007 §4.3's collision constraints; sliding along the crack is free). */
 static void contacts(tb_metaball *m) {
   const double *wf = m->wf;
   tb_vec3 *p = m->p;
@@ -582,11 +585,11 @@ static void contacts(tb_metaball *m) {
     int a = m->contact[2 * k], b = m->contact[2 * k + 1];
     double wa = wf[a], wb = wf[b];
     if (wa + wb == 0) continue;
-    tb_vec3 d = tb_sub(p[b], p[a]);
-    double l = tb_len(d), l0 = m->cdist[k];
-    if (!(l < l0) || !(l > 0)) continue;
-    double s = (l - l0) / ((wa + wb) * l);
-    p[a] = tb_madd(p[a], wa * s, d), p[b] = tb_madd(p[b], -wb * s, d);
+    tb_vec3 n = tb_m3_mulv(m->rot[a], m->cnormal[k]), d = tb_sub(p[b], p[a]);
+    double g = tb_dot(d, n) - m->cdist[k];
+    if (!(g < 0) || tb_len(tb_madd(d, -tb_dot(d, n), n)) > m->r[a] + m->r[b]) continue;
+    double s = -g / (wa + wb);
+    p[a] = tb_madd(p[a], -wa * s, n), p[b] = tb_madd(p[b], wb * s, n);
   }
 }
 
@@ -644,51 +647,6 @@ static void stretch_sweeps(tb_metaball *m) {
   }
 }
 
-/* The crack's faces on the skin (models/metaball_pieces.c makes the
- * twins): a twin whose + vertex has come within TWIN_GAP x its reach of the
- * - one's side (along the crack's normal, carried by a sphere's rotation)
- * while still facing it pushes the spheres of both apart along that normal,
- * half each (all on one side when the other's are held), each sphere taking
- * the largest push of its vertices, as the ground does (metaball_model.c):
- * then the skin again, up to three times while a twin is short. The push
- * enters the spheres' velocities (position-based: v = dx / dt). */
-#define TWIN_GAP 1e-4
-static void twin_contact(tb_metaball *m, double dt) {
-  for (int pass = 0; pass < 3; pass++) {
-    int any = 0;
-    for (int k = 0; k < m->ntwin; k++) {
-      int a = m->twin[2 * k], b = m->twin[2 * k + 1], s = m->tsph[k];
-      if (!m->alive[s]) continue;
-      tb_vec3 n = tb_m3_mulv(m->rot[s], m->tn[k]), d = tb_sub(m->x[a], m->x[b]);
-      double g = tb_dot(d, n), gap = TWIN_GAP * m->treach[k];
-      if (!(g < gap) || tb_len(tb_madd(d, -g, n)) > m->treach[k]) continue;
-      int free_a = 0, free_b = 0;
-      for (int q = 0; q < 3; q++) {
-        int sa = m->bind[a][q], sb = m->bind[b][q];
-        free_a |= sa >= 0 && m->wf[sa] > 0, free_b |= sb >= 0 && m->wf[sb] > 0;
-      }
-      if (!free_a && !free_b) continue;
-      double need = gap - g, share_a = free_b ? (free_a ? 0.5 : 0) : 1;
-      for (int side = 0; side < 2; side++) {
-        int v = side ? b : a;
-        double push = (side ? -(1 - share_a) : share_a) * need;
-        for (int q = 0; q < 3 && push != 0; q++) {
-          int t = m->bind[v][q];
-          if (t < 0 || m->wf[t] == 0 || fabs(push) <= tb_len(m->tpush[t])) continue;
-          m->tpush[t] = tb_scale(n, push), any = 1;
-        }
-      }
-    }
-    if (!any) return;
-    for (int s = 0; s < m->n; s++) {
-      if (m->tpush[s].x == 0 && m->tpush[s].y == 0 && m->tpush[s].z == 0) continue;
-      m->c[s] = tb_add(m->c[s], m->tpush[s]), m->v[s] = tb_madd(m->v[s], 1 / dt, m->tpush[s]);
-      m->tpush[s] = tb_v3(0, 0, 0);
-    }
-    skin(m);
-  }
-}
-
 void tb_metaball_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_vec3 *force) {
   int n = m->n;
   for (int i = 0; i < n; i++) {
@@ -711,8 +669,8 @@ void tb_metaball_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_vec3 
     m->v[i] = tb_scale(tb_sub(m->p[i], m->c[i]), keep / dt);
     m->c[i] = m->p[i];
   }
-  skin(m);
-  twin_contact(m, dt);
+  tb_metaball_reskin(m);
+  tb_metaball_zone_contact(m, dt);
 }
 
 int tb_metaball_count(const tb_metaball *m) { return m->n; }

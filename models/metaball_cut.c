@@ -133,6 +133,7 @@ void tb_metaball_cut_free_points(tb_metaball_cutstate *c) {
   c->gen = c->driver = NULL;
   c->removed = c->pstart = c->ids = NULL, c->fx0 = c->fx1 = c->fx = c->fpts = c->fsph = NULL;
   c->np = c->pcap = c->nrem = c->rcap = c->nd = c->dcap = 0, c->rsum = 0;
+  free(c->apart), c->apart = NULL, c->napart = 0;
 }
 
 void tb_metaball_cut_release(tb_metaball *m) {
@@ -142,6 +143,28 @@ void tb_metaball_cut_release(tb_metaball *m) {
   free(m->cut->plo), free(m->cut->phi);
   free(m->cut);
   m->cut = NULL;
+}
+
+static int by_key(const void *a, const void *b) {
+  long long p = *(const long long *)a, q = *(const long long *)b;
+  return (p > q) - (p < q);
+}
+
+int tb_metaball_apart(const tb_metaball *m, int a, int b) {
+  if (a == b) return 0;
+  if (m->piece && m->piece[a] >= 0 && m->piece[b] >= 0 && m->piece[a] != m->piece[b]) return 1;
+  const tb_metaball_cutstate *c = m->cut;
+  if (!c || !c->napart) return 0;
+  long long key = a < b ? (long long)a * m->n + b : (long long)b * m->n + a;
+  int lo = 0, hi = c->napart;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (c->apart[mid] < key)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo < c->napart && c->apart[lo] == key;
 }
 
 int tb_metaball_cut_begin(tb_metaball *m, const tb_metaball_cut_settings *s, tb_error *err) {
@@ -161,6 +184,16 @@ int tb_metaball_cut_begin(tb_metaball *m, const tb_metaball_cut_settings *s, tb_
   tb_metaball_cutstate *c = m->cut;
   tb_metaball_cut_free_points(c);
   c->set = *s, c->density = s->density > 0 ? s->density : m->set.density;
+  if (m->ncontact > 0) { /* the pairs across earlier cracks, for tb_metaball_apart */
+    if (!(c->apart = malloc(sizeof(long long) * (size_t)m->ncontact)))
+      return tb_error_set(err, "metaball cut", 0, "out of memory");
+    for (int k = 0; k < m->ncontact; k++) {
+      long long a = m->contact[2 * k], b = m->contact[2 * k + 1];
+      c->apart[k] = a < b ? a * m->n + b : b * m->n + a;
+    }
+    c->napart = m->ncontact;
+    qsort(c->apart, (size_t)c->napart, sizeof(long long), by_key);
+  }
   double rmin = INFINITY, rmax = 0, rsum = 0;
   int alive = 0;
   tb_vec3 lo = tb_v3(INFINITY, INFINITY, INFINITY);
@@ -215,7 +248,8 @@ static int taken(const tb_metaball *m, const tb_metaball_cutstate *c, int s, tb_
                  double dmin) {
   for (int k = 0; k < c->nrem; k++) {
     int j = c->removed[k];
-    if (!(tb_dist(m->c0[s], m->c0[j]) < m->r[s] + m->r[j] + dmin)) continue;
+    if (!(tb_dist(m->c0[s], m->c0[j]) < m->r[s] + m->r[j] + dmin) || tb_metaball_apart(m, s, j))
+      continue;
     if (c->set.per_sphere == 0) {
       if (tb_dist(X, m->c0[j]) <= m->r[j]) return 1;
       continue;
@@ -445,6 +479,12 @@ static int rebuild(tb_metaball_cutstate *c, tb_error *err) {
   return 0;
 }
 
+/* Points i and j may stay linked: their spheres are not apart. */
+static int same_side(void *ctx, int i, int j) {
+  const tb_metaball *m = ctx;
+  return !tb_metaball_apart(m, m->cut->gen[i], m->cut->gen[j]);
+}
+
 int tb_metaball_cut_advance(tb_metaball *m, const tb_fold *f, tb_error *err) {
   tb_metaball_cutstate *c = m->cut;
   if (!c || !c->cutting) return tb_error_set(err, "metaball cut", 0, "no cut running");
@@ -485,6 +525,7 @@ int tb_metaball_cut_advance(tb_metaball *m, const tb_fold *f, tb_error *err) {
       c->piece_from = from; /* the old links: the new pieces only */
     else if (rebuild(c, err))
       return -1;
+    if (c->napart || m->piece) tb_meshless_unlink(c->ml, same_side, m);
     if (drive(m, c, np0)) return tb_error_set(err, "metaball cut", 0, "out of memory");
   }
   if (!c->ml) return converted;

@@ -22,9 +22,10 @@
  *    with the piece's mean velocity.
  * 3. Contact: pairs of spheres on either side of the last fold (their centre
  *    segment crosses it, or they are in two pieces) within 1.5 (r_i + r_j)
- *    are kept at least their present distance apart by the step
- *    (models/metaball.c): the two faces of the crack touch now and do not
- *    pass through each other.
+ *    keep at least their present separation along the fold's normal (carried
+ *    by the first one's rotation) while they face each other, by the step
+ *    (models/metaball.c): the two faces of the crack touch now, may slide
+ *    along each other, and do not pass through each other.
  * 4. The skin: a vertex is bound anew when it is new, asked for, bound to a
  *    removed sphere or one of another piece, or (off the fold) to one whose
  *    centre lies across the fold; then to the spheres with the smallest
@@ -282,18 +283,28 @@ static int seed(tb_metaball *m, const tb_metaball_skin_def *d, pieces *P,
 
 /* ---- 3. contact across the crack ---- */
 
-static int add_contact(tb_metaball *m, int a, int b, double l) {
+/* Pair (a, b) across the fold: the fold's normal at their midpoint, turned
+ * from a to b, in a's rest frame, and their separation along it now. */
+static int add_contact(tb_metaball *m, int a, int b) {
   if (m->ncontact == m->contact_cap) {
     int cap = m->contact_cap ? 2 * m->contact_cap : 256;
     int *c = realloc(m->contact, sizeof(int) * 2 * (size_t)cap);
     if (c) m->contact = c;
     double *dd = realloc(m->cdist, sizeof(double) * (size_t)cap);
     if (dd) m->cdist = dd;
-    if (!c || !dd) return -1;
+    tb_vec3 *nn = realloc(m->cnormal, sizeof(tb_vec3) * (size_t)cap);
+    if (nn) m->cnormal = nn;
+    if (!c || !dd || !nn) return -1;
     m->contact_cap = cap;
   }
-  m->contact[2 * m->ncontact] = a, m->contact[2 * m->ncontact + 1] = b;
-  m->cdist[m->ncontact++] = l;
+  tb_fold_near nr;
+  tb_vec3 d = tb_sub(m->c[b], m->c[a]);
+  tb_fold_nearest(&m->cut->fold, tb_madd(m->c[a], 0.5, d), &nr);
+  tb_vec3 n = m->cut->fold.piece[nr.piece].n;
+  if (tb_dot(d, n) < 0) n = tb_scale(n, -1);
+  int k = m->ncontact++;
+  m->contact[2 * k] = a, m->contact[2 * k + 1] = b;
+  m->cnormal[k] = tb_m3_mulv(tb_m3_transpose(m->rot[a]), n), m->cdist[k] = tb_dot(d, n);
   return 0;
 }
 
@@ -302,7 +313,8 @@ static int contacts(tb_metaball *m, const pieces *P, tb_metaball_skin_report *re
   for (int q = 0; q < m->ncontact; q++) {
     int a = m->contact[2 * q], b = m->contact[2 * q + 1];
     if (!m->alive[a] || !m->alive[b]) continue;
-    m->contact[2 * k] = a, m->contact[2 * k + 1] = b, m->cdist[k++] = m->cdist[q];
+    m->contact[2 * k] = a, m->contact[2 * k + 1] = b, m->cnormal[k] = m->cnormal[q];
+    m->cdist[k++] = m->cdist[q];
   }
   m->ncontact = k;
   if (!m->cut || !m->cut->has_fold) return 0;
@@ -326,7 +338,7 @@ static int contacts(tb_metaball *m, const pieces *P, tb_metaball_skin_report *re
       if (!(l < REACH * (m->r[a] + m->r[b]))) continue;
       int apart = P && P->of_sphere && P->of_sphere[a] != P->of_sphere[b];
       if (!apart && !crosses(m, m->c[a], m->c[b])) continue;
-      if (add_contact(m, a, b, l)) return free(list), -1;
+      if (add_contact(m, a, b)) return free(list), -1;
       rep->contacts++;
     }
   free(list);
@@ -457,83 +469,6 @@ static int rebind_skin(tb_metaball *m, const tb_metaball_skin_def *d, const piec
   return 0;
 }
 
-/* ---- 5. the crack's faces on the skin: twins ---- */
-
-static const tb_vec3 *twin_x; /* qsort's context: positions */
-static int by_place(const void *pa, const void *pb) {
-  int a = *(const int *)pa, b = *(const int *)pb;
-  tb_vec3 p = twin_x[a], q = twin_x[b];
-  for (int k = 0; k < 3; k++)
-    if (tb_comp(p, k) != tb_comp(q, k)) return tb_comp(p, k) < tb_comp(q, k) ? -1 : 1;
-  return a - b;
-}
-
-/* The old twins whose sphere lives, then the new cut's: a vertex on the +
- * side and one on the - side at the same place (the cutter copies a crack
- * point bit for bit), with the nearest fold piece's normal in the rest frame
- * of the - vertex's first sphere, and a reach of twice its mean edge. */
-static int twins(tb_metaball *m, const tb_metaball_skin_def *d, tb_metaball_skin_report *rep) {
-  int k = 0;
-  for (int q = 0; q < m->ntwin; q++) {
-    if (!m->alive[m->tsph[q]]) continue;
-    m->twin[2 * k] = m->twin[2 * q], m->twin[2 * k + 1] = m->twin[2 * q + 1];
-    m->tsph[k] = m->tsph[q], m->tn[k] = m->tn[q], m->treach[k++] = m->treach[q];
-  }
-  m->ntwin = k;
-  tb_vec3 *grown = realloc(m->tpush, sizeof(tb_vec3) * (size_t)(m->n > 0 ? m->n : 1));
-  if (!grown) return -1;
-  m->tpush = grown;
-  memset(m->tpush, 0, sizeof(tb_vec3) * (size_t)m->n);
-  const tb_fold *f = m->cut && m->cut->has_fold ? &m->cut->fold : NULL;
-  if (!f || !d->side) return 0;
-  int n = 0, *on = malloc(sizeof(int) * (size_t)d->nv), *deg = calloc((size_t)d->nv, sizeof(int));
-  double *len = calloc((size_t)d->nv, sizeof(double));
-  if (!on || !deg || !len) return free(on), free(deg), free(len), -1;
-  for (int t = 0; t < d->ntri; t++)
-    for (int e = 0; e < 3; e++) {
-      int a = d->tri[3 * t + e], b = d->tri[3 * t + (e + 1) % 3];
-      double l = tb_dist(d->x[a], d->x[b]);
-      len[a] += l, len[b] += l, deg[a]++, deg[b]++;
-    }
-  for (int v = 0; v < d->nv; v++)
-    if (d->side[v] && deg[v]) on[n++] = v;
-  twin_x = d->x;
-  qsort(on, (size_t)n, sizeof(int), by_place);
-  int rc = 0;
-  for (int i = 0; i + 1 < n && rc == 0; i++) {
-    int a = on[i], b = on[i + 1];
-    if (memcmp(&d->x[a], &d->x[b], sizeof(tb_vec3)) || d->side[a] == d->side[b]) continue;
-    if (d->side[a] < 0) a = on[i + 1], b = on[i];
-    int s = m->bind[b][0];
-    if (s < 0) continue;
-    if (m->ntwin == m->twin_cap) {
-      int cap = m->twin_cap ? 2 * m->twin_cap : 256;
-      int *tw = realloc(m->twin, sizeof(int) * 2 * (size_t)cap);
-      if (tw) m->twin = tw;
-      int *ts = realloc(m->tsph, sizeof(int) * (size_t)cap);
-      if (ts) m->tsph = ts;
-      tb_vec3 *tn = realloc(m->tn, sizeof(tb_vec3) * (size_t)cap);
-      if (tn) m->tn = tn;
-      double *tr = realloc(m->treach, sizeof(double) * (size_t)cap);
-      if (tr) m->treach = tr;
-      if (!tw || !ts || !tn || !tr) {
-        rc = -1;
-        break;
-      }
-      m->twin_cap = cap;
-    }
-    tb_fold_near nr;
-    tb_fold_nearest(f, d->x[b], &nr);
-    int q = m->ntwin++;
-    m->twin[2 * q] = a, m->twin[2 * q + 1] = b, m->tsph[q] = s;
-    m->tn[q] = tb_m3_mulv(tb_m3_transpose(m->rot[s]), f->piece[nr.piece].n);
-    m->treach[q] = 2 * len[b] / deg[b];
-    rep->twins++, i++;
-  }
-  free(on), free(deg), free(len);
-  return rc;
-}
-
 int tb_metaball_set_skin(tb_metaball *m, const tb_metaball_skin_def *d,
                          tb_metaball_skin_report *rep, tb_error *err) {
   tb_metaball_skin_report r;
@@ -563,11 +498,19 @@ int tb_metaball_set_skin(tb_metaball *m, const tb_metaball_skin_def *d,
     if (rc == 0) rc = sphere_pieces(m, d, &P, &r);
     if (rc == 0) rc = relink(m, &P, &r);
     if (rc == 0) rc = seed(m, d, &P, &r);
+    if (rc == 0) {
+      int *grown = realloc(m->piece, sizeof(int) * (size_t)m->n);
+      if (grown) memcpy(m->piece = grown, P.of_sphere, sizeof(int) * (size_t)m->n);
+      rc = grown ? 0 : -1;
+    }
     r.pieces = P.n;
   }
   if (rc == 0) rc = contacts(m, d->ntri > 0 ? &P : NULL, &r);
   if (rc == 0) rc = rebind_skin(m, d, d->ntri > 0 ? &P : NULL, &r);
-  if (rc == 0) rc = twins(m, d, &r);
+  if (rc == 0)
+    rc = tb_metaball_zone_add(m, d, m->cut && m->cut->has_fold ? &m->cut->fold : NULL,
+                              d->ntri > 0 ? P.of_vertex : NULL, P.n, &r.zone_vertices,
+                              &r.zone_triangles);
   pieces_free(&P);
   if (rc) return tb_error_set(err, "metaball skin", 0, "out of memory (%d vertices)", d->nv);
   if (rep) *rep = r;

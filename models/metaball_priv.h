@@ -33,17 +33,13 @@ struct tb_metaball {
   tb_vec3 (*xo)[3]; /* per skin vertex and binding q: x0 - c0 of its sphere */
   /* Contacts across cracks (models/metaball_pieces.c): sphere pairs kept at
    * least their distance at the cut's end apart (the step projects them). */
+  int *piece; /* per sphere: its piece of the surface at the last cut's end (-1, or NULL
+               * before a cut: one body) */
   int ncontact, contact_cap;
-  int *contact;  /* 2 ncontact spheres */
-  double *cdist; /* ncontact least distances */
-  /* ... and the crack's faces on the skin: twin vertices (one point of the
-   * crack, a copy on each side) kept on their sides of each other. */
-  int ntwin, twin_cap;
-  int *twin;      /* 2 ntwin vertices: on the + side, on the - side */
-  int *tsph;      /* the sphere whose rotation carries the twin's normal */
-  tb_vec3 *tn;    /* the crack's normal (to the + side) in that sphere's rest frame */
-  double *treach; /* beyond this tangential offset the two no longer face each other */
-  tb_vec3 *tpush; /* per sphere: the push of a step's contact (scratch, m->n) */
+  int *contact;     /* 2 ncontact spheres a, b */
+  double *cdist;    /* their least separation along ... */
+  tb_vec3 *cnormal; /* ... the crack's normal from a to b, in the rest frame (a's R turns it) */
+  struct tb_metaball_zone *zone; /* the skin's contact across cracks (metaball_contact.c) */
 };
 
 /* The cut's state (models/metaball_cut.c, metaball_repack.c). */
@@ -76,10 +72,16 @@ typedef struct tb_metaball_cut {
   int nfrom;        /* the first new piece of the last fold given, and ... */
   tb_vec3 nlo, nhi; /* ... the box of the pieces from it on */
   unsigned char *isdriven;
+  long long *apart; /* sorted keys a n + b (a < b) of the sphere pairs across earlier cracks */
+  int napart;
   double *row;
   tb_vec3 *vbuf;
 } tb_metaball_cutstate;
 
+/* 1 when spheres a and b lie in two pieces or across an earlier crack (a
+ * contact pair): their points never link, nor does one take the other's
+ * grid points (models/metaball_cut.c). */
+int tb_metaball_apart(const tb_metaball *m, int a, int b);
 /* The cut test handed to the point set (ctx: the cut state). */
 int tb_metaball_cut_crosses(void *ctx, tb_vec3 a, tb_vec3 b);
 /* Frees the points and the per-frame buffers (keeps the fold). */
@@ -102,6 +104,20 @@ void tb_metaball_bind_offsets(tb_metaball *m, int v);
  * Chentanez & Macklin 2016) at most `turns` times, until a turn is below
  * tol radians (models/metaball.c's head says why warm starts). */
 tb_mat3 tb_metaball_turns(tb_mat3 a, tb_mat3 r, int turns, double tol);
+/* The skin from the spheres (models/metaball.c). */
+void tb_metaball_reskin(tb_metaball *m);
+/* The skin's contact after cuts (models/metaball_contact.c). At a cut's
+ * end (d: the new surface, its vertices' crack sides; f: the fold;
+ * of_vertex: each vertex's piece of npiece, or NULL): the crack's twins, the
+ * cut's zone (the vertices and triangles near the crack by their side) and
+ * the surface by pieces. 0, or -1 out of memory. */
+struct tb_metaball_skin_def;
+int tb_metaball_zone_add(tb_metaball *m, const struct tb_metaball_skin_def *d, const tb_fold *f,
+                         const int *of_vertex, int npiece, int *nvert, int *ntri);
+/* In a step, after the skin: what meets across a crack or between pieces
+ * pushes its spheres apart; the skin again. Allocates nothing. */
+void tb_metaball_zone_contact(tb_metaball *m, double dt);
+void tb_metaball_zone_free(tb_metaball *m);
 /* Frees the cut's state (models/metaball_cut.c); tb_metaball_destroy calls it. */
 void tb_metaball_cut_release(tb_metaball *m);
 

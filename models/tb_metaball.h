@@ -154,15 +154,15 @@ typedef struct tb_metaball_skin_def {
 } tb_metaball_skin_def;
 
 typedef struct tb_metaball_skin_report {
-  int pieces;    /* the surface's pieces */
-  int outside;   /* new spheres whose centre lay in no piece, removed */
-  int links_cut; /* links between spheres of two pieces, removed */
-  int joined;    /* links added to join a piece's sphere groups into one */
-  int anchored;  /* links added to spheres that had fewer than three */
-  int seeded;    /* spheres made for pieces that had none */
-  int rebound;   /* vertices bound anew */
-  int contacts;  /* sphere pairs across the crack kept apart from now on */
-  int twins;     /* crack points with a copy on each side, kept on their sides */
+  int pieces;                        /* the surface's pieces */
+  int outside;                       /* new spheres whose centre lay in no piece, removed */
+  int links_cut;                     /* links between spheres of two pieces, removed */
+  int joined;                        /* links added to join a piece's sphere groups into one */
+  int anchored;                      /* links added to spheres that had fewer than three */
+  int seeded;                        /* spheres made for pieces that had none */
+  int rebound;                       /* vertices bound anew */
+  int contacts;                      /* sphere pairs across the crack kept apart from now on */
+  int zone_vertices, zone_triangles; /* the crack's faces and surroundings, kept apart */
 } tb_metaball_skin_report;
 
 /* Replaces the skin by d->nv vertices at current positions d->x (a surface

@@ -99,15 +99,16 @@ static int make_organs(const char *dir, uint64_t seed, organ *o, char *sofa_why,
   return n;
 }
 
-/* A blade from above: its edge along the path at height z over the top,
- * the depth reaching `reach` of the way down past the bottom (1: through),
- * tilted by `tilt` radians towards +across. */
+/* A blade from above: its edge along the path a tenth of the height over
+ * the top, its depth reaching `reach` of the way down (1: through, with
+ * room for the organ's sag under gravity before the blade comes: 0.4 of
+ * the height past the bottom), tilted by `tilt` radians towards +across. */
 static tb_cut_blade blade(const organ *g, int n, const double (*ab)[2], double reach, double tilt,
                           double start, double stop) {
   tb_cut_blade b;
   memset(&b, 0, sizeof b);
   double h = g->hi.z - g->lo.z, top = g->hi.z + 0.1 * h;
-  double down = reach * 1.2 * h + 0.1 * h;
+  double down = reach * 1.4 * h + 0.1 * h;
   b.n = n;
   for (int i = 0; i < n; i++) b.p[i] = along(g->ax, ab[i][0], ab[i][1], top);
   b.depth = tb_scale(along(g->ax, 0, sin(tilt), -cos(tilt)), down);
@@ -125,7 +126,7 @@ typedef struct spec {
 static int designed(const organ *g, spec *s, int max) {
   double a0 = comp(g->lo, g->ax), a1 = comp(g->hi, g->ax), b0 = comp(g->lo, 1 - g->ax),
          b1 = comp(g->hi, 1 - g->ax), L = a1 - a0, W = b1 - b0, m = 0.15 * W;
-  double mid = a0 + 0.55 * L, far = a0 + 0.93 * L;
+  double mid = a0 + 0.55 * L, far = a0 + 0.93 * L, h = g->hi.z - g->lo.z;
   int n = 0;
 #define ADD(nm, ex)                                  \
   if (n < max) {                                     \
@@ -148,7 +149,9 @@ static int designed(const organ *g, spec *s, int max) {
   ADD("partial", 1) s[n++].t.blade[0] = blade(g, 2, partial, 1, 0, 0.1, 0.3);
   const double miss[2][2] = {{a1 + 0.3 * L, b0 - m}, {a1 + 0.3 * L, b1 + m}};
   ADD("miss", 1) s[n++].t.blade[0] = blade(g, 2, miss, 1, 0, 0.1, 0.3);
-  ADD("tilted blade", 2) s[n++].t.blade[0] = blade(g, 2, straight, 1, 0.5, 0.1, 0.3);
+  const double wide[2][2] = {{mid, b0 - m - 1.5 * h},
+                             {mid, b1 + m + 1.5 * h}}; /* the tilt's reach */
+  ADD("tilted blade", 2) s[n++].t.blade[0] = blade(g, 2, wide, 1, 0.5, 0.1, 0.3);
   const double lengthwise[2][2] = {{a0 + 0.3 * L, 0.5 * (b0 + b1)},
                                    {a1 + 0.1 * L, 0.5 * (b0 + b1)}};
   ADD("crossing", 0) {
