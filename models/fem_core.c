@@ -89,6 +89,13 @@ static double laplacian_entry(tb_mat3 dm_inv, double vol, int a, int b) {
   return vol * tb_dot(g[a], g[b]);
 }
 
+void tb_fem_laplacian(tb_fem *f) {
+  memset(f->lb, 0, sizeof(double) * (size_t)f->nblk);
+  for (int t = 0; t < f->ntet; t++)
+    for (int ab = 0; ab < 16; ab++)
+      f->lb[f->tet_blk[16 * t + ab]] += laplacian_entry(f->dm_inv[t], f->vol[t], ab / 4, ab % 4);
+}
+
 void tb_fem_add_element(tb_fem *f, int t, const double *k) {
   const int *blk = f->tet_blk + 16 * t;
   for (int ab = 0; ab < 16; ab++) {
@@ -372,9 +379,16 @@ tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot
     tb_error_set(err, name, 0, "out of memory");
     goto fail;
   }
-  for (int t = 0; t < f->ntet; t++) /* pd's Laplacian: V g_a . g_b per node pair */
-    for (int ab = 0; ab < 16; ab++)
-      f->lb[f->tet_blk[16 * t + ab]] += laplacian_entry(f->dm_inv[t], f->vol[t], ab / 4, ab % 4);
+  tb_fem_laplacian(f);
+  f->density = def->density, f->node_mass = def->node_mass;
+  f->consistent = def->consistent_mass && !(def->node_mass > 0);
+  f->hit = calloc(nt, 1);
+  if (!f->hit) {
+    tb_error_set(err, name, 0, "out of memory");
+    goto fail;
+  }
+  if (tb_carve_init(&f->carve, mesh, name, err)) goto fail;
+  memcpy(f->carve.mass, mass, sizeof(double) * nv);
   if (build_matrix(f, err)) goto fail;
   f->L = cholmod_analyze(f->A, &f->cc);
   f->B = cholmod_zeros((size_t)f->A->nrow, 1, CHOLMOD_REAL, &f->cc);
@@ -411,6 +425,8 @@ void tb_fem_destroy(tb_fem *f) {
   free(f->fixed_list), free(f->tet), free(f->dm_inv), free(f->ke), free(f->tet_blk);
   free(f->row), free(f->col), free(f->diag), free(f->kb), free(f->mb);
   free(f->a_blk), free(f->a_mass), free(f->a_diag), free(f->mass);
+  free(f->hit);
+  tb_carve_free(&f->carve);
   free(f);
 }
 

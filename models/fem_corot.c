@@ -24,7 +24,7 @@
  * runs on threads over all tets into per-tet buffers, then each node sums
  * its forces and its row's blocks of R K_e R^T from them in a fixed order
  * (2 barriers per step, not one per colour; bit-identical for any thread
- * count). */
+ * count). Cutting removes the tets the blade touches (fem_cut.c). */
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
@@ -326,4 +326,7 @@ const tb_model_class tb_model_fem_corot = {
     .destroy = destroy,
     .masses = tb_fem_masses,
     .correct = tb_fem_correct,
+    .cut = tb_fem_cut,
+    .surface = tb_fem_surface,
+    .tets_alive = tb_fem_tets_alive,
 };

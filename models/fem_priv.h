@@ -8,6 +8,7 @@
 
 #include <cholmod.h>
 
+#include "carve_priv.h"
 #include "tb_model.h"
 
 /* The settings fem and fem-corot read; each declares its table in its own
@@ -106,6 +107,14 @@ typedef struct tb_fem {
   long iters;                /* CG iterations, refinements or pd iterations so far */
   int last_iters;
   double last_res; /* ||b - A y|| / ||b|| of the last iterative solve */
+
+  /* cutting (fem_cut.c): a removed tet keeps its index with volume 0 and
+   * K_e 0 (carve.alive[t] == 0); the masses are lumped again from the tets
+   * left */
+  tb_carve carve;
+  unsigned char *hit; /* per tet: touched by the blade at this MOVE */
+  double density, node_mass;
+  int consistent; /* consistent masses: not cut */
 } tb_fem;
 
 /* Row loops over at least this many nodes (the iterative solvers' matrix
@@ -123,6 +132,15 @@ enum { TB_FEM_EXACT, TB_FEM_PCG, TB_FEM_LAGGED, TB_FEM_PD };
  * analysis, workspaces. Returns NULL with err filled. */
 tb_fem *tb_fem_create(const tb_mesh *mesh, const tb_fem_settings *def, int corot, const char *name,
                       tb_error *err);
+/* pd's Laplacian sums lb (V g_a . g_b per node pair) over the tets (a
+ * removed tet, volume 0, adds nothing). */
+void tb_fem_laplacian(tb_fem *f);
+/* fem-corot's cut (removes the tets the blade touches) and its surface
+ * (the boundary of the tets left), fem_cut.c. */
+int tb_fem_cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *err);
+tb_surface tb_fem_surface(const void *self);
+const unsigned char *tb_fem_tets_alive(const void *self);
+
 /* The class functions fem and fem-corot share. */
 const double *tb_fem_masses(const void *self);
 void tb_fem_correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v);

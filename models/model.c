@@ -336,6 +336,9 @@ int tb_model_cut(tb_model *m, const tb_cut_event *ev, tb_cut_stats *stats, tb_er
   return m->cls->cut(m->self, ev, stats, err);
 }
 int tb_model_can_cut(const tb_model *m) { return m->cls->cut != NULL; }
+const unsigned char *tb_model_tets_alive(const tb_model *m) {
+  return m->cls->tets_alive ? m->cls->tets_alive(m->self) : NULL;
+}
 int tb_model_owns_ground(const tb_model *m) {
   return m->cls->owns_ground ? m->cls->owns_ground(m->self) : m->cls->own_ground;
 }

@@ -28,7 +28,10 @@
  * fem's Rayleigh b; pbd_solve.c says how each model applies it)
  * and damping (Müller 2007: velocities relative to the rigid motion).
  *
- * The ground is projected with the tets (own_ground): see pbd_solve.c. */
+ * The ground is projected with the tets (own_ground): see pbd_solve.c.
+ *
+ * Cutting removes the tets the blade touches (carve.c): their constraints
+ * leave the colour lists, the masses are lumped again from the tets left. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -44,6 +47,8 @@ static void destroy(void *self) {
   free(s->depth), free(s->cids), free(s->cp), free(s->cdepth), free(s->cvn), free(s->keep),
       free(s->fric);
   free(s->tet), free(s->vol), free(s->dminv), free(s->lam), free(s->colour_start);
+  free(s->hit), free(s->orig);
+  tb_carve_free(&s->carve);
   free(s);
 }
 
@@ -132,7 +137,11 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++) s->dminv[k][3 * r + c] = inv.m[r][c];
   }
+  s->hit = calloc(T, 1), s->orig = malloc(sizeof(int) * T);
+  if (s->orig) memcpy(s->orig, order, sizeof(int) * T);
   free(order);
+  if (!s->hit || !s->orig || tb_carve_init(&s->carve, mesh, name, err)) goto fail;
+  memcpy(s->carve.mass, s->mass, sizeof(double) * V);
   return s;
 fail:
   destroy(s);
@@ -179,6 +188,49 @@ static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const t
     s->xm1[i] = s->have_prev ? tb_madd(s->x[i], -s->last_dt, s->v[i]) : s->x[i];
     s->vm1[i] = s->v[i];
   }
+}
+
+/* A cut event: at MOVE the tets the blade touched leave every per-tet
+ * array (colour order kept), then the masses and the surface follow. */
+static int cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *err) {
+  pbd *s = self;
+  int nhit = tb_carve_event(&s->carve, ev, s->x, (const int *)s->tet, s->nt, NULL, s->hit, err);
+  if (nhit < 0) return -1;
+  if (ev->kind == TB_CUT_END && st) tb_carve_stats(&s->carve, st);
+  if (nhit == 0) return 0;
+  int n = 0;
+  for (int c = 0; c < s->ncolours; c++) {
+    int a = s->colour_start[c], b = s->colour_start[c + 1];
+    s->colour_start[c] = n;
+    for (int t = a; t < b; t++) {
+      if (s->hit[t]) {
+        s->carve.alive[s->orig[t]] = 0;
+        continue;
+      }
+      s->orig[n] = s->orig[t];
+      memcpy(s->tet[n], s->tet[t], sizeof s->tet[n]);
+      memcpy(s->dminv[n], s->dminv[t], sizeof s->dminv[n]);
+      s->vol[n] = s->vol[t], s->lam[n] = s->lam[t];
+      n++;
+    }
+  }
+  s->colour_start[s->ncolours] = n;
+  memset(s->hit, 0, (size_t)s->nt);
+  s->nt = n;
+  if (tb_carve_update(&s->carve, (const int *)s->tet, n, NULL, nhit, s->set.density,
+                      s->set.node_mass, err))
+    return -1;
+  for (int i = 0; i < s->nv; i++) s->mass[i] = s->carve.mass[i], s->invm[i] = 1 / s->mass[i];
+  return 0;
+}
+
+static const unsigned char *tets_alive(const void *self) {
+  return ((const pbd *)self)->carve.alive;
+}
+
+static tb_surface surface(const void *self) {
+  const pbd *s = self;
+  return tb_carve_surface(&s->carve, s->x);
 }
 
 #define S pbd_settings
@@ -230,6 +282,9 @@ const tb_model_class tb_model_pbd_stvk = {
     .masses = masses,
     .correct = correct,
     .own_ground = 1,
+    .cut = cut,
+    .surface = surface,
+    .tets_alive = tets_alive,
 };
 
 const tb_model_class tb_model_xpbd_stvk = {
@@ -249,4 +304,7 @@ const tb_model_class tb_model_xpbd_stvk = {
     .masses = masses,
     .correct = correct,
     .own_ground = 1,
+    .cut = cut,
+    .surface = surface,
+    .tets_alive = tets_alive,
 };

@@ -4,6 +4,7 @@
 #ifndef TB_PBD_PRIV_H
 #define TB_PBD_PRIV_H
 
+#include "carve_priv.h"
 #include "tb_model.h"
 
 enum { PBD_STVK, PBD_NEOHOOKEAN };
@@ -39,6 +40,10 @@ typedef struct pbd {
   double (*dminv)[9];
   double *lam;
   int ncolours, *colour_start;
+  /* cutting: the tets removed so far, the surface left (carve.c) */
+  tb_carve carve;
+  unsigned char *hit; /* per tet: touched by the blade at this MOVE */
+  int *orig;          /* per tet: its index in the rest mesh */
   /* BDF2 needs the previous step (and its dt) */
   int have_prev;
   double last_dt;

@@ -219,6 +219,9 @@ typedef struct tb_model_class {
   /* Cutting (NULL: the model cannot be cut): one event; stats (may be
    * NULL) is filled at END. */
   int (*cut)(void *self, const tb_cut_event *ev, tb_cut_stats *stats, tb_error *err);
+  /* A tet model that cuts by removing tets: per tet of the rest mesh, in
+   * its order, 0 once a cut removed it (NULL: all alive). */
+  const unsigned char *(*tets_alive)(const void *self);
   /* What pictures of the model's structure show (render --structure):
    * its spheres and their links, or its point groups (NULL: it has none;
    * with neither, the tet edges). */
@@ -288,6 +291,9 @@ void tb_model_correct(tb_model *m, int n, const int *ids, const tb_vec3 *x, cons
 /* A cut event (see tb_cut_event); an error for a model that cannot be cut,
  * an event out of order, or a path with fewer than 2 points at MOVE. */
 int tb_model_cut(tb_model *m, const tb_cut_event *ev, tb_cut_stats *stats, tb_error *err);
+/* Per tet of the rest mesh: 0 once a cut removed it; NULL when all are
+ * there (see tb_model_class.tets_alive). */
+const unsigned char *tb_model_tets_alive(const tb_model *m);
 /* 1 when the model's class can be cut. */
 int tb_model_can_cut(const tb_model *m);
 /* 1 when the model's step handles the scene's ground itself (own_ground). */

@@ -62,10 +62,16 @@ int tb_sim_cut_setup(tb_sim *s, tb_error *err) {
   s->priv->active = -1;
   if (!d->ncut) return 0;
   const char *path = d->path[0] ? d->path : d->name;
-  if (!tb_model_can_cut(&s->model))
+  if (!tb_model_can_cut(&s->model)) {
+    char can[256] = "";
+    for (int i = 0, len = 0; i < tb_model_count && len < (int)sizeof can; i++)
+      if (tb_model_classes[i]->cut)
+        len += snprintf(can + len, sizeof can - (size_t)len, "%s%s", len ? ", " : "",
+                        tb_model_classes[i]->name);
     return tb_error_set(err, path, d->cut[0].line,
-                        "[cut]: the %s model cannot be cut (models that can: metaball)",
-                        s->model.cls->name);
+                        "[cut]: the %s model cannot be cut (models that can: %s)",
+                        s->model.cls->name, can);
+  }
   s->priv->blade = calloc((size_t)d->ncut, sizeof *s->priv->blade);
   if (!s->priv->blade) return tb_error_set(err, path, 0, "out of memory");
   s->priv->nblade = d->ncut;

@@ -115,10 +115,28 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
                             {"strain", 1, strain, NULL, 1},
                             {"inverted", 1, NULL, inv, 1},
                             {"von_mises", 1, vm, NULL, 1}};
+  /* a tet model a cut carved: the tets left, with their cell data */
+  const unsigned char *alive = tb_model_tets_alive(&s->model);
+  int *left = NULL, nleft = (int)nt;
+  if (nt && alive) {
+    left = malloc(sizeof(int) * 4 * nt);
+    if (!left) {
+      free(disp), free(strain), free(vm), free(inv), free(vel);
+      return tb_error_set(err, path, 0, "out of memory");
+    }
+    nleft = 0;
+    for (size_t t = 0; t < nt; t++) {
+      if (!alive[t]) continue;
+      memcpy(left + 4 * nleft, m->tet + 4 * t, 4 * sizeof(int));
+      strain[nleft] = strain[t], vm[nleft] = vm[t], inv[nleft] = inv[t];
+      nleft++;
+    }
+  }
   tb_vtu_piece pieces[3];
   int npc = 0;
   if (nt) /* a tet mesh: its tets with cell data */
-    pieces[npc++] = (tb_vtu_piece){m->nv, x, 0, NULL, m->ntet, m->tet, stress ? 5 : 4, arrays};
+    pieces[npc++] =
+        (tb_vtu_piece){m->nv, x, 0, NULL, nleft, left ? left : m->tet, stress ? 5 : 4, arrays};
   else /* a surface: its triangles now, point data alone */
     pieces[npc++] = (tb_vtu_piece){(int)nv, x, su.ntri, su.tri, 0, NULL, 2, arrays};
   if (s->has_tool)
@@ -141,7 +159,7 @@ int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err) {
     pieces[npc++] = (tb_vtu_piece){4, quad, 2, quad_tri, 0, NULL, 0, NULL};
   }
   int rc = tb_vtu_write(path, pieces, npc, err);
-  free(disp), free(strain), free(vm), free(inv), free(vel);
+  free(disp), free(strain), free(vm), free(inv), free(vel), free(left);
   return rc;
 }
 

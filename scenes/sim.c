@@ -571,7 +571,9 @@ tb_sim_metrics tb_sim_measure(const tb_sim *s) {
     sum2 += d * d;
     z += x[i].z;
   }
+  const unsigned char *alive = tb_model_tets_alive(&s->model); /* a cut removed the others */
   for (int t = 0; t < s->mesh.ntet; t++) {
+    if (alive && !alive[t]) continue;
     const int *e = s->mesh.tet + 4 * t;
     v0 += tb_tet_volume(s->mesh.x[e[0]], s->mesh.x[e[1]], s->mesh.x[e[2]], s->mesh.x[e[3]]);
     double vol = tb_tet_volume(x[e[0]], x[e[1]], x[e[2]], x[e[3]]);

@@ -30,18 +30,24 @@ int tb_mbs_frames(tb_model *m, const tb_step *in, int n, double *wall, double *c
 /* The plan's frames of m under in: wall and cpu get nblocks samples each. */
 int tb_mbs_deform(tb_model *m, const tb_step *in, const tb_mbs_plan *p, double *wall, double *cpu,
                   tb_error *err);
+/* Table 1's cut, for any model that cuts: the blade's edge under the
+ * organ across its shorter horizontal extent through the middle, its depth
+ * through the whole thickness (10% margins), crossing in
+ * TB_MBS_CUT_FRAMES frames (a frame: MOVE with the path so far, then a
+ * step under in, each timed), then END (timed). */
+#define TB_MBS_CUT_FRAMES 20
+typedef struct tb_mbs_cut_times {
+  double move[TB_MBS_CUT_FRAMES], step[TB_MBS_CUT_FRAMES]; /* CPU ms */
+  double wall[TB_MBS_CUT_FRAMES];                          /* a frame's wall ms */
+  double end_cpu, end_wall;
+  tb_cut_stats st;
+} tb_mbs_cut_times;
+int tb_mbs_cut(tb_model *m, const tb_step *in, tb_mbs_cut_times *o, tb_error *err);
 /* 1 when every point of m is finite. */
 int tb_mbs_finite(const tb_model *m);
 
-/* The metaball steak of table 1, for table 2's last row: its spheres and
- * its cut frame's CPU ms (the median of the repetitions' medians); table 2
- * times its deformation again, taking turns with the tet models. */
-typedef struct tb_mbs_steak {
-  int ok, spheres;
-  double cut_ms;
-} tb_mbs_steak;
 /* Table 2 (the patent's comparison on the steak) and the convergence
  * table; returns 0, or 1 when a run failed (the tables say which). */
-int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o, const tb_mbs_steak *mb);
+int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o);
 
 #endif

@@ -8,9 +8,9 @@
  *  defaults with the same dt, holds and gravity as table 1, and the metaball
  *  steak of table 1 again: the three on one thread, live side by side and
  *  taking turns block by block, CPU time (wall beside), each tet model's
- *  time over the metaball's with its 95% interval (paired by block); the
- *  metaball's cut from table 1. tissuebench cuts no tet mesh: their cut
- *  cells stay empty.
+ *  time over the metaball's with its 95% interval (paired by block). Then
+ *  table 1's cut on each (the tet models by element removal, models/carve.c):
+ *  ms per cut frame and what the cut left (pieces, closed, manifold, volume).
  *  Convergence: frames to come to rest after a push (a downward force on a
  *  top patch at the middle, both ends held, no gravity; then released):
  *  the metaball steak against pbd-stvk, fem-corot and msm on the ~1477-tet
@@ -193,15 +193,51 @@ done:
 }
 
 /* What table 2 measured of each row: CPU and wall ms per frame (medians
- * over blocks), the CPU ratio to the metaball steak's paired by block. */
+ * over blocks), the CPU ratio to the metaball steak's paired by block; then
+ * table 1's cut on the model as it hangs: a cut frame's CPU ms (MOVE + step,
+ * the median of the frames with its interval) and wall, END's ms, and the
+ * surface it leaves (pieces, closed, manifold, enclosed volume against just
+ * before the cut). */
 typedef struct t2row {
   int ok, elements;
   char why[160];
   tb_est cpu, ratio;
   double wall;
+  int cut_ok, pieces, closed, manifold;
+  tb_est cut_cpu;
+  double cut_wall, end_ms, vol_change;
+  double frame[TB_MBS_CUT_FRAMES], frame_w[TB_MBS_CUT_FRAMES]; /* cut frames' CPU and wall ms */
+  char cut_why[160];
 } t2row;
 
-static void table2(tb_suite *su, const t2row *w, const tb_mbs_steak *mb) {
+static double surface_volume(const tb_model *m, tb_mesh_topo *topo) {
+  tb_surface su = tb_model_surface(m);
+  tb_mesh view = {.nv = su.nv, .x = (tb_vec3 *)su.x, .ntri = su.ntri, .tri = (int *)su.tri};
+  if (topo) *topo = tb_mesh_topology(&view);
+  return tb_mesh_volume(&view);
+}
+
+static void cut_row(deformer *d, t2row *w) {
+  if (!d->live || d->failed) return;
+  double v0 = surface_volume(&d->m, NULL);
+  tb_mbs_cut_times t;
+  tb_error err;
+  if (tb_mbs_cut(&d->m, &d->in, &t, &err)) {
+    snprintf(w->cut_why, sizeof w->cut_why, "cut failed: %.140s", err.msg);
+    return;
+  }
+  for (int f = 0; f < TB_MBS_CUT_FRAMES; f++)
+    w->frame[f] = t.move[f] + t.step[f], w->frame_w[f] = t.wall[f];
+  w->cut_cpu = tb_median_est(w->frame, TB_MBS_CUT_FRAMES);
+  w->cut_wall = tb_stats_of(t.wall, TB_MBS_CUT_FRAMES).median, w->end_ms = t.end_cpu;
+  tb_mesh_topo topo;
+  w->vol_change = surface_volume(&d->m, &topo) / v0 - 1;
+  w->pieces = topo.components, w->closed = topo.closed, w->manifold = topo.manifold;
+  w->cut_ok = tb_mbs_finite(&d->m);
+  if (!w->cut_ok) snprintf(w->cut_why, sizeof w->cut_why, "cut failed: NaN or inf");
+}
+
+static void table2(tb_suite *su, const t2row *w) {
   static const char *cols[] = {"method (patent)",
                                "ours",
                                "elements (patent)",
@@ -209,18 +245,29 @@ static void table2(tb_suite *su, const t2row *w, const tb_mbs_steak *mb) {
                                "deform (ms/frame, patent)",
                                "deform CPU (ms/frame, ours)",
                                "cut (ms/frame, patent)",
-                               "cut CPU (ms/frame, ours)",
+                               "cut frame CPU (ms, ours, 95% interval)",
+                               "cut frame CPU low (ms)",
+                               "cut frame CPU high (ms)",
+                               "cut end CPU (ms)",
+                               "pieces after the cut",
+                               "surface closed",
+                               "surface manifold",
+                               "volume change through the cut (%)",
                                "deform wall (ms/frame, ours)",
+                               "cut frame wall (ms, ours)",
                                "deform / metaball's, CPU (ours, 95% interval)",
                                "deform / metaball's low",
                                "deform / metaball's high",
                                "deform / metaball's (patent)"};
+  enum { NCOL = (int)(sizeof cols / sizeof cols[0]) };
   tb_table *t = tb_table_new("table2",
                              "Patent table 2: the steak, the patent's comparison beside ours "
                              "(dt 0.01, gravity, both ends held; one thread, CPU time, the "
-                             "models taking turns block by block)",
-                             13, cols);
-  tb_table_only(t, 10, TB_CSV_ONLY), tb_table_only(t, 11, TB_CSV_ONLY);
+                             "models deforming in turns block by block; then table 1's cut "
+                             "on each, the tet models by element removal)",
+                             NCOL, cols);
+  tb_table_only(t, 8, TB_CSV_ONLY), tb_table_only(t, 9, TB_CSV_ONLY);
+  tb_table_only(t, 18, TB_CSV_ONLY), tb_table_only(t, 19, TB_CSV_ONLY);
   for (int r = 0; r < NROWS; r++) {
     tb_table_row(t);
     tb_table_cell(t, "%s", patent[r].method);
@@ -228,7 +275,7 @@ static void table2(tb_suite *su, const t2row *w, const tb_mbs_steak *mb) {
     tb_table_num(t, patent[r].elements, "%.0f");
     if (!w[r].ok) {
       tb_table_cell(t, "%s", w[r].why);
-      for (int c = 4; c < 13; c++) tb_table_cell(t, "-");
+      for (int c = 4; c < NCOL; c++) tb_table_cell(t, "-");
       continue;
     }
     int el = w[r].elements;
@@ -237,27 +284,35 @@ static void table2(tb_suite *su, const t2row *w, const tb_mbs_steak *mb) {
     tb_table_num(t, patent[r].deform, "%.1f");
     tb_table_num(t, w[r].cpu.value, "%.3f");
     tb_table_num(t, patent[r].cut, "%.1f");
-    if (r == MB && mb->ok)
-      tb_table_num(t, mb->cut_ms, "%.3f");
+    if (w[r].cut_ok) {
+      tb_table_est(t, w[r].cut_cpu, "%.3f", "");
+      tb_table_num(t, w[r].cut_cpu.lo, "%.6g"), tb_table_num(t, w[r].cut_cpu.hi, "%.6g");
+      tb_table_num(t, w[r].end_ms, "%.3f");
+      tb_table_num(t, w[r].pieces, "%.0f");
+      tb_table_cell(t, "%s", w[r].closed ? "yes" : "no");
+      tb_table_cell(t, "%s", w[r].manifold ? "yes" : "no");
+      tb_table_num(t, 100 * w[r].vol_change, "%+.2f");
+    } else {
+      tb_table_cell(t, "%s", w[r].cut_why[0] ? w[r].cut_why : "-");
+      for (int c = 8; c < 15; c++) tb_table_cell(t, "-");
+    }
+    tb_table_num(t, w[r].wall, "%.3f");
+    if (w[r].cut_ok)
+      tb_table_num(t, w[r].cut_wall, "%.3f");
     else
       tb_table_cell(t, "-");
-    tb_table_num(t, w[r].wall, "%.3f");
     if (r == MB) {
-      for (int c = 9; c < 13; c++) tb_table_cell(t, "-");
+      for (int c = 17; c < NCOL; c++) tb_table_cell(t, "-");
       continue;
     }
-    if (isfinite(w[r].ratio.value))
-      tb_table_numf(t, w[r].ratio.value, "%.2fx (%.2f-%.2f)", w[r].ratio.value, w[r].ratio.lo,
-                    w[r].ratio.hi);
-    else
-      tb_table_cell(t, "-");
+    tb_table_est(t, w[r].ratio, "%.2f", "x");
     tb_table_num(t, w[r].ratio.lo, "%.6g"), tb_table_num(t, w[r].ratio.hi, "%.6g");
     tb_table_num(t, patent[r].deform / patent[MB].deform, "%.2fx");
   }
   tb_suite_table(su, t);
 }
 
-int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o, const tb_mbs_steak *mb) {
+int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o) {
   int smoke = o->scale < 1, failed = 0;
   tb_mbs_plan p = smoke     ? (tb_mbs_plan){2, 3, 2}
                   : o->full ? (tb_mbs_plan){10, 20, 10}
@@ -335,11 +390,28 @@ int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o, const tb_mbs_steak *mb)
     tb_suite_counter(su, name, "patent_deform_ms", patent[r].deform);
     tb_suite_counter(su, name, "patent_cut_ms", patent[r].cut);
   }
+  /* then table 1's cut on each, one after the other */
+  for (int r = 0; r < NROWS; r++) {
+    if (!w[r].ok) continue;
+    cut_row(&d[r], &w[r]);
+    if (!w[r].cut_ok) {
+      failed = 1;
+      fprintf(stderr, "metaball: table 2, %s: %s\n", patent[r].ours, w[r].cut_why);
+      continue;
+    }
+    char name[96];
+    snprintf(name, sizeof name, "table2/%s/cut", patent[r].ours);
+    tb_suite_bench(su, name, w[r].frame_w, w[r].frame, TB_MBS_CUT_FRAMES, "ms");
+    tb_suite_counter(su, name, "end_ms", w[r].end_ms);
+    tb_suite_counter(su, name, "pieces", w[r].pieces);
+    tb_suite_counter(su, name, "closed", w[r].closed);
+    tb_suite_counter(su, name, "manifold", w[r].manifold);
+    tb_suite_counter(su, name, "volume_change", w[r].vol_change);
+    tb_suite_counter(su, name, "patent_cut_ms", patent[r].cut);
+  }
   for (int r = 0; r < NROWS; r++) deformer_close(&d[r]);
   free(store);
-  if (!mb->ok && w[MB].ok) /* no cut from table 1 */
-    snprintf(w[MB].why, sizeof w[MB].why, "table 1's steak failed"), w[MB].ok = 0;
-  table2(su, w, mb);
+  table2(su, w);
   tb_suite_note(su,
                 "Ours at each model's defaults (fem-corot: E 3000, nu 0.3, implicit Euler, "
                 "CHOLMOD; pbd-stvk: k 0.4, 5 iterations; density 1; metaball: table 1's steak, "
@@ -348,14 +420,25 @@ int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o, const tb_mbs_steak *mb)
                 "take turns: %d warm frames each, then %d blocks of %d frames, block by block "
                 "(fem-corot, pbd-stvk, metaball, fem-corot, ...), each block's mean CPU ms per "
                 "frame one sample, the median shown (wall beside); `deform / metaball's` is the "
-                "median of the blocks' paired CPU-time ratios with its 95%% interval. The metaball "
-                "row's cut is table 1's steak (CPU, the median of its repetitions' medians). The "
-                "tet steaks: "
-                "tb_organ_surface(\"steak\") at tb_liver_surface_for(N) vertices, TetGen with "
-                "the largest tet volume searched to within 2%% of N. Cut: tissuebench cuts no "
-                "tet mesh (no FEM + meshless or PBD-on-tets cutting is built), so those cells "
-                "are empty; no number is invented.",
-                TB_MBS_DT, p.warm, p.nblocks, p.block);
+                "median of the blocks' paired CPU-time ratios with its 95%% interval. The tet "
+                "steaks: tb_organ_surface(\"steak\") at tb_liver_surface_for(N) vertices, "
+                "TetGen with the largest tet volume searched to within 2%% of N. The cut: then, "
+                "on each model as it hangs, one after the other, table 1's cut (the blade's "
+                "edge under the steak across its width through the middle, its depth through "
+                "the thickness, crossing in %d frames); a cut frame is the MOVE event and a "
+                "step, CPU time, the median of the %d frames with its 95%% interval (the "
+                "patent's cut column is its ms per cut frame). The metaball model cuts by the "
+                "patent's hybrid method (spheres the blade touches become meshless points, "
+                "re-packed at END, the surface split and closed); pbd-stvk and fem-corot by "
+                "element removal (SOFA's carving, models/carve.c: every tet the blade's sweep "
+                "meets is removed at each frame, the surface is the boundary of the tets left, "
+                "masses lumped again; the patent does not say how its two comparisons cut); "
+                "FEM + meshless is not built (fem-corot stands in, cut the same way). Surface: "
+                "pieces, closed and manifold (element removal leaves edges "
+                "shared by four triangles where two tets left meet along an edge), and the "
+                "volume it encloses against just before the cut (element removal loses the "
+                "removed tets).",
+                TB_MBS_DT, p.warm, p.nblocks, p.block, TB_MBS_CUT_FRAMES, TB_MBS_CUT_FRAMES);
   /* convergence: the metaball steak on its surface, the tet models on the 1477-tet steak */
   static const char *models[] = {"metaball", "pbd-stvk", "fem-corot", "msm"};
   int max_frames = smoke ? 100 : o->full ? 3000 : 1500;

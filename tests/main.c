@@ -222,6 +222,7 @@ static const struct {
     {"organ_cut", tb_tests_organ_cut},
     {"cuts", tb_tests_cuts},
     {"metaball_cut", tb_tests_metaball_cut},
+    {"carve", tb_tests_carve},
     {"cut_surface", tb_tests_cut_surface},
     {"metaball_suite", tb_tests_metaball_suite},
     {"shard", tb_tests_shard},

@@ -108,6 +108,7 @@ extern const tb_test_case tb_tests_lod[];
 extern const tb_test_case tb_tests_vvs_refine[];
 extern const tb_test_case tb_tests_metaball[];
 extern const tb_test_case tb_tests_metaball_cut[];
+extern const tb_test_case tb_tests_carve[];
 extern const tb_test_case tb_tests_softbody[];
 extern const tb_test_case tb_tests_bullet_models[];
 extern const tb_test_case tb_tests_butterfly[];
