@@ -7,7 +7,8 @@
  * times, and one that starts while another is still cutting begins when
  * that one has ended, with the path it has swept by then. After a cut the
  * model has more points (the cut's new surface vertices): the scene's
- * per-point force array grows with them (zero forces). */
+ * per-point force array grows with them (zero forces), and those at rest
+ * inside a [fix] region are held there. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,7 +45,8 @@ static int blade_setup(tb_sim *s, int b, tb_error *err) {
     return tb_error_set(err, path, d->line, "%s: depth must not be zero", nm);
   for (int i = 0; i + 1 < bl->n; i++)
     if (!(tb_dist(bl->path[i], bl->path[i + 1]) > 0))
-      return tb_error_set(err, path, d->line, "%s: points %d and %d are the same", nm, i + 1, i + 2);
+      return tb_error_set(err, path, d->line, "%s: points %d and %d are the same", nm, i + 1,
+                          i + 2);
   /* the whole path as the blade's folded plane: a depth along a segment is
    * an error of the file, found here rather than when the blade gets there */
   tb_fold f;
@@ -95,7 +97,8 @@ static int path_at(tb_sim_blade *bl, double t) {
       continue;
     }
     if (left > 1e-9 * len) /* the blade inside segment i */
-      bl->now[n++] = tb_add(bl->path[i], tb_scale(tb_sub(bl->path[i + 1], bl->path[i]), left / len));
+      bl->now[n++] =
+          tb_add(bl->path[i], tb_scale(tb_sub(bl->path[i + 1], bl->path[i]), left / len));
     break;
   }
   return n;
@@ -130,6 +133,32 @@ int tb_sim_cut_before(tb_sim *s, double t, tb_error *err) {
   return tb_model_cut(&s->model, &ev, NULL, err);
 }
 
+/* The new points [from, to) a cut made inside a [fix] region, held where
+ * the cut left them (between the region's held nodes, which have not
+ * moved): a clamp holds the material in it, the cut's faces too. */
+static int hold_new(tb_sim *s, int from, int to, tb_error *err) {
+  tb_sim_priv *p = s->priv;
+  tb_surface su = tb_model_surface(&s->model);
+  if (su.nv < to || !s->desc.nfix) return 0;
+  int cap = s->mesh.nv + p->nheld_new + (to - from);
+  int *ids = realloc(p->held_new, sizeof(int) * (size_t)(p->nheld_new + to - from));
+  if (ids) p->held_new = ids;
+  tb_vec3 *at = realloc(p->held_new_x, sizeof(tb_vec3) * (size_t)(p->nheld_new + to - from));
+  if (at) p->held_new_x = at;
+  int *fx = realloc(s->fixed, sizeof(int) * (size_t)cap);
+  if (fx) s->fixed = fx;
+  tb_vec3 *fxx = realloc(s->fixed_x, sizeof(tb_vec3) * (size_t)cap);
+  if (fxx) s->fixed_x = fxx;
+  if (!ids || !at || !fx || !fxx) return tb_error_set(err, "scene", 0, "out of memory");
+  for (int i = from; i < to; i++)
+    for (int k = 0; k < s->desc.nfix; k++)
+      if (tb_sim_select_point(s, &s->desc.fix[k], su.x[i])) {
+        p->held_new[p->nheld_new] = i, p->held_new_x[p->nheld_new++] = su.x[i];
+        break;
+      }
+  return 0;
+}
+
 int tb_sim_cut_after(tb_sim *s, double t, tb_error *err) {
   tb_sim_priv *p = s->priv;
   if (p->active < 0 || t < p->blade[p->active].stop) return 0;
@@ -139,12 +168,13 @@ int tb_sim_cut_after(tb_sim *s, double t, tb_error *err) {
   bl->state = 2, p->active = -1;
   p->cut_stats = bl->stats;
   int np = tb_model_npoints(&s->model);
-  if (np > p->nforce_points) { /* forces for the new points: none */
-    int had = p->nforce_points > s->mesh.nv ? p->nforce_points : s->mesh.nv;
+  int had = p->nforce_points > s->mesh.nv ? p->nforce_points : s->mesh.nv;
+  if (np > had) { /* forces for the new points: none */
     tb_vec3 *f = realloc(s->force, sizeof(tb_vec3) * (size_t)np);
     if (!f) return tb_error_set(err, s->model.cls->name, 0, "out of memory");
     memset(f + had, 0, sizeof(tb_vec3) * (size_t)(np - had));
     s->force = f, p->nforce_points = np;
+    return hold_new(s, had, np, err);
   }
   return 0;
 }

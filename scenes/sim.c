@@ -383,6 +383,8 @@ static int loads(tb_sim *s, double t, int contact, tb_error *err) {
   s->nfixed = 0;
   for (int i = 0; i < s->mesh.nv; i++)
     if (s->mark[i]) s->fixed[s->nfixed] = i, s->fixed_x[s->nfixed++] = s->target[i];
+  for (int k = 0; k < s->priv->nheld_new; k++) /* what cuts made in a [fix] region */
+    s->fixed[s->nfixed] = s->priv->held_new[k], s->fixed_x[s->nfixed++] = s->priv->held_new_x[k];
   return 0;
 }
 
@@ -540,6 +542,7 @@ void tb_sim_destroy(tb_sim *s) {
   if (p) {
     tb_sim_contact_free(s);
     tb_sim_cut_free(s);
+    free(p->held_new), free(p->held_new_x);
     free(p->on_surface), free(p->x_prev), free(p->x_window), free(p->ids_buf), free(p->xc_buf),
         free(p->vc_buf), free(p->depth_buf), free(p->keep_buf);
     for (int i = 0; p->forces && i < p->nforce; i++) free(p->forces[i].ids);

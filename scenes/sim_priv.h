@@ -69,6 +69,11 @@ typedef struct tb_sim_priv {
   tb_sim_blade *blade;
   tb_cut_stats cut_stats; /* what the last cut did */
   int nforce_points;      /* points the force array holds beyond the mesh's nodes */
+  /* points a cut made inside a [fix] region: held where the cut left them,
+   * like the nodes the region selected (ascending, all beyond the mesh's) */
+  int nheld_new;
+  int *held_new;
+  tb_vec3 *held_new_x;
   /* the energy-growth detector (tb_sim_step) */
   double total_mass;
   double load_max;
@@ -85,6 +90,9 @@ int tb_sim_build_mesh(const tb_mesh_source *src, const char *scene_path, const d
 /* The nodes a selection picks on the rest mesh, ascending and unique,
  * malloc'ed; errors (an id out of range, nothing selected) name the scene
  * file's line. Returns the count, or -1. */
+/* 1 when a region selector of sel (box, fraction, plane, sphere; not ids
+ * or patch, which name the mesh's own nodes) takes the point x. */
+int tb_sim_select_point(const tb_sim *s, const tb_selection *sel, tb_vec3 x);
 int tb_sim_select(const tb_sim *s, const tb_selection *sel, const char *what, int **out,
                   tb_error *err);
 

@@ -98,6 +98,59 @@ static void several_cuts_run(void) {
   }
 }
 
+/* A cut along the steak into its held end: the points the cut made inside
+ * the [fix] box stay where the cut left them, and the surface crosses
+ * itself no more at the end than just after the cut (without the hold the
+ * crack's faces slid through each other in the clamp: 17 crossing pairs
+ * after the cut, 31 at the end; with it 5 and 5, at the clamp's edge). */
+/* Crossing triangle pairs of the model's surface (-1: not closed). */
+static int crossing(const tb_sim *s) {
+  tb_surface su = tb_model_surface(&s->model);
+  tb_pieces p;
+  tb_error err;
+  if (tb_pieces_measure(su.nv, su.x, su.ntri, su.tri, 1, &p, &err)) return -1;
+  int n = p.closed ? p.self_pairs + p.overlap_pairs : -1;
+  tb_pieces_free(&p);
+  return n;
+}
+
+static void clamp_holds_new_points(void) {
+  const char *file = steak_file("clamp.ini", 0.6,
+                                "[cut]\npoint = -4.5,0.2,-1.5\npoint = 0,0.2,-1.5\n"
+                                "depth = 0,0,3\nstart = 0.05\nstop = 0.25\n");
+  tb_sim s;
+  tb_error err;
+  if (tb_sim_create(&s, file, NULL, NULL, NULL, NULL, &err)) {
+    TB_CHECK_MSG(0, "%s", err.msg);
+    return;
+  }
+  int nv0 = s.mesh.nv, bad = 0, n = 0, held = 0, crossing_cut = -1;
+  tb_vec3 *at = NULL;
+  while (s.t < s.def.duration - 1e-9 && !bad) {
+    bad = tb_sim_step(&s, &err);
+    const tb_vec3 *x = tb_model_positions(&s.model);
+    int np = tb_model_npoints(&s.model);
+    if (!at && np > nv0 && s.t > 0.3) { /* the cut has ended: the new points in the box */
+      at = malloc(sizeof(tb_vec3) * (size_t)np), n = np;
+      for (int i = 0; at && i < np; i++) at[i] = x[i];
+      for (int i = nv0; at && i < np; i++) held += x[i].x <= -2.5;
+      crossing_cut = crossing(&s);
+    }
+  }
+  TB_CHECK_MSG(!bad, "%s", err.msg);
+  TB_CHECK_MSG(at && held > 10, "%d new points in the clamp", held);
+  const tb_vec3 *x = tb_model_positions(&s.model);
+  int moved = 0;
+  for (int i = nv0; at && i < n; i++)
+    if (at[i].x <= -2.5) moved += tb_dist(x[i], at[i]) != 0;
+  TB_CHECK_MSG(moved == 0, "%d of %d new points in the clamp moved", moved, held);
+  int crossing_end = crossing(&s);
+  TB_CHECK_MSG(crossing_cut >= 0 && crossing_end >= 0 && crossing_end <= crossing_cut,
+               "crossing pairs: %d after the cut, %d at the end", crossing_cut, crossing_end);
+  free(at);
+  tb_sim_destroy(&s);
+}
+
 /* --out-surface writes the cut surface; --vtk frames hold it (more points
  * after the cut than before). */
 static void exports_show_the_cut(void) {
@@ -280,6 +333,7 @@ const tb_test_case tb_tests_cuts[] = {
     {"torture_suite_smoke", torture_suite_smoke},
     {"several_cuts_parse", several_cuts_parse},
     {"several_cuts_run", several_cuts_run},
+    {"clamp_holds_new_points", clamp_holds_new_points},
     {"exports_show_the_cut", exports_show_the_cut},
     {NULL, NULL},
 };
