@@ -144,8 +144,12 @@ static int linked(const linkset *L, int a, int b) {
 /* Sphere s, linked to fewer than MIN_LINKS others of its piece, linked to
  * the nearest ones (gap) not across the fold: a sphere with one or two links
  * swings about them (its unit constraint has no rotation to hold), and the
- * skin bound to it folds over its neighbours'. */
-#define MIN_LINKS 3
+ * skin bound to it folds over its neighbours'. With three, a small group of
+ * spheres held to the rest by a few links still turned about them as on a
+ * hinge (the steak's cut-off thin end, falling freely: five of its 24
+ * spheres 0.19 rad off the piece's rotation a second after the cut, its
+ * skin folded at the crack's rim); with five, 0.002 rad. */
+#define MIN_LINKS 5
 static int anchor(tb_metaball *m, const pieces *P, linkset *L, int s,
                   tb_metaball_skin_report *rep) {
   while (L->deg[s] < MIN_LINKS) {
