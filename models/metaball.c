@@ -58,7 +58,7 @@ void tb_metaball_destroy(tb_metaball *m) {
   free(m->alive), free(m->fixed), free(m->link), free(m->len0), free(m->cstart), free(m->cmember);
   free(m->cm0), free(m->rot), free(m->x0), free(m->x), free(m->bind), free(m->bw);
   free(m->em), free(m->eq), free(m->smq), free(m->wf), free(m->xo);
-  free(m->contact), free(m->cdist), free(m->cnormal), free(m->piece);
+  free(m->contact), free(m->cdist), free(m->cnormal), free(m->piece), free(m->blend);
   tb_metaball_zone_free(m);
   free(m);
 }
@@ -152,8 +152,10 @@ void tb_metaball_bind_offsets(tb_metaball *m, int v) {
   }
 }
 
-/* x = sum_s w_s (c_s + R_s (x0 - c0_s)), the offsets x0 - c0_s stored. */
+/* x = sum_s w_s (c_s + R_s (x0 - c0_s)), the offsets x0 - c0_s stored;
+ * plus what is left of a blend (see tb_metaball). */
 void tb_metaball_reskin(tb_metaball *m) {
+  double share = m->blend && m->blend_left > 0 ? m->blend_left / TB_METABALL_BLEND : 0;
 #pragma omp parallel for schedule(static) if (m->nv > 2048) /* each vertex alone: any count */
   for (int v = 0; v < m->nv; v++) {
     tb_vec3 x = tb_v3(0, 0, 0);
@@ -163,7 +165,7 @@ void tb_metaball_reskin(tb_metaball *m) {
       tb_vec3 o = tb_m3_mulv(m->rot[s], m->xo[v][q]);
       x = tb_madd(x, m->bw[v][q], tb_add(m->c[s], o));
     }
-    m->x[v] = x;
+    m->x[v] = share > 0 ? tb_madd(x, share, m->blend[v]) : x;
   }
 }
 
@@ -649,6 +651,7 @@ static void stretch_sweeps(tb_metaball *m) {
 
 void tb_metaball_step(tb_metaball *m, double dt, tb_vec3 gravity, const tb_vec3 *force) {
   int n = m->n;
+  m->blend_left = fmax(0, m->blend_left - dt);
   for (int i = 0; i < n; i++) {
     if (!m->alive[i] || m->fixed[i]) {
       m->p[i] = m->c[i], m->wf[i] = 0;

@@ -9,17 +9,20 @@
  *    outside the organ and is removed; an old one in none (a packing may put
  *    a centre just outside) goes with the piece most vertices bound to it
  *    are on, else with its nearest vertex's.
- * 2. Links between two pieces go. A piece whose spheres fall into several
+ * 2. A piece with fewer than four spheres (a severed sliver, a wedge
+ *    between two cracks) gets more, up to four: each at the inward-pushed
+ *    triangle centroid farthest from the piece's spheres (from its vertices
+ *    for the first: its inscribed ball, roughly), reaching its nearest
+ *    vertex, moving with the piece's mean velocity, at rest where the
+ *    piece's rigid fit of its vertices to their rest positions puts it.
+ *    Links between two pieces go. A piece whose spheres fall into several
  *    groups (components through the links) has them joined, one link at a
  *    time, between the two nearest spheres of different groups (gap
  *    |c_i - c_j| - r_i - r_j), not across the last fold where another pair
- *    will do. A sphere with fewer than three links is linked to its nearest
- *    spheres of its piece (not across the fold) until it has three: with
- *    one or two it swings about them, its skin folding over its
- *    neighbours'. A piece with no sphere (a severed sliver) gets one: centred at
- *    the inward-pushed triangle centroid farthest from the piece's vertices
- *    (its inscribed ball, roughly), reaching its nearest vertex, moving
- *    with the piece's mean velocity.
+ *    will do. A sphere with fewer than five links is linked to its nearest
+ *    spheres of its piece (not across the fold) until it has five, or all
+ *    of its piece: with fewer a group of spheres turns about them as on a
+ *    hinge, its skin folding over its neighbours'.
  * 3. Contact: pairs of spheres on either side of the last fold (their centre
  *    segment crosses it, or they are in two pieces) within 1.5 (r_i + r_j)
  *    keep at least their present separation along the fold's normal (carried
@@ -31,13 +34,17 @@
  *    centre lies across the fold; then to the spheres with the smallest
  *    k = d / r in [1, 2] among those of its piece on its side (its crack
  *    side, or not across the fold), else the smallest k among them, else in
- *    its piece, else anywhere; its rest offset solves the skin formula at
- *    the current configuration, so the skin reproduces x. */
+ *    its piece, else anywhere. Its rest position is the one the caller gives
+ *    (the cut surface's, consistent with the old surface: models/
+ *    metaball_model_cut.c), the skin blended in from x over
+ *    TB_METABALL_BLEND; without one, it solves the skin formula at the
+ *    current configuration, so the skin reproduces x. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "metaball_priv.h"
+#include "tb_model.h"
 #include "cutting/tb_cut_surface.h"
 
 #define REACH 1.5 /* contact pairs: centres within REACH (r_i + r_j) */
@@ -173,11 +180,10 @@ static int relink(tb_metaball *m, const pieces *P, tb_metaball_skin_report *rep)
   int n = m->n;
   linkset L = {0, 2 * m->nl + 16, NULL, NULL};
   L.pairs = malloc(sizeof(int) * (size_t)L.cap), L.deg = calloc((size_t)n, sizeof(int));
-  int *uf = malloc(sizeof(int) * (size_t)n), *size = calloc((size_t)P->n + 1, sizeof(int)), rc = 0;
-  if (!L.pairs || !L.deg || !uf || !size) rc = -1;
+  int *uf = malloc(sizeof(int) * (size_t)n), rc = 0;
+  if (!L.pairs || !L.deg || !uf) rc = -1;
   for (int s = 0; s < n && rc == 0; s++) {
     uf[s] = s;
-    if (m->alive[s]) size[P->of_sphere[s]]++;
   }
   for (int e = 0; e < m->nl && rc == 0; e++) {
     int a = m->link[2 * e], b = m->link[2 * e + 1];
@@ -211,34 +217,59 @@ static int relink(tb_metaball *m, const pieces *P, tb_metaball_skin_report *rep)
     }
   int before = L.n;
   for (int s = 0; s < n && rc == 0; s++)
-    if (m->alive[s] && size[P->of_sphere[s]] > MIN_LINKS) rc = anchor(m, P, &L, s, rep);
+    if (m->alive[s]) rc = anchor(m, P, &L, s, rep);
   if (rc == 0 && (rep->links_cut || rep->joined || L.n != before))
     rc = tb_metaball_set_links(m, L.n, L.pairs);
-  free(L.pairs), free(L.deg), free(uf), free(size);
+  free(L.pairs), free(L.deg), free(uf);
   return rc;
 }
 
-/* A sphere for each piece with none (see the head). */
+/* Spheres for a piece with fewer than MIN_SPHERES (see the head): with two
+ * a piece turns freely about their axis, with three about their plane's
+ * hinges, and its skin crumples (a wedge between two cracks of the liver,
+ * 539 vertices on two spheres: 487 crossing pairs a second later). Each
+ * goes where the piece is thickest away from its spheres: among points a
+ * little inside its triangles (inside the piece, tb_cut_locate), the one
+ * farthest from the piece's sphere centres (from its vertices for the
+ * first), reaching its nearest vertex. Its rest centre and rotation: the
+ * rigid motion that best maps the piece's vertices now onto their rest
+ * positions (when d->x0 gives them; else the current frame). */
+#define MIN_SPHERES 4
+#define SEED_CANDIDATES 70
+static void piece_frame(const tb_metaball_skin_def *d, const pieces *P, int p, tb_vec3 *xm,
+                        tb_vec3 *Xm, tb_mat3 *R) {
+  int n = 0;
+  tb_vec3 a = tb_v3(0, 0, 0), b = tb_v3(0, 0, 0);
+  for (int v = 0; v < d->nv; v++)
+    if (P->of_vertex[v] == p)
+      a = tb_add(a, d->x[v]), b = tb_add(b, d->x0 ? d->x0[v] : d->x[v]), n++;
+  *xm = tb_scale(a, 1.0 / (n ? n : 1)), *Xm = tb_scale(b, 1.0 / (n ? n : 1));
+  *R = tb_m3_identity();
+  if (!d->x0 || n < 3) return;
+  tb_mat3 A = {{{0}}};
+  for (int v = 0; v < d->nv; v++) {
+    if (P->of_vertex[v] != p) continue;
+    tb_vec3 q = tb_sub(d->x[v], *xm), Q = tb_sub(d->x0[v], *Xm);
+    double qv[3] = {q.x, q.y, q.z}, Qv[3] = {Q.x, Q.y, Q.z};
+    for (int r = 0; r < 3; r++)
+      for (int c = 0; c < 3; c++) A.m[r][c] += qv[r] * Qv[c];
+  }
+  *R = tb_m3_polar(A);
+}
+
 static int seed(tb_metaball *m, const tb_metaball_skin_def *d, pieces *P,
                 tb_metaball_skin_report *rep) {
-  int *has = calloc((size_t)P->n, sizeof(int));
-  if (!has) return -1;
-  for (int s = 0; s < m->n; s++)
-    if (m->alive[s] && P->of_sphere[s] >= 0) has[P->of_sphere[s]] = 1;
-  int rc = 0;
+  int *count = calloc((size_t)P->n, sizeof(int)), *at = malloc(sizeof(int) * SEED_CANDIDATES);
+  tb_vec3 *cand = malloc(sizeof(tb_vec3) * SEED_CANDIDATES);
+  int rc = !count || !at || !cand ? -1 : 0;
+  for (int s = 0; s < m->n && rc == 0; s++)
+    if (m->alive[s] && P->of_sphere[s] >= 0) count[P->of_sphere[s]]++;
   for (int p = 0; p < P->n && rc == 0; p++) {
-    if (has[p]) continue;
-    int nt = 0, nvp = 0;
+    if (count[p] >= MIN_SPHERES) continue;
+    int nt = 0, nc = 0, nvp = 0;
     for (int t = 0; t < d->ntri; t++) nt += P->of_tri[t] == p;
-    int stride = nt > 64 ? nt / 64 : 1, nc = 0;
-    tb_vec3 *cand = malloc(sizeof(tb_vec3) * 70), vel = tb_v3(0, 0, 0);
-    int *at = malloc(sizeof(int) * 70);
-    if (!cand || !at) {
-      free(cand), free(at);
-      rc = -1;
-      break;
-    }
-    for (int t = 0, k = 0; t < d->ntri && nc < 70; t++) {
+    int stride = nt > SEED_CANDIDATES - 6 ? nt / (SEED_CANDIDATES - 6) : 1;
+    for (int t = 0, k = 0; t < d->ntri && nc < SEED_CANDIDATES; t++) {
       if (P->of_tri[t] != p || k++ % stride) continue;
       tb_vec3 A = d->x[d->tri[3 * t]], B = d->x[d->tri[3 * t + 1]], C = d->x[d->tri[3 * t + 2]];
       tb_vec3 n = tb_cross(tb_sub(B, A), tb_sub(C, A));
@@ -247,41 +278,47 @@ static int seed(tb_metaball *m, const tb_metaball_skin_def *d, pieces *P,
       tb_vec3 g = tb_scale(tb_add(tb_add(A, B), C), 1.0 / 3);
       cand[nc++] = tb_madd(g, -0.3 * sqrt(area2) / area2, n); /* 0.3 sqrt(2 area) inwards */
     }
-    tb_vec3 best = tb_v3(0, 0, 0), sum = tb_v3(0, 0, 0);
+    tb_vec3 vel = tb_v3(0, 0, 0), sum = tb_v3(0, 0, 0);
     for (int v = 0; v < d->nv; v++)
       if (P->of_vertex[v] == p) {
         sum = tb_add(sum, d->x[v]), nvp++;
         if (d->v) vel = tb_add(vel, d->v[v]);
       }
-    if (nvp) best = tb_scale(sum, 1.0 / nvp), vel = tb_scale(vel, 1.0 / nvp);
-    double far = -1;
+    if (nvp) vel = tb_scale(vel, 1.0 / nvp);
     if (nc && tb_cut_locate(d->x, d->ntri, d->tri, P->of_tri, P->n, nc, cand, at)) rc = -1;
-    for (int k = 0; k < nc && rc == 0; k++) {
-      if (at[k] != p) continue;
-      double near = INFINITY;
+    tb_vec3 xm, Xm;
+    tb_mat3 R;
+    piece_frame(d, P, p, &xm, &Xm, &R);
+    while (rc == 0 && count[p] < MIN_SPHERES) {
+      tb_vec3 best = nvp ? tb_scale(sum, 1.0 / nvp) : tb_v3(0, 0, 0);
+      double far = -1;
+      for (int k = 0; k < nc; k++) {
+        if (at[k] != p) continue;
+        double near = INFINITY;
+        if (count[p] == 0)
+          for (int v = 0; v < d->nv; v++)
+            if (P->of_vertex[v] == p) near = fmin(near, tb_dist(cand[k], d->x[v]));
+        for (int s = 0; s < m->n; s++)
+          if (m->alive[s] && P->of_sphere[s] == p) near = fmin(near, tb_dist(cand[k], m->c[s]));
+        if (near > far) far = near, best = cand[k];
+      }
+      if (count[p] > 0 && !(far > 0)) break; /* no place apart from its spheres */
+      double r = INFINITY;
       for (int v = 0; v < d->nv; v++)
-        if (P->of_vertex[v] == p) near = fmin(near, tb_dist(cand[k], d->x[v]));
-      if (near > far) far = near, best = cand[k];
+        if (P->of_vertex[v] == p) r = fmin(r, tb_dist(best, d->x[v]));
+      if (!(r > 0) || !isfinite(r)) r = 1e-6;
+      tb_vec3 c0 = tb_add(Xm, tb_m3_mulv(tb_m3_transpose(R), tb_sub(best, xm)));
+      int s = m->n;
+      int *grown = NULL;
+      if (tb_metaball_add(m, 1, &c0, &best, &R, &r, &vel) ||
+          !(grown = realloc(P->of_sphere, sizeof(int) * (size_t)m->n))) {
+        rc = -1;
+        break;
+      }
+      P->of_sphere = grown, P->of_sphere[s] = p, count[p]++, rep->seeded++;
     }
-    double r = INFINITY;
-    for (int v = 0; v < d->nv; v++)
-      if (P->of_vertex[v] == p) r = fmin(r, tb_dist(best, d->x[v]));
-    if (!(r > 0) || !isfinite(r)) r = 1e-6;
-    free(cand), free(at);
-    if (rc) break;
-    int s = m->n;
-    if (tb_metaball_add(m, 1, &best, &best, NULL, &r, &vel)) {
-      rc = -1;
-      break;
-    }
-    int *grown = realloc(P->of_sphere, sizeof(int) * (size_t)m->n);
-    if (!grown) {
-      rc = -1;
-      break;
-    }
-    P->of_sphere = grown, P->of_sphere[s] = p, rep->seeded++;
   }
-  free(has);
+  free(count), free(at), free(cand);
   return rc;
 }
 
@@ -372,7 +409,7 @@ static int admits(const tb_metaball *m, const binder *b, int s, tb_vec3 x, int s
 
 /* Vertex v at x bound at the current configuration (see the head). */
 static void bind_current(tb_metaball *m, const binder *b, int v, tb_vec3 x, int side, int piece,
-                         int off) {
+                         int off, int keep_rest) {
   int best[3] = {-1, -1, -1};
   double kb[3] = {INFINITY, INFINITY, INFINITY};
   for (int pass = 0; pass < 4 && best[0] < 0; pass++)
@@ -391,6 +428,10 @@ static void bind_current(tb_metaball *m, const binder *b, int v, tb_vec3 x, int 
     sum += m->bw[v][q];
   }
   for (int q = 0; q < 3; q++) m->bw[v][q] = sum > 0 ? m->bw[v][q] / sum : (q == 0);
+  if (keep_rest) {
+    tb_metaball_bind_offsets(m, v);
+    return;
+  }
   tb_mat3 M = {{{0}}};
   tb_vec3 rhs = x;
   for (int q = 0; q < 3; q++) {
@@ -454,6 +495,7 @@ static int rebind_skin(tb_metaball *m, const tb_metaball_skin_def *d, const piec
   tb_vec3 hi = f ? tb_add(m->cut->fhi, grow) : tb_v3(0, 0, 0);
   int old = m->nv;
   m->nv = d->nv;
+  if (!d->x0) m->blend_left = 0; /* a blend is for the vertices it was made for */
   for (int v = 0; v < d->nv; v++) {
     tb_vec3 x = d->x[v];
     int side = d->side ? d->side[v] : 0, piece = P ? P->of_vertex[v] : -1, off = 0;
@@ -466,10 +508,19 @@ static int rebind_skin(tb_metaball *m, const tb_metaball_skin_def *d, const piec
     int again =
         v >= old || (d->rebind && d->rebind[v]) || bound_wrong(m, &b, v, x, side, piece, off);
     if (!again) continue;
-    bind_current(m, &b, v, x, side, piece, off);
+    if (d->x0) m->x0[v] = d->x0[v];
+    bind_current(m, &b, v, x, side, piece, off, d->x0 != NULL);
     rep->rebound++;
   }
   free(sside);
+  if (!d->x0) return 0;
+  /* the skin at the given rest positions, blended in from the positions */
+  tb_vec3 *blend = realloc(m->blend, sizeof(tb_vec3) * (size_t)(d->nv > 0 ? d->nv : 1));
+  if (!blend) return -1;
+  m->blend = blend, m->blend_left = 0;
+  tb_metaball_reskin(m);
+  for (int v = 0; v < d->nv; v++) blend[v] = tb_sub(d->x[v], m->x[v]), m->x[v] = d->x[v];
+  m->blend_left = TB_METABALL_BLEND;
   return 0;
 }
 
@@ -500,8 +551,8 @@ int tb_metaball_set_skin(tb_metaball *m, const tb_metaball_skin_def *d,
   if (rc == 0 && d->ntri > 0) {
     rc = surface_pieces(d, &P);
     if (rc == 0) rc = sphere_pieces(m, d, &P, &r);
-    if (rc == 0) rc = relink(m, &P, &r);
     if (rc == 0) rc = seed(m, d, &P, &r);
+    if (rc == 0) rc = relink(m, &P, &r);
     if (rc == 0) {
       int *grown = realloc(m->piece, sizeof(int) * (size_t)m->n);
       if (grown) memcpy(m->piece = grown, P.of_sphere, sizeof(int) * (size_t)m->n);

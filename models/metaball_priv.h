@@ -40,7 +40,13 @@ struct tb_metaball {
   double *cdist;    /* their least separation along ... */
   tb_vec3 *cnormal; /* ... the crack's normal from a to b, in the rest frame (a's R turns it) */
   struct tb_metaball_zone *zone; /* the skin's contact across cracks (metaball_contact.c) */
+  /* After a skin with given rest positions: the positions it replaced less
+   * the skin, added to the skin and fading out linearly to none over
+   * TB_METABALL_BLEND seconds (blend_left of them still to go) */
+  tb_vec3 *blend;
+  double blend_left;
 };
+#define TB_METABALL_BLEND 0.1
 
 /* The cut's state (models/metaball_cut.c, metaball_repack.c). */
 typedef struct tb_metaball_cut {

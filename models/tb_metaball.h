@@ -151,6 +151,9 @@ typedef struct tb_metaball_skin_def {
   int ntri;                    /* the surface's triangles (0: the pieces are not followed) */
   const int *tri;
   int first_new; /* spheres from this index on are the last cut's new ones */
+  /* the vertices' rest positions (NULL: each found at the current
+   * configuration by inverting its skin, see below) */
+  const tb_vec3 *x0;
 } tb_metaball_skin_def;
 
 typedef struct tb_metaball_skin_report {
@@ -158,8 +161,8 @@ typedef struct tb_metaball_skin_report {
   int outside;                       /* new spheres whose centre lay in no piece, removed */
   int links_cut;                     /* links between spheres of two pieces, removed */
   int joined;                        /* links added to join a piece's sphere groups into one */
-  int anchored;                      /* links added to spheres that had fewer than three */
-  int seeded;                        /* spheres made for pieces that had none */
+  int anchored;                      /* links added to spheres that had fewer than five */
+  int seeded;                        /* spheres made for pieces that had fewer than four */
   int rebound;                       /* vertices bound anew */
   int contacts;                      /* sphere pairs across the crack kept apart from now on */
   int zone_vertices, zone_triangles; /* the crack's faces and surroundings, kept apart */
@@ -171,15 +174,22 @@ typedef struct tb_metaball_skin_report {
  * configuration: the spheres with the smallest k = d / r in [1, 2] on
  * current positions, then the smallest k, with a rest offset so that the
  * skin formula gives x exactly; side +1 / -1 restricts a vertex to spheres
- * whose centre is on that side of the last cut's folded plane.
+ * whose centre is on that side of the last cut's folded plane. With d->x0
+ * the vertices bound anew take those rest positions instead (a rest shape
+ * consistent with the old surface's; inverting each vertex's skin alone
+ * puts neighbours' rest positions out of step where their spheres turn
+ * differently, and the surface relaxes into a crumpled shape): the skin
+ * then differs from x, and the difference fades out over 0.1 s
+ * instead of jumping (TB_METABALL_BLEND, models/metaball_priv.h).
  *
  * With the surface's triangles (ntri > 0; a closed surface) the spheres
  * follow its pieces: each alive sphere belongs to the piece holding its
  * centre (a new sphere in none is removed, an old one goes with the piece
  * most of its vertices are on); links between two pieces go; a piece whose
  * spheres fall into groups has them joined by a link between the nearest
- * spheres (not across the last fold where another pair will do); a piece
- * with no sphere gets one, inside it, reaching its nearest vertex. Every
+ * spheres (not across the last fold where another pair will do); a sphere
+ * with fewer than five links gets links to its piece's nearest; a piece
+ * with fewer than four spheres gets more, inside it. Every
  * vertex is then bound to spheres of its own piece only, and a vertex off
  * the cut to none whose centre lies across the last fold. Sphere pairs
  * across the last fold within reach of each other are kept from coming

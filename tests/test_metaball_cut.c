@@ -381,7 +381,7 @@ static void skin_rebinds(void) {
   }
   memset(rebind, 1, sizeof rebind);
   tb_error err;
-  tb_metaball_skin_def sd = {12, x, NULL, side, rebind, 0, NULL, tb_metaball_count(m)};
+  tb_metaball_skin_def sd = {12, x, NULL, side, rebind, 0, NULL, tb_metaball_count(m), NULL};
   if (tb_metaball_set_skin(m, &sd, NULL, &err)) {
     TB_CHECK_MSG(0, "%s", err.msg);
     goto done;
@@ -433,11 +433,11 @@ static void bad_calls(void) {
   tb_metaball_cut_report rep;
   TB_CHECK(tb_metaball_cut_end(m, &rep, &err) == 0 && rep.removed == 0 && rep.created == 0);
   tb_vec3 x[4] = {{0, 0, 0}};
-  tb_metaball_skin_def few = {4, x, NULL, NULL, NULL, 0, NULL, 0};
+  tb_metaball_skin_def few = {4, x, NULL, NULL, NULL, 0, NULL, 0, NULL};
   TB_CHECK(tb_metaball_set_skin(m, &few, NULL, &err) != 0); /* fewer than 8 */
   tb_vec3 y[9];
   memcpy(y, tb_metaball_skin(m), sizeof(tb_vec3) * 8), y[8] = tb_v3(NAN, 0, 0);
-  tb_metaball_skin_def nan = {9, y, NULL, NULL, NULL, 0, NULL, 0};
+  tb_metaball_skin_def nan = {9, y, NULL, NULL, NULL, 0, NULL, 0, NULL};
   TB_CHECK(tb_metaball_set_skin(m, &nan, NULL, &err) != 0);
   tb_fold_free(&f);
   tb_metaball_destroy(m);
