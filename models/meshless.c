@@ -35,7 +35,8 @@
  * A point whose A_i is degenerate (fewer than 3 non-coplanar neighbours, or
  * a nearly flat stencil: det A <= c (tr A / 3)^3, c = 1e-3 by default or
  * tb_meshless_set_flatness, the smallest eigenvalue below roughly c of the
- * mean) is inactive: it has no strain
+ * mean), or with fewer neighbours than tb_meshless_set_min_neighbours asks
+ * (none by default), is inactive: it has no strain
  * energy of its own (J = I) but still enters its neighbours' sums, or moves
  * freely when it has no active neighbour; no NaN comes from it. (A dt
  * beyond the explicit bound still blows up: tb_meshless_step reports it.)
@@ -128,7 +129,8 @@ struct tb_meshless {
   tb_mat3 *P;
   int *rstart, *rsrc, *rpos, rcap, rvalid; /* rvalid: rebuilt before the next forces */
   double h, lambda, mu, damping, density;
-  double flat; /* a stencil with det A <= flat (tr A / 3)^3 is inactive */
+  double flat;  /* a stencil with det A <= flat (tr A / 3)^3 is inactive */
+  int min_nbrs; /* ... and one of fewer neighbours */
   int integrator, fvalid;
 };
 
@@ -272,7 +274,8 @@ static void moment(tb_meshless *m, int i) {
       for (int b = 0; b < 3; b++) A.m[a][b] += w * p[a] * p[b];
   }
   double tr = (A.m[0][0] + A.m[1][1] + A.m[2][2]) / 3, det = tb_m3_det(A);
-  m->active[i] = tr > 0 && det > m->flat * tr * tr * tr;
+  m->active[i] =
+      tr > 0 && det > m->flat * tr * tr * tr && m->start[i + 1] - m->start[i] >= m->min_nbrs;
   tb_mat3 inv = tb_m3_transpose(tb_m3_cofactor(A));
   for (int k = m->start[i]; k < m->start[i + 1]; k++) {
     tb_vec3 e = tb_sub(m->X[m->nbr[k]], m->X[i]);
@@ -851,6 +854,11 @@ int tb_meshless_step(tb_meshless *m, double dt, tb_vec3 gravity, int nfixed, con
 void tb_meshless_set_damping(tb_meshless *m, double c) { m->damping = c > 0 ? c : 0; }
 void tb_meshless_set_flatness(tb_meshless *m, double c) {
   m->flat = c > 0 ? fmin(c, 0.5) : 0;
+  moments(m);
+  m->fvalid = 0, m->lvalid = 0;
+}
+void tb_meshless_set_min_neighbours(tb_meshless *m, int k) {
+  m->min_nbrs = k > 0 ? k : 0;
   moments(m);
   m->fvalid = 0, m->lvalid = 0;
 }

@@ -35,6 +35,10 @@ void tb_meshless_set_damping(tb_meshless *m, double c);
  * (default c = 1e-3; clamped to [0, 0.5]): a larger c drops nearly flat
  * stencils, the stiffest, so an explicit step may be longer. */
 void tb_meshless_set_flatness(tb_meshless *m, double c);
+/* Points with fewer than k neighbours become inactive too (default 0): a
+ * stencil of three or four neighbours fits any motion of them exactly,
+ * like a lone tet, and can turn inside out under the blade. */
+void tb_meshless_set_min_neighbours(tb_meshless *m, int k);
 /* TB_MESHLESS_ALTERNATING (default) or TB_MESHLESS_SYMPLECTIC_EULER. */
 void tb_meshless_set_integrator(tb_meshless *m, int integrator);
 

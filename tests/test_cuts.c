@@ -28,9 +28,11 @@ static const char *steak_file(const char *name, double duration, const char *cut
   return tb_test_file(name, text, -1);
 }
 
-#define CUT(name, x, t0, t1)                              \
-  "[cut " name "]\npoint = " #x ",-3.5,-1.5\npoint = " #x \
-  ",3.5,-1.5\ndepth = 0,0,3\n"                            \
+/* a blade across the steak at x, its depth from z = -3 to 2: under a
+ * severed end that turns down about its corner as it falls too */
+#define CUT(name, x, t0, t1)                            \
+  "[cut " name "]\npoint = " #x ",-3.5,-3\npoint = " #x \
+  ",3.5,-3\ndepth = 0,0,5\n"                            \
   "start = " #t0 "\nstop = " #t1 "\n"
 
 static void several_cuts_parse(void) {
