@@ -214,7 +214,10 @@ int tb_suite_cuts(const tb_suite_opts *o) {
       if (!strcmp(g[k].name, "steak")) g[0] = g[k];
     ng = 1;
   }
-  int nrandom = o->scale < 1 ? 1 : (o->full ? 40 : 4), failed = ng == 0;
+  /* below scale 1 (the tests): the steak's designed cases and 40 x scale
+   * random ones, one at least */
+  int nrandom = o->scale < 1 ? (int)fmax(1, floor(40 * o->scale)) : (o->full ? 40 : 4),
+      failed = ng == 0;
   static const char *cols[] = {"organ",
                                "case",
                                "verdict",
