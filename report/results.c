@@ -520,6 +520,15 @@ void tb_suite_counter(tb_suite *s, const char *bench, const char *key, double va
   b->counters[b->ncounters++] = value;
 }
 
+void tb_suite_counter_est(tb_suite *s, const char *bench, const char *key, tb_est e) {
+  char k[128];
+  tb_suite_counter(s, bench, key, e.value);
+  snprintf(k, sizeof k, "%s_low", key);
+  tb_suite_counter(s, bench, k, e.lo);
+  snprintf(k, sizeof k, "%s_high", key);
+  tb_suite_counter(s, bench, k, e.hi);
+}
+
 /* ---- end of the run ---- */
 
 /* The timings as one more table of table.md and its CSV, all in one unit:

@@ -178,6 +178,9 @@ void tb_suite_bench(tb_suite *s, const char *name, const double *real, const dou
  * counters: one iteration with real_time and cpu_time 0 (unit "s").
  * Keys must not be one of the entry's own fields (name, real_time, ...). */
 void tb_suite_counter(tb_suite *s, const char *bench, const char *key, double value);
+/* An estimate as three counters: key (the median), key_low and key_high
+ * (its 95% interval). */
+void tb_suite_counter_est(tb_suite *s, const char *bench, const char *key, tb_est e);
 /* Writes <dir>/<csv_name>: a header line, then body (free-form rows, for
  * charts). */
 int tb_suite_write_data(tb_suite *s, const char *csv_name, const char *header, const char *body,

@@ -166,9 +166,7 @@ int tb_refit_threads(tb_suite *s, const tb_suite_opts *o, tb_error *err) {
         snprintf(name, sizeof name, "refit-threads/%s/%d triangles/%d threads", step[k], m.ntri,
                  many);
         tb_suite_bench(s, name, wn, cn, reps, "ms");
-        tb_suite_counter(s, name, "speedup_wall", up.value);
-        tb_suite_counter(s, name, "speedup_wall_low", up.lo);
-        tb_suite_counter(s, name, "speedup_wall_high", up.hi);
+        tb_suite_counter_est(s, name, "speedup_wall", up);
         tb_suite_counter(s, name, "machine_busy", nz.busy);
       }
     }

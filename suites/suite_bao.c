@@ -643,9 +643,7 @@ int tb_suite_bao(const tb_suite_opts *o) {
     tb_suite_counter(su, name, "triangles_at_release", w[r].ntri_press);
     tb_suite_counter(su, name, "us_per_step", 1e3 * w[r].med.value / STEPS);
     if (w[BASE].ok) {
-      tb_suite_counter(su, name, "ratio_to_base", w[r].to_base.value);
-      tb_suite_counter(su, name, "ratio_to_base_low", w[r].to_base.lo);
-      tb_suite_counter(su, name, "ratio_to_base_high", w[r].to_base.hi);
+      tb_suite_counter_est(su, name, "ratio_to_base", w[r].to_base);
     }
     if (isfinite(paper[r].ms)) tb_suite_counter(su, name, "paper_ms", paper[r].ms);
     tb_suite_counter(su, name, "identical_runs", w[r].identical);

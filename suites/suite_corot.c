@@ -279,9 +279,7 @@ int tb_table35_corot(tb_suite *su, const tb_suite_opts *o, const tb_mesh *liver)
       char name[160];
       snprintf(name, sizeof name, "corot/%s/%s", scenes[c].label, variants[v].label);
       tb_suite_bench(su, name, u->wall_reps, u->cpu_reps, reps, "ms");
-      tb_suite_counter(su, name, "ratio_to_fem", u->ratio.value);
-      tb_suite_counter(su, name, "ratio_to_fem_low", u->ratio.lo);
-      tb_suite_counter(su, name, "ratio_to_fem_high", u->ratio.hi);
+      tb_suite_counter_est(su, name, "ratio_to_fem", u->ratio);
       tb_suite_counter(su, name, "mean_ms", u->mean);
       tb_suite_counter(su, name, "iterations_per_step", u->iters);
       tb_suite_counter(su, name, "factorisations", u->factors);

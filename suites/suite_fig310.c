@@ -243,9 +243,7 @@ static int fig310(tb_suite *s, const tb_suite_opts *o) {
     snprintf(bname, sizeof bname, "shape/clusters:%d/%s/over/clusters:%d/%s",
              clusters[pairs[k].a % 3], pairs[k].a < 3 ? "linear" : "quadratic",
              clusters[pairs[k].b % 3], pairs[k].b < 3 ? "linear" : "quadratic");
-    tb_suite_counter(s, bname, "ratio", e.value);
-    tb_suite_counter(s, bname, "ratio_low", e.lo);
-    tb_suite_counter(s, bname, "ratio_high", e.hi);
+    tb_suite_counter_est(s, bname, "ratio", e);
   }
   tb_suite_table(s, st);
   /* the 100 objects beside the thesis's 50 fps: a ratio to a published figure */

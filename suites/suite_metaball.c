@@ -495,12 +495,8 @@ static void goal_table(tb_suite *su, const organ *g, const row *w, int nblocks) 
   tb_table_num(t, w->ok ? med(w->rcut_w, w->nrep) : NAN, "%.3f");
   tb_table_cell(t, "%.2f / %.2f", g->deform_ms, g->cut_ms);
   tb_suite_table(su, t);
-  tb_suite_counter(su, "metaball/goal", "deform_ms", d.value);
-  tb_suite_counter(su, "metaball/goal", "deform_ms_low", d.lo);
-  tb_suite_counter(su, "metaball/goal", "deform_ms_high", d.hi);
-  tb_suite_counter(su, "metaball/goal", "cut_ms", c.value);
-  tb_suite_counter(su, "metaball/goal", "cut_ms_low", c.lo);
-  tb_suite_counter(su, "metaball/goal", "cut_ms_high", c.hi);
+  tb_suite_counter_est(su, "metaball/goal", "deform_ms", d);
+  tb_suite_counter_est(su, "metaball/goal", "cut_ms", c);
   tb_suite_counter(su, "metaball/goal", "deform_verdict", tb_verdict(d, GOAL_DEFORM, 0));
   tb_suite_counter(su, "metaball/goal", "cut_verdict", tb_verdict(c, GOAL_CUT, 0));
   tb_suite_note(su,

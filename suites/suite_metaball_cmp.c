@@ -382,9 +382,7 @@ int tb_mbs_compare(tb_suite *su, const tb_suite_opts *o) {
       tb_suite_counter(su, name, "tets", tets[r].ntet);
       tb_suite_counter(su, name, "nodes", tets[r].nv);
       if (w[MB].ok) {
-        tb_suite_counter(su, name, "over_metaball", w[r].ratio.value);
-        tb_suite_counter(su, name, "over_metaball_low", w[r].ratio.lo);
-        tb_suite_counter(su, name, "over_metaball_high", w[r].ratio.hi);
+        tb_suite_counter_est(su, name, "over_metaball", w[r].ratio);
       }
     }
     tb_suite_counter(su, name, "patent_deform_ms", patent[r].deform);

@@ -281,9 +281,7 @@ static void measure(tb_suite *su, int r, const tb_mesh *mesh, const scene_info *
   bench_entry(su, name, u[0].wall, u[0].cpu, nb, 1);
   tb_suite_counter(su, name, "tets", mesh->ntet);
   tb_suite_counter(su, name, "nodes", mesh->nv);
-  tb_suite_counter(su, name, "us_per_element_step", w->us_elem.value);
-  tb_suite_counter(su, name, "us_per_element_step_low", w->us_elem.lo);
-  tb_suite_counter(su, name, "us_per_element_step_high", w->us_elem.hi);
+  tb_suite_counter_est(su, name, "us_per_element_step", w->us_elem);
   tb_suite_counter(su, name, "deepest_below_ground", w->deepest);
   tb_suite_counter(su, name, "deepest_below_ground_of_size", w->deepest / w->size);
   tb_suite_counter(su, name, "patent_ms_per_step", patent[r].ms);
@@ -294,9 +292,7 @@ static void measure(tb_suite *su, int r, const tb_mesh *mesh, const scene_info *
                          sizeof(tb_vec3) * (size_t)u[0].nv);
   snprintf(name, sizeof name, MODEL "/tets:%d/threads:%d", mesh->ntet, cores);
   bench_entry(su, name, u[1].wall, u[1].cpu, nb, cores);
-  tb_suite_counter(su, name, "speedup", w->speedup.value);
-  tb_suite_counter(su, name, "speedup_low", w->speedup.lo);
-  tb_suite_counter(su, name, "speedup_high", w->speedup.hi);
+  tb_suite_counter_est(su, name, "speedup", w->speedup);
   tb_suite_counter(su, name, "identical_to_one_thread", w->identical);
   tb_suite_counter(su, name, "patent_speedup", patent[r].speedup);
 
@@ -313,9 +309,7 @@ static void measure(tb_suite *su, int r, const tb_mesh *mesh, const scene_info *
     snprintf(name, sizeof name, "btSoftBody/tets:%d/threads:1", mesh->ntet);
     bench_entry(su, name, u[2].wall, u[2].cpu, nb, 1);
     tb_suite_counter(su, name, "links", w->links);
-    tb_suite_counter(su, name, "ratio_to_pbd_stvk", w->peer.value);
-    tb_suite_counter(su, name, "ratio_to_pbd_stvk_low", w->peer.lo);
-    tb_suite_counter(su, name, "ratio_to_pbd_stvk_high", w->peer.hi);
+    tb_suite_counter_est(su, name, "ratio_to_pbd_stvk", w->peer);
     tb_suite_counter(su, name, "deepest_below_ground", u[2].deepest);
   }
   w->ok = 1;

@@ -143,9 +143,7 @@ int tb_suite_refit(const tb_suite_opts *o) {
       char bname[128];
       snprintf(bname, sizeof bname, "refit/%s/update", variants[v].label);
       tb_suite_bench(s, bname, u_wall + at, u_cpu + at, frames, "ms");
-      tb_suite_counter(s, bname, "over_fcl_aabb", e.value);
-      tb_suite_counter(s, bname, "over_fcl_aabb_low", e.lo);
-      tb_suite_counter(s, bname, "over_fcl_aabb_high", e.hi);
+      tb_suite_counter_est(s, bname, "over_fcl_aabb", e);
       snprintf(bname, sizeof bname, "refit/%s/query", variants[v].label);
       tb_suite_bench(s, bname, q_wall + at, q_cpu + at, frames, "ms");
     }

@@ -424,9 +424,7 @@ int tb_scaling_report(tb_suite *su, const scaling_run *sr) {
                     name, sr->cores, goal, sr->rows[r].ntet, x->speedup.value, x->speedup.lo,
                     x->speedup.hi, x->speedup.n, v);
       snprintf(key, sizeof key, "thread_goal/%s", name);
-      tb_suite_counter(su, key, "speedup", x->speedup.value);
-      tb_suite_counter(su, key, "speedup_low", x->speedup.lo);
-      tb_suite_counter(su, key, "speedup_high", x->speedup.hi);
+      tb_suite_counter_est(su, key, "speedup", x->speedup);
       tb_suite_counter(su, key, "goal", goal);
       tb_suite_counter(su, key, "measurable", x->ok && !why);
       if (x->ok && !why) tb_suite_counter(su, key, "verdict", tb_verdict(x->speedup, goal, 1));

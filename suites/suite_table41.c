@@ -270,9 +270,7 @@ static int jgt(const tb_suite_opts *o, tb_suite *s, int reps) {
     tb_table_num(t, e.hi, "%.2f");
     char bname[96];
     snprintf(bname, sizeof bname, "jgt/%s/intersecting:%d%%", m[j].name, mix[2]);
-    tb_suite_counter(s, bname, "fcl_over_method", e.value);
-    tb_suite_counter(s, bname, "fcl_over_method_low", e.lo);
-    tb_suite_counter(s, bname, "fcl_over_method_high", e.hi);
+    tb_suite_counter_est(s, bname, "fcl_over_method", e);
   }
   tb_suite_table(s, t);
   /* the target, on the 50% mix */
@@ -331,12 +329,8 @@ static int jgt(const tb_suite_opts *o, tb_suite *s, int reps) {
       "neither fails and one is inconclusive. Measured: exact %.1f ns/pair (%.1f-%.1f): %s; "
       "%.2fx fcl (%.2f-%.2f): %s. Target: %s.",
       n, reps, ens.value, ens.lo, ens.hi, t_ns, ratio.value, ratio.lo, ratio.hi, t_ratio, t_all);
-  tb_suite_counter(s, "jgt/target", "exact_ns_per_pair", ens.value);
-  tb_suite_counter(s, "jgt/target", "exact_ns_per_pair_low", ens.lo);
-  tb_suite_counter(s, "jgt/target", "exact_ns_per_pair_high", ens.hi);
-  tb_suite_counter(s, "jgt/target", "fcl_over_exact", ratio.value);
-  tb_suite_counter(s, "jgt/target", "fcl_over_exact_low", ratio.lo);
-  tb_suite_counter(s, "jgt/target", "fcl_over_exact_high", ratio.hi);
+  tb_suite_counter_est(s, "jgt/target", "exact_ns_per_pair", ens);
+  tb_suite_counter_est(s, "jgt/target", "fcl_over_exact", ratio);
   tb_suite_counter(s, "jgt/target", "verdict", v); /* 0 met, 1 not met, 2 inconclusive */
   return 0;
 }

@@ -272,12 +272,7 @@ int tb_suite_table42(const tb_suite_opts *o) {
         char key[64];
         snprintf(key, sizeof key, "over_%s", groups[refs[k]].label);
         for (char *q = key; *q; q++) *q = *q == '-' ? '_' : *q;
-        size_t kl = strlen(key);
-        tb_suite_counter(s, bname, key, e.value);
-        snprintf(key + kl, sizeof key - kl, "_low");
-        tb_suite_counter(s, bname, key, e.lo);
-        snprintf(key + kl, sizeof key - kl, "_high");
-        tb_suite_counter(s, bname, key, e.hi);
+        tb_suite_counter_est(s, bname, key, e);
       }
       int rv = both(v[0], v[1]);
       all = both(all, rv);

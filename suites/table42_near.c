@@ -291,9 +291,7 @@ int tb_table42_near_miss(tb_suite *s, const tb_suite_opts *o, const tb_mesh *liv
     tb_table_num(t, (double)tests[k][3], "%.0f");
     char bname[256];
     snprintf(bname, sizeof bname, "table4.2-near/%s/%.96s", methods[0].label, p[k].name);
-    tb_suite_counter(s, bname, "over_fcl_obbrss", e.value);
-    tb_suite_counter(s, bname, "over_fcl_obbrss_low", e.lo);
-    tb_suite_counter(s, bname, "over_fcl_obbrss_high", e.hi);
+    tb_suite_counter_est(s, bname, "over_fcl_obbrss", e);
   }
   tb_suite_table(s, t);
   tb_suite_note(
