@@ -390,6 +390,14 @@ static int loads(tb_sim *s, double t, int contact, tb_error *err) {
 
 int tb_sim_loads(tb_sim *s, double t, tb_error *err) { return loads(s, t, 0, err); }
 
+tb_step tb_sim_step_input(const tb_sim *s) {
+  tb_step in = {0};
+  in.dt = s->def.dt, in.gravity = s->gravity, in.force = s->force;
+  in.nfixed = s->nfixed, in.fixed = s->fixed, in.fixed_x = s->fixed_x;
+  in.ground = s->has_ground ? &s->ground : NULL;
+  return in;
+}
+
 void tb_sim_let_go(tb_sim *s) {
   s->hold = 0;
   for (int g = 0; g < s->priv->nmove; g++) s->priv->moves[g].release = s->t;
@@ -498,14 +506,7 @@ int tb_sim_step(tb_sim *s, tb_error *err) {
       s->force[i] = tb_madd(s->force[i], -s->def.drag * s->mass[i], v[i]);
   if (s->has_ground && !tb_model_owns_ground(&s->model)) /* the ground's friction (contact.c) */
     memcpy(s->priv->x_prev, tb_model_positions(&s->model), sizeof(tb_vec3) * (size_t)s->mesh.nv);
-  tb_step in = {0};
-  in.dt = s->def.dt;
-  in.gravity = s->gravity;
-  in.force = s->force;
-  in.nfixed = s->nfixed;
-  in.fixed = s->fixed;
-  in.fixed_x = s->fixed_x;
-  in.ground = s->has_ground ? &s->ground : NULL;
+  tb_step in = tb_sim_step_input(s);
   if (tb_sim_cut_before(s, t, err) || tb_model_step(&s->model, &in, err) ||
       tb_sim_cut_after(s, t, err))
     return -1;

@@ -118,6 +118,9 @@ void tb_sim_destroy(tb_sim *s);
 /* The scene's loads at time t without stepping: fills gravity, force
  * (scene forces only, no drag), nfixed/fixed/fixed_x. */
 int tb_sim_loads(tb_sim *s, double t, tb_error *err);
+/* The model's step input from the loads tb_sim_loads left (dt, gravity,
+ * forces, prescribed nodes, the ground when the scene has one). */
+tb_step tb_sim_step_input(const tb_sim *s);
 
 /* The instrument at the current time in world coordinates (posed now);
  * 0 when the scene has none. */

@@ -191,9 +191,7 @@ static void runner_steps(runner *u, int n, int block) {
       u->failed = 1;
       break;
     }
-    tb_step in = {0};
-    in.dt = s->def.dt, in.gravity = s->gravity, in.force = s->force;
-    in.nfixed = s->nfixed, in.fixed = s->fixed, in.fixed_x = s->fixed_x, in.ground = &s->ground;
+    tb_step in = tb_sim_step_input(s); /* the scene has a ground (runner_open) */
     double w, c;
     tb_clock clk = tb_clock_start();
     int rc = tb_model_step(&s->model, &in, &u->err);

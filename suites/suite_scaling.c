@@ -108,10 +108,7 @@ static void stepper_step(stepper *u, int timed) {
     u->failed = 1;
     return;
   }
-  tb_step in = {0};
-  in.dt = s->def.dt, in.gravity = s->gravity, in.force = s->force;
-  in.nfixed = s->nfixed, in.fixed = s->fixed, in.fixed_x = s->fixed_x;
-  in.ground = s->has_ground ? &s->ground : NULL;
+  tb_step in = tb_sim_step_input(s);
   double w, c;
   tb_clock clk = tb_clock_start();
   int rc = tb_model_step(&s->model, &in, &u->err);
