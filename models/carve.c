@@ -40,11 +40,6 @@ int tb_carve_init(tb_carve *c, const tb_mesh *mesh, const char *model, tb_error 
     tb_carve_free(c);
     return tb_error_set(err, model, 0, "out of memory");
   }
-  for (int t = 0; t < mesh->ntet; t++) {
-    const int *e = mesh->tet + 4 * t;
-    c->vol0 += tb_tet_volume(c->X[e[0]], c->X[e[1]], c->X[e[2]], c->X[e[3]]);
-  }
-  c->vol = c->vol0;
   return 0;
 }
 
@@ -93,13 +88,10 @@ static int touches(const tb_fold *f, const tb_vec3 v[4]) {
 int tb_carve_event(tb_carve *c, const tb_cut_event *ev, const tb_vec3 *x, const int *tet, int nt,
                    const unsigned char *alive, unsigned char *hit, tb_error *err) {
   if (ev->kind == TB_CUT_BEGIN) {
-    c->cutting = 1, c->have_last = 0, c->removed = 0;
+    c->have_last = 0, c->removed = 0;
     return 0;
   }
-  if (ev->kind == TB_CUT_END) {
-    c->cutting = 0;
-    return 0;
-  }
+  if (ev->kind == TB_CUT_END) return 0;
   tb_vec3 *q = malloc(sizeof(tb_vec3) * ((size_t)ev->npath + 1));
   if (!q) return tb_error_set(err, "carve", 0, "out of memory");
   int n = swept(c, ev, q), nhit = 0;
@@ -134,31 +126,21 @@ int tb_carve_event(tb_carve *c, const tb_cut_event *ev, const tb_vec3 *x, const 
 int tb_carve_update(tb_carve *c, const int *tet, int nt, const unsigned char *alive, int removed,
                     double density, double node_mass, tb_error *err) {
   int n = 0;
-  double vol = 0;
   for (int t = 0; t < nt; t++)
     if (!alive || alive[t]) memcpy(c->scratch + 4 * n++, tet + 4 * t, 4 * sizeof(int));
-  double *m = c->mass;
-  double *keep = malloc(sizeof(double) * (size_t)c->nv);
-  if (!keep) return tb_error_set(err, "carve", 0, "out of memory");
-  memcpy(keep, m, sizeof(double) * (size_t)c->nv);
-  memset(m, 0, sizeof(double) * (size_t)c->nv);
-  for (int t = 0; t < n; t++) {
-    const int *e = c->scratch + 4 * t;
-    double v = tb_tet_volume(c->X[e[0]], c->X[e[1]], c->X[e[2]], c->X[e[3]]);
-    vol += v;
-    for (int k = 0; k < 4; k++) m[e[k]] += node_mass > 0 ? 0.0 : density * v / 4.0;
+  if (!(node_mass > 0)) { /* node_mass: every node keeps it; else lumped anew where tets are left */
+    for (int k = 0; k < 4 * n; k++) c->mass[c->scratch[k]] = 0;
+    for (int t = 0; t < n; t++) {
+      const int *e = c->scratch + 4 * t;
+      double v = tb_tet_volume(c->X[e[0]], c->X[e[1]], c->X[e[2]], c->X[e[3]]);
+      for (int k = 0; k < 4; k++) c->mass[e[k]] += density * v / 4.0;
+    }
   }
-  for (int i = 0; i < c->nv; i++)
-    if (node_mass > 0)
-      m[i] = node_mass;
-    else if (!(m[i] > 0))
-      m[i] = keep[i];
-  free(keep);
   tb_mesh view = {.nv = c->nv, .x = c->X, .ntet = n, .tet = c->scratch};
   int *tri = NULL, ntri = tb_mesh_tet_boundary(&view, &tri);
   if (ntri < 0) return tb_error_set(err, "carve", 0, "out of memory");
   free(c->tri);
-  c->tri = tri, c->ntri = ntri, c->version++, c->vol = vol, c->removed += removed;
+  c->tri = tri, c->ntri = ntri, c->version++, c->removed += removed;
   return 0;
 }
 

@@ -14,12 +14,10 @@ typedef struct tb_carve {
   tb_vec3 *X;     /* rest positions: the boundary's orientation and the masses */
   int ntri, *tri; /* the boundary of the tets left, oriented outward */
   unsigned long version;
-  int cutting;   /* between BEGIN and END */
   int have_last; /* the blade's position at the last MOVE is last */
   tb_vec3 last;
   int last_n;           /* that MOVE's path length */
   int removed;          /* tets removed since BEGIN */
-  double vol0, vol;     /* rest volume of the mesh at create and of the tets left */
   unsigned char *alive; /* per tet of the rest mesh, in its order: 0 once removed */
   int *scratch;         /* 4 ntet ints: the tets left, packed */
   double *mass;         /* nv: masses lumped from the tets left */
