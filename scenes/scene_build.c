@@ -171,8 +171,7 @@ static int picks(const tb_sim *s, const tb_selector *q, tb_vec3 lo, tb_vec3 hi, 
 }
 
 int tb_sim_select_point(const tb_sim *s, const tb_selection *sel, tb_vec3 x) {
-  tb_vec3 lo, hi;
-  tb_mesh_bbox(&s->mesh, &lo, &hi);
+  tb_vec3 lo = s->priv->lo, hi = s->priv->hi;
   for (int q = 0; q < sel->n; q++)
     if (sel->sel[q].kind != TB_SEL_IDS && sel->sel[q].kind != TB_SEL_PATCH &&
         picks(s, &sel->sel[q], lo, hi, lo, 0, x))

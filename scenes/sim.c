@@ -289,7 +289,7 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   for (int k = 0; k < 3 * s->mesh.ntri; k++) s->priv->on_surface[s->mesh.tri[k]] = 1;
   tb_vec3 lo, hi;
   tb_mesh_bbox(&s->mesh, &lo, &hi);
-  s->size = tb_dist(lo, hi);
+  s->size = tb_dist(lo, hi), s->priv->lo = lo, s->priv->hi = hi;
   if (!(s->def.vmax > 0)) s->def.vmax = 100.0 * s->size / s->def.duration; /* not given */
   tb_settings all;
   tb_settings_init(&all);

@@ -40,6 +40,7 @@ typedef struct tb_sim_blade {
 typedef struct tb_sim_priv {
   double param[TB_P_COUNT]; /* the scene's parameters, resolved */
   char *on_surface;         /* per node: used by a surface triangle */
+  tb_vec3 lo, hi;           /* the rest mesh's bounding box */
   int nforce, nmove;
   tb_sim_group *forces, *moves;
   /* the instrument: its mesh in its own frame, pose per step, contact */
