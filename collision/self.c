@@ -6,7 +6,8 @@
  * longest edge, and the closed triangles meet (tb_tritri_exact). So sheets
  * that touch (the two sides of a fresh cut, whose vertices were rounded
  * onto the blade's plane; a face resting on an edge) are not counted, and
- * what the pair shares is left aside:
+ * what the pair shares is left aside, whether a vertex of both or two
+ * vertices at the same point (the twins of a cut held together by a clamp):
  *  - a vertex v: the edge opposite v in one must cross the other's plane
  *    so and meet that triangle (a segment is the degenerate triangle
  *    (a, b, b) to tb_tritri_exact);
@@ -59,12 +60,14 @@ static int edge_crosses(const tb_vec3 *x, const int *ta, int k, const int *tb) {
   return straddles(x, tb, s, 2) && tb_tritri_exact(s, q);
 }
 
+static int same_point(tb_vec3 a, tb_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
 /* Triangles i and j (i != j) cross other than in what they share. */
 static int cross(const tb_vec3 *x, const int *ti, const int *tj) {
   int shared = 0, ki = -1, kj = -1;
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++)
-      if (ti[a] == tj[b]) shared++, ki = a, kj = b;
+      if (ti[a] == tj[b] || same_point(x[ti[a]], x[tj[b]])) shared++, ki = a, kj = b;
   if (shared >= 2) return 0;
   if (shared == 1) return edge_crosses(x, ti, ki, tj) || edge_crosses(x, tj, kj, ti);
   const tb_vec3 p[3] = {x[ti[0]], x[ti[1]], x[ti[2]]}, q[3] = {x[tj[0]], x[tj[1]], x[tj[2]]};

@@ -238,6 +238,22 @@ static void self_and_pieces(void) {
   tb_mesh_free(&m);
 }
 
+/* Two triangles meeting in a point that each has a vertex at (twins of a
+ * cut held together) touch when they part from it on opposite sides and
+ * cross when they run along the same line from it. */
+static void twins_touching_in_a_point(void) {
+  tb_vec3 x[6] = {{0, 0, 0}, {1, -1, 0}, {1, 1, 0}, {0, 0, 0}, {-1, 0, 1}, {-1, 0, -1}};
+  const int tri[6] = {0, 1, 2, 3, 4, 5};
+  tb_pairlist pl = {0, 0, NULL};
+  tb_error err;
+  TB_CHECK(tb_collide_self(x, tri, 2, &pl, &err) == 0 && pl.n == 0);
+  x[4].x = x[5].x = 1; /* the second turned over to x > 0: they cross along y = z = 0 */
+  TB_CHECK(tb_collide_self(x, tri, 2, &pl, &err) == 0 && pl.n == 1);
+  x[3] = tb_v3(0, 0, 1e-3); /* apart at the point, crossing all the same */
+  TB_CHECK(tb_collide_self(x, tri, 2, &pl, &err) == 0 && pl.n == 1);
+  tb_pairlist_free(&pl);
+}
+
 /* The sphere graph against the pieces: two pieces, spheres of each linked
  * among themselves and each piece's points bound to its own is consistent;
  * a link across, or a point bound across, is not. */
@@ -325,6 +341,7 @@ static void torture_suite_smoke(void) {
 
 const tb_test_case tb_tests_cuts[] = {
     {"self_and_pieces", self_and_pieces},
+    {"twins_touching_in_a_point", twins_touching_in_a_point},
     {"spheres_against_pieces", spheres_against_pieces},
     {"torture_suite_smoke", torture_suite_smoke},
     {"several_cuts_parse", several_cuts_parse},
