@@ -114,7 +114,7 @@ int tb_cut_trial_run(const tb_cut_trial *t, tb_cut_outcome *o, tb_error *err) {
       snprintf(o->why, sizeof o->why, "%.200s", e.msg);
     else {
       o->pieces_end = end.n, o->closed_end = end.closed, o->self_end = end.self_pairs;
-      o->overlap_end = end.overlap_pairs;
+      o->overlap_end = end.overlap_pairs, o->deepest_end = end.deepest;
       o->ran = 1;
       tb_pieces_free(&end);
     }

@@ -2,6 +2,7 @@
  * the connected components of the triangles through shared vertices
  * (union-find), so two pieces touching in one vertex count as one (and
  * that vertex makes the surface non-manifold: not closed). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,6 +14,23 @@ static int find(int *uf, int a) {
   while (uf[a] != a) uf[a] = uf[uf[a]], a = uf[a];
   return a;
 }
+/* How far triangle q reaches through the plane of p on its lesser side. */
+static double poke(const tb_vec3 *x, const int *p, const int *q) {
+  tb_vec3 a = x[p[0]], n = tb_normalize(tb_cross(tb_sub(x[p[1]], a), tb_sub(x[p[2]], a)));
+  double lo = 0, hi = 0;
+  for (int k = 0; k < 3; k++) {
+    double d = tb_dot(tb_sub(x[q[k]], a), n);
+    lo = fmin(lo, d), hi = fmax(hi, d);
+  }
+  return fmin(hi, -lo);
+}
+
+static double mean_edge(const tb_vec3 *x, int ntri, const int *tri) {
+  double sum = 0;
+  for (int k = 0; k < 3 * ntri; k++) sum += tb_dist(x[tri[k]], x[tri[k - k % 3 + (k + 1) % 3]]);
+  return ntri > 0 ? sum / (3.0 * ntri) : 0;
+}
+
 static void join(int *uf, int a, int b) {
   a = find(uf, a), b = find(uf, b);
   if (a != b) uf[a < b ? b : a] = a < b ? a : b;
@@ -57,7 +75,10 @@ int tb_pieces_measure(int nv, const tb_vec3 *x, int ntri, const int *tri, int se
     tb_pairlist pl = {0, 0, NULL};
     if (tb_collide_self(x, tri, ntri, &pl, err)) goto fail;
     p->self_pairs = p->overlap_pairs = 0;
+    double h = mean_edge(x, ntri, tri);
     for (int k = 0; k < pl.n; k++) {
+      const int *a = tri + 3 * pl.ij[2 * k], *b = tri + 3 * pl.ij[2 * k + 1];
+      p->deepest = fmax(p->deepest, fmin(poke(x, a, b), poke(x, b, a)) / h);
       int same = p->of_tri[pl.ij[2 * k]] == p->of_tri[pl.ij[2 * k + 1]];
       if (same)
         p->self_pairs++;

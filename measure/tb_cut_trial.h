@@ -37,6 +37,7 @@ typedef struct tb_cut_outcome {
   int pieces_cut, pieces_end, closed_cut, closed_end, self_cut, self_end;
   int overlap_cut, overlap_end; /* crossing triangle pairs of two pieces */
   int self_before;              /* crossing pairs of the organ's surface before the cut */
+  double deepest_end;           /* the deepest crossing at the run's end, mean edges (tb_pieces) */
   int spheres_cut;              /* components of the sphere graph at the cut's end */
   int consistent_cut;           /* they are the pieces (tb_pieces_spheres) */
   int crossing_cut;             /* points bound across the cut */

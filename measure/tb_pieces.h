@@ -14,6 +14,9 @@ typedef struct tb_pieces {
   int closed;        /* 1: every piece a closed, consistently oriented 2-manifold */
   int self_pairs;    /* crossing triangle pairs within one piece (collision/tb_bvh.h) */
   int overlap_pairs; /* crossing triangle pairs of two pieces: pieces inside each other */
+  double deepest;    /* the deepest crossing of those pairs, in the surface's mean edges: of
+                        the two triangles, how far the lesser side of one pokes through the
+                        other's plane, the smaller of the two ways round; 0 when none */
   double *volume;    /* n: each piece's enclosed volume */
   int *of_vertex;    /* nv: a vertex's piece, -1 for one no triangle uses */
   int *of_tri;       /* ntri: a triangle's piece */
