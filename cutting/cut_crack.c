@@ -54,23 +54,45 @@ static int corner_vertex(cutter *c, int which) { /* which = 2 i (+1 for q_i) */
   return c->corner_id[which];
 }
 
-/* A crease that meets the surface nowhere between its corners and lies inside the organ
- * (the blade's edge inside, e.g. near the organ's far side) would be one edge from p_i to
- * q_i in all four crack sheets (+ and - of both pieces) whose ends, on the path and the
- * depth edge inside, are each one vertex joining + and -: not a manifold. So such a crease
- * gets points t = j / m, shared by both pieces (c->crease_id), which un-welding gives a +
- * and a - copy each. A crease outside the organ keeps them in regions dropped as outside,
- * and a crease crossing the surface is left as it was. */
+/* A crease inside the organ would be one edge from p_i to q_i (or from where it meets the
+ * surface) in all four crack sheets (+ and - of both pieces): a crease meeting the surface
+ * nowhere would end, on the path and the depth edge inside, in one vertex joining + and -
+ * (not a manifold), and any long crease gives triangles the skin cannot bend. So a crease
+ * gets points t = j / m about the spacing apart, away from the cut points on it, shared by
+ * both pieces (c->crease_id), which un-welding gives a + and a - copy each; those outside
+ * the organ lie in regions dropped as outside and are never made. */
 static void crease_points(cutter *c, int k, int side, cpt *pt, int *np) {
   const tb_fold *f = c->f;
   int i = side == SIDE_R ? k + 1 : k; /* the crease at path point i */
-  for (int j = 4; j < *np; j++)
-    if (pt[j].side == side && pt[j].t > 0 && pt[j].t < 1) return;
-  int m = c->spacing > 0 ? (int)ceil(tb_len(f->depth) / c->spacing) : 2;
+  int m = c->spacing > 0 ? (int)ceil(tb_len(f->depth) / c->spacing) : 2, n0 = *np;
   m = m < 2 ? 2 : (m > CREASE_MAX ? CREASE_MAX : m);
-  for (int j = 1; j < m; j++, (*np)++) {
+  for (int j = 1; j < m; j++) {
+    int ok = 1;
+    for (int q = 4; q < n0 && ok; q++)
+      ok = !(pt[q].side == side && fabs(pt[q].t - (double)j / m) * m < 0.5);
+    if (!ok) continue;
     pt[*np].id = -1, pt[*np].s = side == SIDE_R ? 1.0 : 0.0, pt[*np].t = (double)j / m;
-    pt[*np].side = side, pt[*np].crease = CREASE_MAX * i + j;
+    pt[*np].side = side, pt[*np].crease = CREASE_MAX * i + j, (*np)++;
+  }
+}
+
+/* The path and depth edges of piece k (t = 0, t = 1) where they run inside the organ (the
+ * depth edge of a blade that stops inside is the crack's floor, which both sides share)
+ * would be single edges between the corners and the cut points on them: triangles as long
+ * as the blade, which the skin cannot bend, so they cross the surface when the organ bends.
+ * So each gets points m = ns per unit of s (about the spacing apart) away from the cut points
+ * on it; those in regions outside the organ are never made. */
+static void edge_points(const tb_fold *f, int k, int side, int m, cpt *pt, int *np) {
+  double el = tb_len(f->piece[k].e);
+  int n0 = *np;
+  for (int j = 1; j < m; j++) {
+    double s = (double)j / m;
+    int ok = 1;
+    for (int i = 4; i < n0 && ok; i++)
+      ok = !(pt[i].side == side && fabs(pt[i].s - s) * el * m < 0.5 * el);
+    if (ok)
+      pt[*np].id = -1, pt[*np].s = s, pt[*np].t = side == SIDE_T ? 1.0 : 0.0, pt[*np].side = side,
+      pt[*np].crease = -1, (*np)++;
   }
 }
 
@@ -133,7 +155,7 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
     ns = (int)ceil(el / c->spacing), nt = (int)ceil(dl / c->spacing);
     if ((double)ns * nt > 1e6) ns = nt = 0; /* a blade far larger than the organ's grain */
   }
-  int cap = c->nvr + 4 + 2 * CREASE_MAX + (ns + 1) * (nt + 1) + c->nextra;
+  int cap = c->nvr + 4 + 2 * CREASE_MAX + 2 * ns + (ns + 1) * (nt + 1) + c->nextra;
   cpt *pt = malloc((size_t)cap * sizeof *pt);
   int *sg = NULL, np = 0, nseg = 0, capseg = 0, rc = NOMEM;
   double *xy = NULL;
@@ -164,6 +186,8 @@ int cut_crack_piece(cutter *c, int k, int **crack, int *ncrack, int *capcrack) {
   }
   if (k > 0) crease_points(c, k, SIDE_L, pt, &np);
   if (k + 1 < f->npieces) crease_points(c, k, SIDE_R, pt, &np);
+  edge_points(f, k, SIDE_B, ns, pt, &np);
+  edge_points(f, k, SIDE_T, ns, pt, &np);
   for (int i = 0; i < 4; i++)
     if (pt[i].id < 0) pt[i].id = -10 - cw[i]; /* created only when a kept triangle uses it */
   int nfixed = np;

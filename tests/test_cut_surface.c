@@ -265,6 +265,16 @@ static void test_sphere_folded(void) {
   }
   TB_CHECK_MSG(shared >= 4 && plus > 0 && plus == minus, "slit: %d shared, %d +, %d -", shared,
                plus, minus);
+  /* the floor (the depth edge inside) and the creases split like the rest of the crack: no
+   * crack triangle much longer than the surface's edges */
+  double mean = 0, longest = 0;
+  for (int k = 0; k < 3 * s.ntri; k++)
+    mean += tb_dist(s.x[s.tri[k]], s.x[s.tri[k - k % 3 + (k + 1) % 3]]) / (3.0 * s.ntri);
+  for (int t = 0; t < r.ntri; t++)
+    for (int k = 0; k < 3 && r.tri_from[t] < 0; k++)
+      longest = fmax(longest, tb_dist(r.x[r.tri[3 * t + k]], r.x[r.tri[3 * t + (k + 1) % 3]]));
+  TB_CHECK_MSG(longest < 2 * mean, "slit: a crack edge %.3f long, the mean edge %.3f", longest,
+               mean);
   tb_cut_result_free(&r);
   tb_fold_free(&f);
   /* a slit from the side: the blade enters along x and its end edge stays inside */
