@@ -336,6 +336,10 @@ int tb_cmd_simulate(int argc, char **argv) {
     if (s.has_ground)
       printf("ground: largest penetration %.3g over the run (tolerance %.3g = 1e-9 x size)\n",
              s.pen_ground_max, 1e-9 * s.size);
+    if (s.settle_steps)
+      printf("ground: settled in %ld steps before t = 0 (last step's largest motion %.3g%s)\n",
+             s.settle_steps, s.settle_motion,
+             s.settle_motion <= 1e-9 * s.size ? "" : ": NOT settled, [ground] settle too short");
     if (s.has_tool)
       printf("instrument: largest penetration %.3g after the contact response, %.3g before it\n",
              s.pen_tool_max, s.pen_tool_before_max);

@@ -160,6 +160,10 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
                           gr->mu_k, gr->mu_s);
     if (!(gr->restitution >= 0 && gr->restitution <= 1))
       return tb_error_set(err, path, g->line, "[ground] restitution must be in [0, 1]");
+    s->priv->settle = tb_expr_eval(g->settle, P);
+    if (!(s->priv->settle >= 0 && s->priv->settle <= 1e3))
+      return tb_error_set(err, path, g->line, "[ground] settle must be in [0, 1000] s (got %g)",
+                          s->priv->settle);
   }
   if (!d->has_tool) return 0;
   const tb_scene_tool *t = &d->tool;

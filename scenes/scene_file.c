@@ -333,6 +333,7 @@ static int ground_key(parser *p, tb_scene_ground *g, const char *key, const char
   tb_expr *e = !strcmp(key, "mu_s")          ? &g->mu_s
                : !strcmp(key, "mu_k")        ? &g->mu_k
                : !strcmp(key, "restitution") ? &g->restitution
+               : !strcmp(key, "settle")      ? &g->settle
                                              : NULL;
   if (!e) return -1;
   if (tb_scene_parse_expr(value, e)) return fail(p, "%s: '%s' is not a number", key, value);
@@ -389,8 +390,7 @@ static int cut_key(parser *p, tb_scene_cut *c, const char *key, const char *valu
 static tb_scene_cut *cut_item(parser *p, const char *section) {
   tb_scene_desc *d = p->d;
   if (!strcmp(p->section, section) && p->item) return p->item;
-  if (d->ncut == TB_SCENE_MAX_CUTS)
-    return fail(p, "more than %s [cut] sections%s", "8", ""), NULL;
+  if (d->ncut == TB_SCENE_MAX_CUTS) return fail(p, "more than %s [cut] sections%s", "8", ""), NULL;
   tb_scene_cut *c = &d->cut[d->ncut++];
   memset(c, 0, sizeof *c);
   c->line = (int)p->line;
@@ -457,6 +457,7 @@ static int handler(void *user, const char *section, const char *key, const char 
       d->ground.normal[0] = d->ground.normal[1] = (tb_expr){0, -1};
       for (int i = 0; i < 3; i++) d->ground.point[i] = (tb_expr){0, -1};
       d->ground.mu_s = d->ground.mu_k = d->ground.restitution = (tb_expr){0, -1};
+      d->ground.settle = (tb_expr){0, -1};
       d->ground.axis[0] = d->ground.axis[1] = (tb_expr){0, -1};
       d->ground.axis[2] = (tb_expr){1, -1}, d->ground.angle = (tb_expr){0, -1};
     }

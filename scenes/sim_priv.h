@@ -77,6 +77,7 @@ typedef struct tb_sim_priv {
   tb_vec3 *held_new_x;
   /* the energy-growth detector (tb_sim_step) */
   double total_mass;
+  double settle; /* [ground] settle: seconds of settling before t = 0 at most */
   double load_max;
   double energy0;
   double energy_driven;

@@ -86,6 +86,7 @@ typedef struct tb_scene_move {
 typedef struct tb_scene_ground {
   tb_expr point[3], normal[3];
   tb_expr mu_s, mu_k, restitution;
+  tb_expr settle;         /* seconds the body settles onto it before t = 0 (scenes/sim.c) */
   tb_expr axis[3], angle; /* `rotate`: the plane turned about the origin (as the mesh's) */
   int line;
 } tb_scene_ground;
@@ -175,7 +176,7 @@ typedef struct tb_scene_desc {
   int ncut; /* [cut] and [cut NAME] sections: scalpels (models that can be cut) */
   tb_scene_cut cut[TB_SCENE_MAX_CUTS];
   double frame_interval; /* [output] every: seconds between frames (0: 1/30 s) */
-  tb_selection probe; /* [output] selectors: nodes whose displacement the summary reports */
+  tb_selection probe;    /* [output] selectors: nodes whose displacement the summary reports */
 } tb_scene_desc;
 
 /* Reads a scene file. Errors: "FILE:LINE: reason" (unknown section or key,

@@ -82,6 +82,8 @@ typedef struct tb_sim {
   /* ground: a plane with Coulomb friction and restitution */
   int has_ground;
   tb_ground ground;
+  long settle_steps;    /* [ground] settle: the steps taken before t = 0 (0: none) */
+  double settle_motion; /* the largest node motion of the last of them */
   /* the instrument (tb_sim_instrument poses it); its contacts at the last step */
   int has_tool;
   tb_pairlist pairs; /* (body surface triangle, instrument triangle), sorted */
