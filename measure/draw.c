@@ -12,7 +12,7 @@ const float tb_draw_body_rgb[3] = {0.86f, 0.45f, 0.40f},
 void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, const char *label,
                  int wireframe) {
   tb_surface su = tb_model_surface(&s->model);
-  if (s->has_ground) {
+  if (s->has_ground || s->ground_off) {
     tb_vec3 c = tb_v3(0, 0, 0);
     for (int i = 0; i < su.nv; i++) c = tb_madd(c, 1.0 / su.nv, su.x[i]);
     tb_renderer_ground(r, s->ground.p, s->ground.n, c, s->size);

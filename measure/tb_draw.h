@@ -12,9 +12,9 @@
 
 extern const float tb_draw_body_rgb[3], tb_draw_tool_rgb[3];
 
-/* The ground (if any), the body's current surface coloured by value
- * (per node, over [0, hi]; NULL: flat) with its colour bar named label, and
- * the instrument (if any). */
+/* The ground (if any, also one the scene turned off: ground = 0), the body's current surface
+ * coloured by value (per node, over [0, hi]; NULL: flat) with its colour bar named label, and the
+ * instrument (if any). */
 void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, const char *label,
                  int wireframe);
 /* Each surface point's distance from its rest position into value[su.nv]

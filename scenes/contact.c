@@ -140,9 +140,9 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   const tb_scene_desc *d = &s->desc;
   const double *P = s->priv->param;
   const char *path = d->path[0] ? d->path : d->name;
-  if (d->has_ground && s->priv->param[TB_P_GROUND] != 0) {
+  if (d->has_ground) { /* ground = 0: the plane is kept for pictures, and does not act */
     const tb_scene_ground *g = &d->ground;
-    s->has_ground = 1;
+    s->has_ground = s->priv->param[TB_P_GROUND] != 0, s->ground_off = !s->has_ground;
     tb_ground *gr = &s->ground;
     gr->p = tb_expr_vec(g->point, P);
     gr->n = tb_normalize(tb_expr_vec(g->normal, P));

@@ -82,6 +82,7 @@ typedef struct tb_sim {
   /* ground: a plane with Coulomb friction and restitution */
   int has_ground;
   tb_ground ground;
+  int ground_off;       /* the scene's [ground] turned off (ground = 0): drawn, not acting */
   long settle_steps;    /* [ground] settle: the steps taken before t = 0 (0: none) */
   double settle_motion; /* the largest node motion of the last of them */
   /* the instrument (tb_sim_instrument poses it); its contacts at the last step */

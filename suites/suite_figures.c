@@ -4,8 +4,10 @@
  * shape (b), steps/s beside the thesis's FPS), figs. 3.14-3.15 (a large
  * twist and its release: shape matching recovers, mass-spring stays
  * distorted), fig. 4.21 (the liver and the grasper on the table 4.2 path,
- * intersecting triangles highlighted) and figs. 5.5-5.8 (the liver before,
- * pressed, pulled, from the thesis's views). */
+ * intersecting triangles highlighted), figs. 5.5-5.8 (the liver before,
+ * pressed, pulled, from the thesis's views) and the PBD patent's figs. 7-9
+ * (the liver above the ground, at rest on it, and fallen through the floor
+ * without it). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -347,6 +349,67 @@ static void system_views(fig *f, const tb_suite_opts *o) {
   }
 }
 
+/* ---- the PBD patent's figs. 7-9 ---- */
+
+/* The front view of the box [lo, hi] grown to take in the ground below it. */
+static void view_box(fig *f, tb_vec3 lo, tb_vec3 hi) {
+  tb_camera cam;
+  tb_camera_preset("front", lo, hi, &cam);
+  tb_renderer_begin(f->r, &cam, BG);
+}
+
+static double lowest(const tb_sim *s) {
+  const tb_vec3 *x = tb_model_positions(&s->model);
+  double low = INFINITY;
+  for (int i = 0; i < s->mesh.nv; i++)
+    low = fmin(low, tb_dot(tb_sub(x[i], s->ground.p), s->ground.n));
+  return low;
+}
+
+/* liver-drop with pbd-stvk at the patent's settings: fig. 7 the liver above
+ * the ground, fig. 8 at rest on it, fig. 9 without the ground (ground = 0)
+ * after the same fall, below the floor it fell through (drawn, not acting). */
+static void pbd_drop(fig *f, const tb_suite_opts *o) {
+  static const char *const what[3] = {"above the ground", "at rest on the ground",
+                                      "without the ground: fallen through the floor"};
+  for (int k = 0; k < 3; k++) {
+    tb_sim_def sd;
+    tb_sim_def_init(&sd);
+    sd.seed = o->seed;
+    if (k == 2) sd.ground = 0;
+    tb_sim s;
+    tb_error err;
+    if (tb_sim_create(&s, "liver-drop", &sd, "pbd-stvk", NULL, NULL, &err)) {
+      fprintf(stderr, "figures: %s\n", err.msg);
+      f->failed = 1;
+      continue;
+    }
+    double t = k == 0 ? 0 : (k == 1 ? s.def.duration : 0.8);
+    if (run_to(&s, t, NULL, &err)) {
+      fprintf(stderr, "figures: %s\n", err.msg);
+      f->failed = 1;
+      tb_sim_destroy(&s);
+      continue;
+    }
+    tb_vec3 lo, hi; /* the rest mesh and the body now, and the ground beneath */
+    tb_mesh_bbox(&s.mesh, &lo, &hi);
+    const tb_vec3 *x = tb_model_positions(&s.model);
+    for (int i = 0; i < s.mesh.nv; i++) lo = tb_vmin(lo, x[i]), hi = tb_vmax(hi, x[i]);
+    lo = tb_vmin(lo, s.ground.p), hi = tb_vmax(hi, s.ground.p);
+    view_box(f, lo, hi);
+    body(f, &s, 0);
+    char name[64], cap[400];
+    snprintf(name, sizeof name, "fig-pbd-%d.png", 7 + k);
+    snprintf(cap, sizeof cap,
+             "PBD patent fig. %d: the liver %s (liver-drop, pbd-stvk at k 0.4, 5 iterations, dt "
+             "%g; t = %g s); its lowest node %.3g %s the ground plane%s.",
+             7 + k, what[k], s.def.dt, s.t, fabs(lowest(&s)), lowest(&s) < 0 ? "below" : "above",
+             k == 2 ? " (drawn; ground = 0 turns its contact off)" : "");
+    shoot(f, name, cap);
+    tb_sim_destroy(&s);
+  }
+}
+
 /* ---- each model's error against the reference, as a colour map ---- */
 static void errors(fig *f, const tb_suite_opts *o) {
   tb_fid_plan plan;
@@ -464,6 +527,7 @@ int tb_suite_figures(const tb_suite_opts *o) {
   recovery(&f, o);
   collision(&f, o);
   system_views(&f, o);
+  pbd_drop(&f, o);
   errors(&f, o);
   tb_renderer_free(f.r);
   if (tb_suite_end(su, &err)) fprintf(stderr, "figures: %s\n", err.msg), f.failed = 1;

@@ -64,7 +64,8 @@ static const tb_suite_entry suites[] = {
      "paths, each judged (closed pieces, no self-intersection, spheres split alike, volume)",
      tb_suite_cuts, 0},
     {"figures", NULL, "pictures",
-     "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7", tb_suite_figures, 0},
+     "the documents' pictures rendered: figs. 2.15, 3.11-3.15, 4.21, 5.5-5.7; PBD patent 7-9",
+     tb_suite_figures, 0},
 };
 static const int nsuites = (int)(sizeof suites / sizeof suites[0]);
 

@@ -168,6 +168,11 @@ static void figures_suite(void) {
   snprintf(path, sizeof path, "%s/figs/REPORT.md", tb_test_tmpdir());
   n = file_bytes(path, &md);
   TB_CHECK(n > 0 && md && strstr((char *)md, "](figures/fig-4.21-row-2.png)"));
+  /* the PBD patent's fig. 9: the liver below the floor it fell through */
+  const char *f9 = md ? strstr((char *)md, "PBD patent fig. 9:") : NULL;
+  TB_CHECK_MSG(f9 && strstr(f9, "below the ground plane (drawn; ground = 0") &&
+                   strstr((char *)md, "](figures/fig-pbd-9.png)"),
+               "fig. 9 missing or above the ground");
   free(md);
 }
 
