@@ -334,15 +334,25 @@ static void system_views(fig *f, const tb_suite_opts *o) {
       fprintf(stderr, "figures: %s\n", err.msg);
       f->failed = 1;
     }
+    tb_sim_metrics mt = tb_sim_measure(&s);
     for (int v = 0; v < rows[k].nviews && !f->failed; v++) {
       view(f, rows[k].views[v], &s.mesh);
-      body(f, &s, 0);
-      char name[80], cap[300];
+      body(f, &s, k == 2); /* the pull shown by the displacement's colours */
+      char name[80], cap[400], how[200];
       snprintf(name, sizeof name, "fig-%s-%s.png", rows[k].fig, rows[k].views[v]);
-      snprintf(cap, sizeof cap,
-               "Fig. %s: %s (shape matching, %s at t = %g s), %s view; instrument penetration "
-               "after the contact response at most %.3g.",
-               rows[k].fig, rows[k].what, rows[k].scene, s.t, rows[k].views[v], s.pen_tool_max);
+      if (s.has_tool)
+        snprintf(how, sizeof how,
+                 "the grasper's penetration after the contact response at most %.3g",
+                 s.pen_tool_max);
+      else if (k == 2)
+        snprintf(how, sizeof how,
+                 "coloured by displacement: a far surface patch pulled %g by prescribed motion (no "
+                 "instrument is simulated or drawn), largest displacement %.3g",
+                 s.def.amplitude, mt.max_disp);
+      else
+        snprintf(how, sizeof how, "at rest, before the patch is pulled (no instrument)");
+      snprintf(cap, sizeof cap, "Fig. %s: %s (shape matching, %s at t = %g s), %s view; %s.",
+               rows[k].fig, rows[k].what, rows[k].scene, s.t, rows[k].views[v], how);
       shoot(f, name, cap);
     }
     tb_sim_destroy(&s);
