@@ -205,7 +205,7 @@ typedef struct plan {
 } plan;
 
 static plan make_plan(const tb_suite_opts *o) {
-  static const double dt_quick[] = {0.04, 0.02, 0.01},
+  static const double dt_quick[] = {0.04, 0.02, 0.01, 0.005},
                       dt_full[] = {0.04, 0.02, 0.01, 0.005, 0.0025};
   static const int it_quick[] = {1, 2, 5, 10, 20, 50, 100},
                    it_full[] = {1, 2, 3, 5, 10, 20, 50, 100};
@@ -225,7 +225,7 @@ static plan make_plan(const tb_suite_opts *o) {
     memcpy(p.dt, dt_full, sizeof dt_full);
     memcpy(p.it, it_full, sizeof it_full);
   } else {
-    p.ndt = 3, p.nit = 7;
+    p.ndt = 4, p.nit = 7;
     memcpy(p.dt, dt_quick, sizeof dt_quick);
     memcpy(p.it, it_quick, sizeof it_quick);
   }
