@@ -233,6 +233,7 @@ typedef struct runner {
   tb_sim s;
   const tb_fid_opts *o;
   double dt, window; /* settle window (simulated s) */
+  double speed;      /* the largest node speed of the last step */
   tb_vec3 *px;
   double *cpu, *wall; /* each step's CPU and wall ms */
   long nms, cap;
@@ -268,7 +269,7 @@ static int settle(runner *r, double t_from, double *settled_at, tb_error *err) {
   *settled_at = NAN;
   for (;;) {
     if (timed_step(r, err)) return -1;
-    double v = step_speed(tb_model_positions(&r->s.model), r->px, r->s.mesh.nv, r->dt);
+    double v = r->speed = step_speed(tb_model_positions(&r->s.model), r->px, r->s.mesh.nv, r->dt);
     if (r->s.t < t_from - 1e-9 * r->dt || v >= r->o->settle_speed)
       quiet_since = NAN;
     else if (isnan(quiet_since))
@@ -335,8 +336,10 @@ int tb_fid_run(const tb_fid_ref *ref, const tb_fid_mesh *fm, const char *model,
   if (out->settled)
     snprintf(out->state, sizeof out->state, "settled");
   else
-    snprintf(out->state, sizeof out->state, "not settled (speed >= %.3g after %.3g s)",
-             o->settle_speed, o->max_time);
+    snprintf(out->state, sizeof out->state,
+             "not settled within %.3g s (below %.3g per s for %.3g s; largest node speed at the "
+             "end %.3g)",
+             o->max_time, o->settle_speed, r.window, r.speed);
   if (!stretch) goto timing;
   /* the reaction on the pulled patch, then let go */
   tb_vec3 react;

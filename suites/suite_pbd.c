@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "tb_suites.h"
+#include "tb_pbd_accuracy.h"
 #include "core/tb_threads.h"
 #include "core/tb_timer.h"
 #include "meshgen/tb_generators.h"
@@ -664,6 +665,7 @@ int tb_suite_pbd(const tb_suite_opts *o) {
                 "of the blocks' paired CPU-time ratios with its 95%% interval.",
                 K_STIFF, ITERS, si.ground.mu_k);
   failed |= chart(su, rows, cores);
+  failed |= tb_pbd_accuracy(su, o);
   if (tb_suite_end(su, &err)) fprintf(stderr, "pbd: %s\n", err.msg), failed = 1;
   return failed;
 }

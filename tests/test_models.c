@@ -575,6 +575,20 @@ static void pbd_suite_smoke(void) {
   snprintf(cmd, sizeof cmd, "test -s %s/r/pbd/solve.svg && test -s %s/r/pbd/table-peer.csv",
            tb_test_tmpdir(), tb_test_tmpdir());
   TB_CHECK(tb_test_run(cmd, NULL, 0) == 0);
+  /* at rest against the converged FEM: xpbd-stvk with 100 iterations sags as FEM on the same
+   * tets, pbd-stvk at the patent's settings far less (stiffer than the material) */
+  snprintf(cmd, sizeof cmd, "cut -d, -f1,2,9 %s/r/pbd/table-accuracy.csv", tb_test_tmpdir());
+  TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
+  double patent = NAN, xpbd = NAN, fem = NAN;
+  for (char *line = strtok(tb_test_out, "\n"); line; line = strtok(NULL, "\n")) {
+    const char *c = strrchr(line, ',');
+    double v = c ? atof(c + 1) : NAN;
+    if (!strncmp(line, "pbd-stvk,the patent's settings,", 31)) patent = v;
+    if (!strncmp(line, "xpbd-stvk,converged: 100 iterations,", 36)) xpbd = v;
+    if (!strncmp(line, "fem-corot,", 10)) fem = v;
+  }
+  TB_CHECK_MSG(fem > 0.2 && fabs(xpbd / fem - 1) < 0.05 && patent < 0.2 * fem,
+               "sag over the reference's: pbd %g, xpbd %g, fem-corot %g", patent, xpbd, fem);
 }
 
 /* The bao suite in quick mode, twice: the paper's table 1 beside ours
