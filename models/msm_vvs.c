@@ -62,6 +62,7 @@ static void destroy(void *self) {
   free(s->mass), free(s->invm), free(s->ksv), free(s->kdv), free(s->d), free(s->follow);
   free(s->sim), free(s->tri), free(s->ij), free(s->len0), free(s->k);
   free(s->depth), free(s->share), free(s->stress), free(s->kdiag), free(s->qinv);
+  free(s->barea), free(s->bload);
   if (s->lod) tb_lod_free(s->lod), free(s->lod);
   free(s);
 }
@@ -233,15 +234,20 @@ static void forces(vvs *s, tb_vec3 g) {
   }
 }
 
-/* The external forces (on the mesh's nodes), then F_i. */
+/* The external forces (on the mesh's nodes; refining, through the current
+ * surface: vvs_refine_loads), then F_i. */
 static void load(vvs *s, const tb_step *in) {
   size_t nb = (size_t)s->nbase;
-  if (in->force)
-    memcpy(s->f, in->force, sizeof(tb_vec3) * nb);
-  else
-    memset(s->f, 0, sizeof(tb_vec3) * nb);
-  for (int q = s->nsim - 1; q >= 0 && s->sim[q] >= s->nbase; q--) /* a finer level's, on now */
-    s->f[s->sim[q]] = tb_v3(0, 0, 0);
+  if (s->lod && in->force)
+    vvs_refine_loads(s, in->force);
+  else {
+    if (in->force)
+      memcpy(s->f, in->force, sizeof(tb_vec3) * nb);
+    else
+      memset(s->f, 0, sizeof(tb_vec3) * nb);
+    for (int q = s->nsim - 1; q >= 0 && s->sim[q] >= s->nbase; q--) /* a finer level's */
+      s->f[s->sim[q]] = tb_v3(0, 0, 0);
+  }
   forces(s, in->gravity);
 }
 

@@ -40,6 +40,8 @@ typedef struct vvs {
   double *stress; /* per point: sum of its springs' |k (l - R)| at the last check */
   double *kdiag;  /* per point: its springs' k summed with k'_s */
   double *qinv;   /* per point: the quasi-static step's 1 / mass, for the step qh */
+  double *barea;  /* per base point: its rest area share (a third of its triangles') */
+  tb_vec3 *bload; /* per base point: the external traction, force / barea */
   double qh;
   int steps;
   int refinements; /* surface rebuilds so far */
@@ -70,5 +72,8 @@ int vvs_refine_step(vvs *s);
 void vvs_refine_params(vvs *s);
 /* The quasi-static step's masses for the step h = alpha dt^2 (qinv, qh). */
 void vvs_refine_steps(vvs *s, double h);
+/* The external forces given on the base points (nbase) as loads on every
+ * point of the current surface, into s->f (vvs_refine.c). */
+void vvs_refine_loads(vvs *s, const tb_vec3 *force);
 
 #endif

@@ -6,9 +6,15 @@
  * Criterion (§3.2). The paper refines where "the force on a node" passes a
  * threshold. The net force on a node tends to zero as a quasi-static body
  * settles, so the measure here is the node's stress: the sum of its
- * springs' force magnitudes, sum_j k |l_ij - R_ij|, divided by its area
- * share (its surface area over a base point's), so that a finer point,
- * holding less of the surface, is judged by the same force per area.
+ * springs' force magnitudes, sum_j k |l_ij - R_ij|, divided by the square
+ * root of its area share (its surface area over a base point's). Under a
+ * strain e a spring of length h stretches by e h, so the sum goes as k e h
+ * and the share as h^2: divided by the share itself (a force per area) the
+ * same strain would score twice as high on each finer level, and
+ * refinement would feed itself (and keep growing after a release); over
+ * its square root the measure is k e, the same at every level, and a level
+ * is chosen by the strain field alone. At a base point (share about 1)
+ * both are the force on it.
  * A point whose stress reaches refine_force deepens by one level (its
  * depth becomes one more than the level it was born on, up to the finest);
  * one below coarsen_share x refine_force goes back a level; between the
@@ -64,12 +70,69 @@ int vvs_refine_init(vvs *s, const tb_mesh *mesh, tb_error *err) {
   s->depth = calloc(nv, 1), s->share = calloc(nv, sizeof(double));
   s->stress = calloc(nv, sizeof(double)), s->kdiag = calloc(nv, sizeof(double));
   s->qinv = calloc(nv, sizeof(double));
-  if (!s->depth || !s->share || !s->stress || !s->kdiag || !s->qinv)
+  s->barea = calloc((size_t)lod->level_nv[0], sizeof(double));
+  s->bload = calloc((size_t)lod->level_nv[0], sizeof(tb_vec3));
+  if (!s->depth || !s->share || !s->stress || !s->kdiag || !s->qinv || !s->barea || !s->bload)
     return tb_error_set(err, "msm-vvs", 0, "out of memory (%d points over %d levels)", lod->nv,
                         lod->nlevels);
   memcpy(s->x0, lod->rest, sizeof(tb_vec3) * nv);
   memcpy(s->x, lod->rest, sizeof(tb_vec3) * nv);
+  for (int b = 0; b < lod->level_nf[0]; b++) {
+    const int *t = lod->tri[0] + 3 * b;
+    double a = tb_tri_area(lod->rest[t[0]], lod->rest[t[1]], lod->rest[t[2]]) / 3;
+    for (int k = 0; k < 3; k++) s->barea[t[k]] += a;
+  }
   return 0;
+}
+
+/* Loads (§4's press) through the current surface, not on the base points
+ * alone, so refinement sees the load it is to resolve: base point i's
+ * force is a traction f_i / A_i over its rest area share A_i, linear over
+ * each base triangle B; a surface triangle of B's tree, of parametric
+ * share phi of B (4^-l for a leaf of level l, half of that for each of a
+ * transition band's two), gives each of its corners A_B phi / 3 times the
+ * traction at that corner's place in B (its rest position's barycentric
+ * coordinates there). On the base surface that is every point's own force
+ * back; refined, the same total over more points (exactly when the corners
+ * lie in B's plane, as a plane patch's do). */
+static void barycentric(tb_vec3 p, tb_vec3 a, tb_vec3 b, tb_vec3 c, double w[3]) {
+  tb_vec3 e1 = tb_sub(b, a), e2 = tb_sub(c, a), d = tb_sub(p, a);
+  double g11 = tb_dot(e1, e1), g12 = tb_dot(e1, e2), g22 = tb_dot(e2, e2);
+  double r1 = tb_dot(d, e1), r2 = tb_dot(d, e2), det = g11 * g22 - g12 * g12;
+  double u = det > 0 ? (g22 * r1 - g12 * r2) / det : 0,
+         v = det > 0 ? (g11 * r2 - g12 * r1) / det : 0;
+  w[1] = fmax(0, u), w[2] = fmax(0, v), w[0] = fmax(0, 1 - u - v);
+  double sum = w[0] + w[1] + w[2];
+  for (int k = 0; k < 3; k++) w[k] = sum > 0 ? w[k] / sum : 1.0 / 3;
+}
+
+void vvs_refine_loads(vvs *s, const tb_vec3 *force) {
+  const tb_lod *lod = s->lod;
+  const int nb = s->nbase;
+  int any = 0;
+  for (int i = 0; i < nb; i++) {
+    s->bload[i] = s->barea[i] > 0 ? tb_scale(force[i], 1 / s->barea[i]) : tb_v3(0, 0, 0);
+    any |= force[i].x != 0 || force[i].y != 0 || force[i].z != 0;
+  }
+  for (int q = 0; q < s->nsim; q++) s->f[s->sim[q]] = tb_v3(0, 0, 0);
+  if (!any) return;
+  for (int t = 0; t < lod->ntri; t++) {
+    int f, l = tb_lod_level(lod, lod->out_leaf[t], &f), base = f >> (2 * l);
+    int pair = (t > 0 && lod->out_leaf[t - 1] == lod->out_leaf[t]) ||
+               (t + 1 < lod->ntri && lod->out_leaf[t + 1] == lod->out_leaf[t]);
+    const int *B = lod->tri[0] + 3 * base, *T = lod->out_tri + 3 * t;
+    if (tb_len(s->bload[B[0]]) + tb_len(s->bload[B[1]]) + tb_len(s->bload[B[2]]) == 0) continue;
+    const tb_vec3 *X = lod->rest;
+    double share =
+        tb_tri_area(X[B[0]], X[B[1]], X[B[2]]) / (double)(1 << (2 * l)) / (pair ? 2 : 1) / 3;
+    for (int k = 0; k < 3; k++) {
+      double w[3];
+      barycentric(X[T[k]], X[B[0]], X[B[1]], X[B[2]], w);
+      tb_vec3 load = tb_scale(s->bload[B[0]], w[0]);
+      load = tb_madd(tb_madd(load, w[1], s->bload[B[1]]), w[2], s->bload[B[2]]);
+      s->f[T[k]] = tb_madd(s->f[T[k]], share, load);
+    }
+  }
 }
 
 void vvs_refine_params(vvs *s) {
@@ -131,11 +194,11 @@ int vvs_refine_step(vvs *s) {
     const int i = s->sim[q], d = s->depth[i];
     const double st = s->stress[i], sh = s->share[i];
     int nd = d;
-    if (st >= hi * sh) { /* deeper, unless born on the finest level */
+    if (st >= hi * sqrt(sh)) { /* deeper, unless born on the finest level */
       int b = birth(lod, i);
       int up = (d > b ? d : b) + 1;
       if (b < deepest) nd = up < deepest ? up : deepest;
-    } else if (d > 0 && st < lo * sh) {
+    } else if (d > 0 && st < lo * sqrt(sh)) {
       int b = birth(lod, i);
       nd = d - 1 > b ? d - 1 : 0; /* a depth at or below the birth level does nothing */
     }
