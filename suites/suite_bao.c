@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "tb_suites.h"
+#include "tb_bao_accuracy.h"
 #include "core/tb_threads.h"
 #include "core/tb_timer.h"
 #include "measure/tb_draw.h"
@@ -49,7 +50,7 @@ static const struct {
 } paper[NROWS] = {
     {"base mesh", "levels=2 refine_force=1e9", 252, 500, 60},
     {"fully subdivided", "levels=2 refine_force=0", 1002, 2000, 194},
-    {"locally refined", "levels=2 refine_force=0.2", 294, 584, 66},
+    {"locally refined", "levels=2 refine_force=0.1", 294, 584, 66},
     {"no refinement (levels=1)", "levels=1", 252, 500, NAN},
 };
 
@@ -198,7 +199,7 @@ static void measure(ctx *c, int r, uint64_t seed, row *w) {
         snprintf(cap, sizeof cap,
                  "Fig 8: the sphere %s at the end of the press (t = %g s), %d vertices, %d "
                  "triangles; colour: displacement 0 to %g",
-                 r == LOCAL  ? "under local refinement (refine_force 0.2)"
+                 r == LOCAL  ? "under local refinement (refine_force 0.1)"
                  : r == FULL ? "fully subdivided"
                              : "on the base mesh",
                  s.t, nv, nt, U_SCALE);
@@ -326,59 +327,6 @@ static void table1(tb_suite *su, const row *w) {
     tb_table_num(t, w[r].rebuilds, "%.0f");
     tb_table_num(t, w[r].med_rebuild, "%.2f");
     tb_table_est(t, w[BASE].ok ? w[r].other : nan, "%.2f", "x");
-  }
-  tb_suite_table(su, t);
-}
-
-/* rms and largest distance between the base vertices of a and b. */
-static void distance(const tb_vec3 *a, const tb_vec3 *b, int n, double *rms, double *max) {
-  double s2 = 0;
-  *max = 0;
-  for (int i = 0; i < n; i++) {
-    double d = tb_dist(a[i], b[i]);
-    s2 += d * d, *max = fmax(*max, d);
-  }
-  *rms = sqrt(s2 / n);
-}
-
-static void accuracy(tb_suite *su, const row *w, int nb, double release) {
-  static const char *cols[] = {"mesh",
-                               "rms distance to full, 252 base vertices (radius 1)",
-                               "largest distance to full (radius 1)",
-                               "dent at t = 4 s (radius 1)",
-                               "dent - full's (radius 1)",
-                               "largest dent over the run (radius 1)"};
-  char title[200];
-  snprintf(title, sizeof title,
-           "Accuracy at the end of the press (t = %g s): each model's base vertices against the "
-           "fully subdivided model's",
-           release);
-  tb_table *t = tb_table_new("accuracy", title, 6, cols);
-  static const int order[NROWS] = {LOCAL, BASE, PLAIN, FULL};
-  for (int k = 0; k < NROWS; k++) {
-    int r = order[k];
-    tb_table_row(t);
-    tb_table_cell(t, "%s", paper[r].name);
-    if (!w[r].ok || !w[FULL].ok) {
-      for (int c = 1; c < 6; c++) tb_table_cell(t, "-");
-      continue;
-    }
-    double rms, max;
-    distance(w[r].x_press, w[FULL].x_press, nb, &rms, &max);
-    tb_table_num(t, rms, "%.2e"), tb_table_num(t, max, "%.2e");
-    tb_table_num(t, w[r].dent_press, "%.4f");
-    tb_table_num(t, w[r].dent_press - w[FULL].dent_press, "%+.2e");
-    tb_table_num(t, w[r].peak, "%.4f");
-    char name[96];
-    snprintf(name, sizeof name, "accuracy/%s",
-             r == LOCAL  ? "local"
-             : r == BASE ? "base"
-             : r == FULL ? "full"
-                         : "levels1");
-    tb_suite_counter(su, name, "rms_distance_to_full", rms);
-    tb_suite_counter(su, name, "max_distance_to_full", max);
-    tb_suite_counter(su, name, "dent_at_release", w[r].dent_press);
-    tb_suite_counter(su, name, "dent_peak", w[r].peak);
   }
   tb_suite_table(su, t);
 }
@@ -654,13 +602,8 @@ int tb_suite_bao(const tb_suite_opts *o) {
   tb_threads_set(threads);
   if (w[BASE].ok && w[FULL].ok && w[LOCAL].ok) cost_note(su, w, reps);
   flush(&c);
-  accuracy(su, w, w[FULL].nb, w[FULL].release);
-  tb_suite_note(su,
-                "The %d base vertices exist with the same indices in every model; the distance "
-                "is between the two models' positions of each at t = %g s, the end of the press. "
-                "Dent: the length of the mean displacement of the pressed patch (the scene's "
-                "probe, %d nodes).",
-                w[FULL].nb, w[FULL].release, w[FULL].nprobe);
+  tb_est none = {NAN, NAN, NAN, 0};
+  c.failed |= tb_bao_accuracy(su, o, w[LOCAL].ok && w[BASE].ok ? w[LOCAL].to_base : none);
   pr res[2][NVAR];
   memset(res, 0, sizeof res);
   for (int sc = 0; sc < 2; sc++) {
@@ -679,7 +622,7 @@ int tb_suite_bao(const tb_suite_opts *o) {
                 "The runs of the last table go the scenes' whole 12 s (the load until 4 s). At "
                 "rest: the largest node speed, averaged over the last 0.1 s, below the scene's "
                 "rest_speed times the sphere's size. The pictures are rendered headless as "
-                "`tissuebench render --scene sphere-press --set levels=2 --set refine_force=0.2 "
+                "`tissuebench render --scene sphere-press --set levels=2 --set refine_force=0.1 "
                 "--times 4 --color displacement --wireframe` does (the model's current surface; "
                 "a refined point's displacement from its own rest position). The suite took "
                 "%.2f s in all (%d + %d timed runs of 500 steps, the pictures included).",
