@@ -38,6 +38,8 @@
 #define GOAL 1.2    /* the goal: local <= 1.2 x base per step */
 #define W 400       /* pictures */
 #define H 300
+#define FIG8_W 800 /* fig 8: the refinement seen from the top */
+#define FIG8_H 600
 #define MAX_REPS 15 /* timed repetitions at most (--full) */
 #define U_SCALE 0.5 /* the pictures' displacement colour scale (radius 1) */
 
@@ -116,20 +118,32 @@ static double probe_now(const tb_sim *s) {
 }
 
 /* A picture of the current state: the surface coloured by displacement
- * (0 to U_SCALE), wireframe when asked, into dir/name with its caption. */
+ * (0 to U_SCALE), wireframe when asked, into dir/name with its caption;
+ * from the left front, or for fig 8 from the top at FIG8_W x FIG8_H, where
+ * the refined faces under the press show. */
 static void picture(ctx *c, tb_sim *s, int wire, const char *name, const char *caption) {
   tb_camera cam;
-  tb_camera_preset("left-front", tb_v3(-1, -1, -1), tb_v3(1, 1, 1.2), &cam);
-  tb_renderer_begin(c->r, &cam, (const float[3]){1, 1, 1});
+  int top = !strncmp(name, "fig8", 4);
+  tb_error err;
+  tb_renderer *big = top ? tb_renderer_new(FIG8_W, FIG8_H, 2, &err) : NULL;
+  tb_renderer *rr = top ? big : c->r;
+  if (!rr) {
+    fprintf(stderr, "bao: %s\n", err.msg);
+    c->failed = 1;
+    return;
+  }
+  tb_camera_preset(top ? "top" : "left-front", tb_v3(-1, -1, -1), tb_v3(1, 1, 1.2), &cam);
+  tb_renderer_begin(rr, &cam, (const float[3]){1, 1, 1});
   tb_surface su = tb_model_surface(&s->model);
   double *u = malloc(sizeof(double) * (size_t)su.nv);
   if (u) tb_draw_displacement(s, u);
-  tb_draw_sim(c->r, s, u, U_SCALE, "displacement", wire);
+  tb_draw_sim(rr, s, u, U_SCALE, "displacement", wire);
   free(u);
   char path[1200];
-  tb_error err;
   snprintf(path, sizeof path, "%s/%s", c->dir, name);
-  if (tb_renderer_write_png(c->r, path, &err)) {
+  int bad = tb_renderer_write_png(rr, path, &err);
+  tb_renderer_free(big);
+  if (bad) {
     fprintf(stderr, "bao: %s\n", err.msg);
     c->failed = 1;
     return;
