@@ -152,15 +152,23 @@ int tb_lod_coarsen(tb_lod *lod, int l, int f) {
 void tb_lod_apply(tb_lod *lod, const unsigned char *depth) {
   memset(lod->state, TB_LOD_OFF, (size_t)lod->first[lod->nlevels]);
   memset(lod->state, TB_LOD_LEAF, (size_t)lod->level_nf[0]);
-  for (int l = 0; l + 1 < lod->nlevels; l++)
-    for (int v = 0; v < lod->level_nv[l]; v++) {
-      if (depth[v] <= l) continue;
-      int h0 = lod->out[l][v], h = h0; /* the faces of level l around v */
-      do {
-        tb_lod_refine(lod, l, h / 3);
-        h = lod->pair[l][h - h % 3 + (h + 2) % 3];
-      } while (h != h0);
-    }
+  /* a split's balance can turn on faces around a vertex passed already (of
+   * its level or, splitting a coarser neighbour, of a level done): the
+   * levels are swept again until a sweep splits nothing, so the surface is
+   * the least one holding every request, whatever the vertices' order */
+  int split;
+  do {
+    split = 0;
+    for (int l = 0; l + 1 < lod->nlevels; l++)
+      for (int v = 0; v < lod->level_nv[l]; v++) {
+        if (depth[v] <= l) continue;
+        int h0 = lod->out[l][v], h = h0; /* the faces of level l around v */
+        do {
+          split += tb_lod_refine(lod, l, h / 3);
+          h = lod->pair[l][h - h % 3 + (h + 2) % 3];
+        } while (h != h0);
+      }
+  } while (split);
   tb_lod_surface(lod);
 }
 

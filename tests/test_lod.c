@@ -177,6 +177,37 @@ static void apply_depths(void) {
   tb_lod_free(&lod);
 }
 
+/* Depths at random over four levels: after tb_lod_apply no face of level
+ * l around a vertex of depth > l is left a leaf (a split's balance turning
+ * on faces around a vertex already passed left some, 10 at levels 4). */
+static void apply_any_order(void) {
+  tb_lod lod;
+  if (sphere_lod(&lod, 4)) return;
+  unsigned char *depth = calloc((size_t)lod.nv, 1);
+  unsigned long long r = 12345;
+  for (int trial = 0; trial < 20; trial++) {
+    for (int v = 0; v < lod.nv; v++) {
+      r = r * 6364136223846793005ULL + 1442695040888963407ULL;
+      depth[v] = (r >> 33) % 40 == 0 ? (unsigned char)(1 + (r >> 40) % 3) : 0;
+    }
+    tb_lod_apply(&lod, depth);
+    int missed = 0;
+    for (int l = 0; l + 1 < lod.nlevels; l++)
+      for (int v = 0; v < lod.level_nv[l]; v++) {
+        if (depth[v] <= l) continue;
+        int h0 = lod.out[l][v], h = h0;
+        do {
+          missed += lod.state[lod.first[l] + h / 3] == TB_LOD_LEAF;
+          h = lod.pair[l][h - h % 3 + (h + 2) % 3];
+        } while (h != h0);
+      }
+    TB_CHECK_MSG(missed == 0, "trial %d: %d faces left unsplit", trial, missed);
+    check_surface(&lod, "random depths");
+  }
+  free(depth);
+  tb_lod_free(&lod);
+}
+
 static void bad_base(void) {
   tb_lod lod;
   tb_error err;
@@ -190,11 +221,8 @@ static void bad_base(void) {
 }
 
 const tb_test_case tb_tests_lod[] = {
-    {"one_face_band", one_face_band},
-    {"balance_and_closure", balance_and_closure},
-    {"full_and_back", full_and_back},
-    {"random_walk", random_walk},
-    {"apply_depths", apply_depths},
-    {"bad_base", bad_base},
-    {NULL, NULL},
+    {"one_face_band", one_face_band}, {"balance_and_closure", balance_and_closure},
+    {"full_and_back", full_and_back}, {"random_walk", random_walk},
+    {"apply_depths", apply_depths},   {"apply_any_order", apply_any_order},
+    {"bad_base", bad_base},           {NULL, NULL},
 };
