@@ -62,7 +62,7 @@ static void destroy(void *self) {
   free(s->mass), free(s->invm), free(s->ksv), free(s->kdv), free(s->d), free(s->follow);
   free(s->sim), free(s->tri), free(s->ij), free(s->len0), free(s->k);
   free(s->depth), free(s->share), free(s->stress), free(s->kdiag), free(s->qinv);
-  free(s->barea), free(s->bload);
+  free(s->barea), free(s->bload), free(s->u);
   if (s->lod) tb_lod_free(s->lod), free(s->lod);
   free(s);
 }

@@ -41,6 +41,7 @@ typedef struct vvs {
   double *kdiag;  /* per point: its springs' k summed with k'_s */
   double *qinv;   /* per point: the quasi-static step's 1 / mass, for the step qh */
   double *barea;  /* per base point: its rest area share (a third of its triangles') */
+  tb_vec3 *u;     /* per point: the displacement field a point coming on is placed by */
   tb_vec3 *bload; /* per base point: the external traction, force / barea */
   double qh;
   int steps;

@@ -25,10 +25,15 @@
  * from the base with every point's depth (tb_lod_apply): a smaller
  * threshold spreads refinement further, as the paper says.
  *
- * A point coming on takes the rest position the butterfly gave it plus the
- * mean displacement and velocity of the two ends of the edge it was born
- * on (they are on; ascending order serves parents first). A point going
- * off is parked: not simulated, velocity 0.
+ * A point coming on is placed on the butterfly surface of the deformed
+ * coarser level: its rest position (the butterfly point of the rest
+ * positions) plus the butterfly point of the displacements of its edge's
+ * level (the stencil is linear with weights summing to 1, so a rigid motion
+ * of the coarser level moves it rigidly too; the ends' mean was up to 12%
+ * of an edge off on a bent surface). A stencil point not on the surface
+ * takes the mean displacement of the ends of the edge it was born on
+ * (ascending order serves parents first). Its velocity is the mean of the
+ * ends'. A point going off is parked: not simulated, velocity 0.
  *
  * Physical constants when the resolution changes (§3.3 "adjust the
  * model's physical parameters"): the total mass is kept, shared by area
@@ -56,6 +61,7 @@
 #include <string.h>
 
 #include "vvs_priv.h"
+#include "core/tb_butterfly.h"
 
 int vvs_refine_init(vvs *s, const tb_mesh *mesh, tb_error *err) {
   s->lod = calloc(1, sizeof *s->lod);
@@ -72,7 +78,9 @@ int vvs_refine_init(vvs *s, const tb_mesh *mesh, tb_error *err) {
   s->qinv = calloc(nv, sizeof(double));
   s->barea = calloc((size_t)lod->level_nv[0], sizeof(double));
   s->bload = calloc((size_t)lod->level_nv[0], sizeof(tb_vec3));
-  if (!s->depth || !s->share || !s->stress || !s->kdiag || !s->qinv || !s->barea || !s->bload)
+  s->u = calloc(nv, sizeof(tb_vec3));
+  if (!s->depth || !s->share || !s->stress || !s->kdiag || !s->qinv || !s->barea || !s->bload ||
+      !s->u)
     return tb_error_set(err, "msm-vvs", 0, "out of memory (%d points over %d levels)", lod->nv,
                         lod->nlevels);
   memcpy(s->x0, lod->rest, sizeof(tb_vec3) * nv);
@@ -184,6 +192,20 @@ static int birth(const tb_lod *lod, int i) {
   return l;
 }
 
+/* The butterfly point of displacements u on the edge of level birth - 1
+ * that point i was born on. */
+static tb_vec3 born_at(const tb_lod *lod, const tb_vec3 *u, int i) {
+  const int l = birth(lod, i) - 1, a = lod->ends[2 * i], b = lod->ends[2 * i + 1];
+  const tb_halfedge he = {lod->level_nv[l], lod->level_nf[l], lod->tri[l], lod->pair[l],
+                          lod->out[l]};
+  int h0 = lod->out[l][a], h = h0;
+  while (lod->tri[l][tb_he_next(h)] != b) { /* around a to the half-edge a -> b */
+    h = lod->pair[l][tb_he_prev(h)];
+    if (h == h0) return tb_scale(tb_add(u[a], u[b]), 0.5); /* not an edge of level l */
+  }
+  return tb_butterfly_point(&he, u, h);
+}
+
 int vvs_refine_step(vvs *s) {
   tb_lod *lod = s->lod;
   const double hi = s->set.refine_force, lo = hi * s->set.coarsen_share;
@@ -207,18 +229,20 @@ int vvs_refine_step(vvs *s) {
   if (!changed) return 0;
   tb_lod_apply(lod, s->depth);
   if (lod->ntri == s->ntri && !memcmp(lod->out_tri, s->tri, sizeof(int) * 3 * (size_t)s->ntri))
-    return 0;                              /* another point's depth holds the same faces split */
-  for (int i = s->nbase; i < s->nv; i++) { /* ascending: an edge's ends come first */
+    return 0;        /* another point's depth holds the same faces split */
+  tb_vec3 *u = s->u; /* the displacements, ascending: an edge's ends come first */
+  for (int i = 0; i < s->nbase; i++) u[i] = tb_sub(s->x[i], s->x0[i]);
+  for (int i = s->nbase; i < s->nv; i++) {
     int on = lod->active[i], was = s->follow[i] == VVS_SIM;
+    const int a = lod->ends[2 * i], b = lod->ends[2 * i + 1];
     if (on && !was) {
-      const int a = lod->ends[2 * i], b = lod->ends[2 * i + 1];
-      tb_vec3 da = tb_sub(s->x[a], s->x0[a]), db = tb_sub(s->x[b], s->x0[b]);
-      s->x[i] = tb_add(s->x0[i], tb_scale(tb_add(da, db), 0.5));
+      s->x[i] = tb_add(s->x0[i], born_at(lod, u, i));
       s->v[i] = tb_scale(tb_add(s->v[a], s->v[b]), 0.5);
       s->follow[i] = VVS_SIM;
     } else if (!on && was) {
       s->follow[i] = VVS_OFF, s->v[i] = tb_v3(0, 0, 0), s->depth[i] = 0;
     }
+    u[i] = on ? tb_sub(s->x[i], s->x0[i]) : tb_scale(tb_add(u[a], u[b]), 0.5);
   }
   s->ntri = lod->ntri;
   memcpy(s->tri, lod->out_tri, sizeof(int) * 3 * (size_t)lod->ntri);
