@@ -266,7 +266,35 @@ static void born_on_the_surface(void) {
   tb_mesh_free(&mesh);
 }
 
+/* The criterion scores a strain the same at every level (force over the
+ * square root of the area share): over four levels the refined surface
+ * shrinks after the release and is the base again 26 s later (with the
+ * force per area share it kept growing after the release). */
+static void no_growth_after_release(void) {
+  tb_sim s;
+  if (sim_open(&s, "levels=4 refine_force=0.1")) return;
+  tb_error err;
+  double mass;
+  int at_release = 0, after = 0;
+  s.def.duration = s.def.release + 26;
+  while (s.t < s.def.duration - 1e-9) {
+    if (tb_sim_step(&s, &err)) {
+      TB_CHECK_MSG(0, "%s", err.msg);
+      break;
+    }
+    if (s.steps % 10) continue;
+    int n = used_points(&s, &mass);
+    if (fabs(s.t - s.def.release) < 1e-9) at_release = n;
+    if (s.t > s.def.release + 1e-9 && n > after) after = n;
+  }
+  int end = used_points(&s, &mass);
+  TB_CHECK_MSG(at_release > 400 && after <= at_release && end == 252,
+               "%d points at the release, at most %d after, %d at the end", at_release, after, end);
+  tb_sim_destroy(&s);
+}
+
 const tb_test_case tb_tests_vvs_refine[] = {
+    {"no_growth_after_release", no_growth_after_release},
     {"born_on_the_surface", born_on_the_surface},
     {"press_converges", press_converges},
     {"press_refines_and_returns", press_refines_and_returns},
