@@ -377,19 +377,25 @@ static void ground_slope(void) {
  * displacement down the slope from t = 0). The two mass-spring models at
  * their papers' settings (node mass 1, ks 180; Bao's ks, kd) sag by more than
  * 20% of the block's volume on it and are reported degraded: checked as
- * such, so that one made meaningful here joins the others. */
+ * such, so that one made meaningful here joins the others. msm with springs
+ * stiff enough for the block (ks 5000) is checked as the others; msm-vvs's
+ * quasi-static step has no inertia, hence no acceleration to compare. */
 static void slope_every_model(void) {
   static const double angle[5] = {22, 24, 26, 28, 30};
-  for (int m = 0; m < tb_model_count; m++) {
-    const char *name = tb_model_classes[m]->name;
-    int sags = !strcmp(name, "msm") || !strcmp(name, "msm-vvs");
+  for (int m = 0; m <= tb_model_count; m++) { /* the last: msm with stiffer springs */
+    const char *name = m < tb_model_count ? tb_model_classes[m]->name : "msm";
+    int sags = m < tb_model_count && (!strcmp(name, "msm") || !strcmp(name, "msm-vvs"));
+    tb_settings set;
+    tb_settings_init(&set);
+    tb_error e0;
+    if (m == tb_model_count) TB_CHECK(tb_settings_set(&set, "ks=5000", &e0) == 0);
     for (int k = 0; k < 5; k++) {
       tb_sim_def def;
       tb_sim_def_init(&def);
       def.amplitude = angle[k];
       tb_sim s;
       tb_error err;
-      if (tb_sim_create(&s, "slope", &def, name, NULL, NULL, &err)) {
+      if (tb_sim_create(&s, "slope", &def, name, &set, NULL, &err)) {
         TB_CHECK_MSG(0, "%s at %g deg: %s", name, angle[k], err.msg);
         continue;
       }
