@@ -36,6 +36,7 @@ cli=${TB_CLI:-build/tissuebench}
 jobs=${TB_FUZZ_JOBS:-$(nproc)}
 
 # ---- build ----
+sh "$root/scripts/setup.sh" --fuzz || exit 1 # clang and libFuzzer, for the harnesses alone
 mkdir -p "$bd"
 log="$bd/fuzz-build.log"
 if { [ -f "$bd/build.ninja" ] || CC=clang CXX=clang++ meson setup "$bd" -Dfuzz=true >"$log" 2>&1; } &&
