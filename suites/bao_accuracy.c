@@ -20,15 +20,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_bao_accuracy.h"
-#include "scenes/tb_sim.h"
+#include "bao_priv.h"
 
 #define SCENE "sphere-press"
-#define MODEL "msm-vvs"
-#define HOLD 300.0    /* simulated s at most, the press held throughout */
-#define SETTLED 1e-6  /* at rest: the dent (radius 1) changes less than this in 1 s */
-#define SEVERAL 2.0   /* "several times more accurate": at least this */
-#define COST_GOAL 1.2 /* "about the same cost": the suite's goal, local <= 1.2 x base */
+#define HOLD 300.0   /* simulated s at most, the press held throughout */
+#define SETTLED 1e-6 /* at rest: the dent (radius 1) changes less than this in 1 s */
+#define SEVERAL 2.0  /* "several times more accurate": at least this */
 
 enum { BASE, LOCAL, FULL1, FULL2, FULL3, NRUNS };
 static const struct {
@@ -48,55 +45,39 @@ typedef struct run {
   char why[200];
 } run;
 
-static double dent_of(const tb_sim *s) {
-  const tb_vec3 *x = tb_model_positions(&s->model);
-  tb_vec3 m = tb_v3(0, 0, 0);
-  for (int k = 0; k < s->nprobe; k++) m = tb_add(m, tb_sub(x[s->probe[k]], s->mesh.x[s->probe[k]]));
-  return s->nprobe ? tb_len(m) / s->nprobe : NAN;
-}
-
-static int used(const tb_sim *s) {
-  tb_surface su = tb_model_surface(&s->model);
-  char *mark = calloc((size_t)su.nv, 1);
-  int n = 0;
-  for (int k = 0; mark && k < 3 * su.ntri; k++) n += !mark[su.tri[k]]++;
-  free(mark);
-  return n;
-}
-
 static void hold(const char *settings, uint64_t seed, int nb, run *r) {
   tb_sim_def d;
   tb_sim_def_init(&d);
   d.seed = seed, d.duration = HOLD, d.release = 2 * HOLD; /* never let go */
-  tb_settings set;
-  tb_settings_init(&set);
   tb_error err;
-  char buf[128];
-  snprintf(buf, sizeof buf, "%s", settings);
   tb_sim s;
-  for (char *save = NULL, *p = strtok_r(buf, " ", &save); p; p = strtok_r(NULL, " ", &save))
-    if (tb_settings_set(&set, p, &err)) goto fail;
-  if (tb_sim_create(&s, SCENE, &d, MODEL, &set, NULL, &err)) goto fail;
+  if (tb_bao_open(&s, SCENE, settings, d, &err)) {
+    snprintf(r->why, sizeof r->why, "%.190s", err.msg);
+    return;
+  }
   long per_s = lround(1 / s.def.dt);
   double last = NAN;
   while (s.t < s.def.duration - 1e-9 && !r->at_rest) {
     if (tb_sim_step(&s, &err)) {
+      snprintf(r->why, sizeof r->why, "%.190s", err.msg);
       tb_sim_destroy(&s);
-      goto fail;
+      return;
     }
     if (s.steps % per_s) continue;
-    double now = dent_of(&s);
+    double now = tb_bao_dent(&s);
     r->at_rest = s.t > 2 && fabs(now - last) < SETTLED, last = now;
   }
-  const tb_vec3 *x = tb_model_positions(&s.model);
-  r->t = s.t, r->vertices = used(&s), r->dent = dent_of(&s);
+  char *mark = malloc((size_t)tb_model_surface(&s.model).nv);
   r->x = malloc(sizeof(tb_vec3) * (size_t)nb);
-  if (r->x) memcpy(r->x, x, sizeof(tb_vec3) * (size_t)nb);
-  r->ok = r->x != NULL;
+  if (mark && r->x) {
+    r->t = s.t, r->vertices = tb_bao_used_vertices(&s, mark), r->dent = tb_bao_dent(&s);
+    memcpy(r->x, tb_model_positions(&s.model), sizeof(tb_vec3) * (size_t)nb);
+    r->ok = 1;
+  } else {
+    snprintf(r->why, sizeof r->why, "out of memory");
+  }
+  free(mark);
   tb_sim_destroy(&s);
-  return;
-fail:
-  snprintf(r->why, sizeof r->why, "%.190s", err.msg);
 }
 
 static void distance(const tb_vec3 *a, const tb_vec3 *b, int n, double *rms, double *max) {
@@ -110,7 +91,7 @@ static void distance(const tb_vec3 *a, const tb_vec3 *b, int n, double *rms, dou
 }
 
 /* The claim on one measure of accuracy: `gain` times closer than the base,
- * at a cost whose verdict against COST_GOAL is v. */
+ * at a cost whose verdict against TB_BAO_GOAL is v. */
 static const char *claim(double gain, int v) {
   if (!(gain >= SEVERAL)) return "does not hold (not several times more accurate)";
   if (v == TB_NOISE) return "inconclusive (more accurate; the cost is noise)";
@@ -226,7 +207,7 @@ int tb_bao_accuracy(tb_suite *su, const tb_suite_opts *o, tb_est cost) {
   if (r[BASE].ok && r[LOCAL].ok) { /* the claim, on the whole surface and on the dent */
     double gain = err_of[BASE] / err_of[LOCAL];
     double dent_gain = fabs(r[BASE].dent - dref) / fabs(r[LOCAL].dent - dref);
-    int v = tb_verdict(cost, COST_GOAL, 0);
+    int v = tb_verdict(cost, TB_BAO_GOAL, 0);
     const char *surface = claim(gain, v), *dent = claim(dent_gain, v);
     char cv[160];
     tb_suite_note(su,
@@ -236,8 +217,8 @@ int tb_bao_accuracy(tb_suite *su, const tb_suite_opts *o, tb_est cost) {
                   "base vertices: the locally refined model is %.2f times closer to the "
                   "reference than the base model: %s. On the dent under the press, where it "
                   "refines: %.1f%% off against the base's %.1f%%, %.2f times closer: %s.",
-                  SEVERAL, COST_GOAL, cost.value, cost.lo, cost.hi,
-                  tb_verdict_text(cost, COST_GOAL, 0, cv, sizeof cv), gain, surface,
+                  SEVERAL, TB_BAO_GOAL, cost.value, cost.lo, cost.hi,
+                  tb_verdict_text(cost, TB_BAO_GOAL, 0, cv, sizeof cv), gain, surface,
                   100 * fabs(r[LOCAL].dent - dref) / dref, 100 * fabs(r[BASE].dent - dref) / dref,
                   dent_gain, dent);
     tb_suite_counter(su, "accuracy/claim", "surface_gain", gain);

@@ -23,7 +23,7 @@
 #include <string.h>
 
 #include "tb_suites.h"
-#include "tb_bao_accuracy.h"
+#include "bao_priv.h"
 #include "core/tb_threads.h"
 #include "core/tb_timer.h"
 #include "measure/tb_draw.h"
@@ -31,11 +31,9 @@
 #include "report/tb_results.h"
 #include "scenes/tb_sim.h"
 
-#define MODEL "msm-vvs"
 #define PRESS "sphere-press"
 #define STRETCH "sphere-stretch"
 #define T_TABLE 5.0 /* the paper's simulated time */
-#define GOAL 1.2    /* the goal: local <= 1.2 x base per step */
 #define W 400       /* pictures */
 #define H 300
 #define FIG8_W 800 /* fig 8: the refinement seen from the top */
@@ -83,25 +81,26 @@ static void flush(ctx *c) {
   c->npics = 0;
 }
 
-/* Builds scene with msm-vvs and the space-separated settings, duration
- * `duration` (<= 0: the scene's). */
-static int open_sim(tb_sim *s, const char *scene, const char *settings, double duration,
-                    uint64_t seed, tb_error *err) {
-  tb_sim_def d;
-  tb_sim_def_init(&d);
-  if (duration > 0) d.duration = duration;
-  d.seed = seed;
+int tb_bao_open(tb_sim *s, const char *scene, const char *settings, tb_sim_def d, tb_error *err) {
   tb_settings set;
   tb_settings_init(&set);
   char buf[128];
   snprintf(buf, sizeof buf, "%s", settings);
-  for (char *p = strtok(buf, " "); p; p = strtok(NULL, " "))
+  for (char *save = NULL, *p = strtok_r(buf, " ", &save); p; p = strtok_r(NULL, " ", &save))
     if (tb_settings_set(&set, p, err)) return -1;
-  return tb_sim_create(s, scene, &d, MODEL, &set, NULL, err);
+  return tb_sim_create(s, scene, &d, TB_BAO_MODEL, &set, NULL, err);
 }
 
-/* The vertices the current surface uses. */
-static int used_vertices(const tb_sim *s, char *mark) {
+/* The scene's settings with duration (<= 0: the scene's) and seed. */
+static tb_sim_def def_of(double duration, uint64_t seed) {
+  tb_sim_def d;
+  tb_sim_def_init(&d);
+  if (duration > 0) d.duration = duration;
+  d.seed = seed;
+  return d;
+}
+
+int tb_bao_used_vertices(const tb_sim *s, char *mark) {
   tb_surface su = tb_model_surface(&s->model);
   memset(mark, 0, (size_t)su.nv);
   int n = 0;
@@ -109,8 +108,7 @@ static int used_vertices(const tb_sim *s, char *mark) {
   return n;
 }
 
-/* |mean displacement| of the probe's nodes. */
-static double probe_now(const tb_sim *s) {
+double tb_bao_dent(const tb_sim *s) {
   const tb_vec3 *x = tb_model_positions(&s->model);
   tb_vec3 m = tb_v3(0, 0, 0);
   for (int k = 0; k < s->nprobe; k++) m = tb_add(m, tb_sub(x[s->probe[k]], s->mesh.x[s->probe[k]]));
@@ -182,7 +180,7 @@ static void measure(ctx *c, int r, uint64_t seed, row *w) {
   tb_error err;
   tb_sim s;
   w->ok = 0;
-  if (open_sim(&s, PRESS, paper[r].set, T_TABLE, seed, &err)) {
+  if (tb_bao_open(&s, PRESS, paper[r].set, def_of(T_TABLE, seed), &err)) {
     snprintf(w->why, sizeof w->why, "%.190s", err.msg);
     return;
   }
@@ -196,13 +194,13 @@ static void measure(ctx *c, int r, uint64_t seed, row *w) {
   unsigned long version = tb_model_surface(&s.model).version;
   for (long k = 0; k < n && !rc; k++) {
     if ((rc = tb_sim_step(&s, &err))) break;
-    int nv = used_vertices(&s, mark), nt = tb_model_surface(&s.model).ntri;
+    int nv = tb_bao_used_vertices(&s, mark), nt = tb_model_surface(&s.model).ntri;
     w->rebuilds += tb_model_surface(&s.model).version != version;
     version = tb_model_surface(&s.model).version;
     if (nv > w->nv_max) w->nv_max = nv;
     if (nt > w->ntri_max) w->ntri_max = nt;
     if (k + 1 == at) {
-      w->nv_press = nv, w->ntri_press = nt, w->dent_press = probe_now(&s);
+      w->nv_press = nv, w->ntri_press = nt, w->dent_press = tb_bao_dent(&s);
       memcpy(w->x_press, tb_model_positions(&s.model), sizeof(tb_vec3) * (size_t)nb);
       if (r == LOCAL || r == FULL || r == BASE) {
         char name[64], cap[300];
@@ -239,7 +237,7 @@ static void timed(int r, int q, uint64_t seed, row *w) {
   tb_error err;
   tb_sim s;
   if (!w->ok) return;
-  if (open_sim(&s, PRESS, paper[r].set, T_TABLE, seed, &err)) {
+  if (tb_bao_open(&s, PRESS, paper[r].set, def_of(T_TABLE, seed), &err)) {
     snprintf(w->why, sizeof w->why, "%.190s", err.msg);
     w->ok = 0;
     return;
@@ -356,7 +354,7 @@ static void press_release(ctx *c, const char *scene, int v, uint64_t seed, pr *o
   tb_error err;
   tb_sim s;
   o->ok = 0;
-  if (open_sim(&s, scene, variant[v].set, 0, seed, &err)) {
+  if (tb_bao_open(&s, scene, variant[v].set, def_of(0, seed), &err)) {
     snprintf(o->why, sizeof o->why, "%.190s", err.msg);
     return;
   }
@@ -461,7 +459,7 @@ static const char *est_text(tb_est e, const char *fmt, const char *unit, char *b
 static void cost_note(tb_suite *su, const row *w, int reps) {
   tb_est lb = w[LOCAL].to_base, fb = w[FULL].to_base;
   char v[200], a[64], b[64], c[64], d[64], e[64], adds[600];
-  tb_verdict_text(lb, GOAL, 0, v, sizeof v);
+  tb_verdict_text(lb, TB_BAO_GOAL, 0, v, sizeof v);
   double paper_added = (paper[FULL].ms - paper[BASE].ms) / (paper[LOCAL].ms - paper[BASE].ms);
   if (lb.n >= TB_EST_MIN && lb.lo > 1 && fb.lo > 1) {
     double q[MAX_REPS];
@@ -509,7 +507,7 @@ static void cost_note(tb_suite *su, const row *w, int reps) {
       "(the same model with no levels: masses not shared by area, no criterion checked every %d "
       "steps), so local refinement costs %s the model without it. Each ratio x (lo-hi): the "
       "median of %d repetitions' paired ratios and its 95%% interval.",
-      est_text(lb, "%.2f", "x", a, sizeof a), GOAL, v, paper[LOCAL].ms / paper[BASE].ms,
+      est_text(lb, "%.2f", "x", a, sizeof a), TB_BAO_GOAL, v, paper[LOCAL].ms / paper[BASE].ms,
       est_text(fb, "%.2f", "x", b, sizeof b), paper[FULL].ms / paper[BASE].ms, adds,
       w[LOCAL].rebuilds, rb ? 1e3 * w[LOCAL].med_rebuild / rb : 0,
       rb ? w[LOCAL].med_rebuild / rb / base_step : 0, w[LOCAL].med_rebuild, w[LOCAL].med.value,
@@ -518,8 +516,8 @@ static void cost_note(tb_suite *su, const row *w, int reps) {
   tb_suite_counter(su, "cost/local_over_base", "value", lb.value);
   tb_suite_counter(su, "cost/local_over_base", "low", lb.lo);
   tb_suite_counter(su, "cost/local_over_base", "high", lb.hi);
-  tb_suite_counter(su, "cost/local_over_base", "goal", GOAL);
-  tb_suite_counter(su, "cost/local_over_base", "verdict", tb_verdict(lb, GOAL, 0));
+  tb_suite_counter(su, "cost/local_over_base", "goal", TB_BAO_GOAL);
+  tb_suite_counter(su, "cost/local_over_base", "verdict", tb_verdict(lb, TB_BAO_GOAL, 0));
 }
 
 int tb_suite_bao(const tb_suite_opts *o) {
@@ -592,7 +590,7 @@ int tb_suite_bao(const tb_suite_opts *o) {
   for (int r = 0; r < NROWS; r++) {
     if (!w[r].ok) continue;
     char name[96];
-    snprintf(name, sizeof name, MODEL "/sphere-press/%s",
+    snprintf(name, sizeof name, TB_BAO_MODEL "/sphere-press/%s",
              r == LOCAL  ? "local"
              : r == BASE ? "base"
              : r == FULL ? "full"

@@ -12,9 +12,13 @@
 #include "models/vvs_priv.h"
 #include "scenes/tb_sim.h"
 
-static int sim_open(tb_sim *s, const char *settings) {
+/* sphere-press with msm-vvs and the settings "k=v k=v ..."; the scene's
+ * release and duration when they are 0. */
+static int sim_open_for(tb_sim *s, const char *settings, double release, double duration) {
   tb_sim_def def;
   tb_sim_def_init(&def);
+  if (release > 0) def.release = release;
+  if (duration > 0) def.duration = duration;
   tb_settings set;
   tb_settings_init(&set);
   tb_error err;
@@ -29,6 +33,8 @@ static int sim_open(tb_sim *s, const char *settings) {
   TB_CHECK_MSG(rc == 0, "%s", err.msg);
   return rc;
 }
+
+static int sim_open(tb_sim *s, const char *settings) { return sim_open_for(s, settings, 0, 0); }
 
 /* Vertices the surface uses, and their total mass. */
 static int used_points(const tb_sim *s, double *mass) {
@@ -183,21 +189,9 @@ static void render_refined(void) {
  * every level): held 30 s, the dent of the fully subdivided models at
  * levels 1 and 2 converges, each level closer to the next than the last. */
 static double held_dent(const char *settings) {
-  tb_sim_def def;
-  tb_sim_def_init(&def);
-  def.release = 100, def.duration = 30;
-  tb_settings set;
-  tb_settings_init(&set);
-  tb_error err;
-  char buf[128];
-  snprintf(buf, sizeof buf, "%s", settings);
-  for (char *save = NULL, *t = strtok_r(buf, " ", &save); t; t = strtok_r(NULL, " ", &save))
-    TB_CHECK(tb_settings_set(&set, t, &err) == 0);
   tb_sim s;
-  if (tb_sim_create(&s, "sphere-press", &def, "msm-vvs", &set, NULL, &err)) {
-    TB_CHECK_MSG(0, "%s", err.msg);
-    return NAN;
-  }
+  tb_error err;
+  if (sim_open_for(&s, settings, 100, 30)) return NAN;
   while (s.t < s.def.duration - 1e-9)
     if (tb_sim_step(&s, &err)) {
       TB_CHECK_MSG(0, "%s: %s", settings, err.msg);
@@ -224,6 +218,11 @@ static void press_converges(void) {
  * everywhere at once, every level-1 point is the turned image of its rest
  * position (the ends' mean displacement put points up to 12% of an edge off
  * a bent surface). */
+static tb_vec3 turned(tb_vec3 k, double a, tb_vec3 p) { /* Rodrigues: p turned a about k */
+  return tb_add(tb_add(tb_scale(p, cos(a)), tb_scale(tb_cross(k, p), sin(a))),
+                tb_scale(k, tb_dot(k, p) * (1 - cos(a))));
+}
+
 static void born_on_the_surface(void) {
   tb_sim_def def;
   tb_sim_def_init(&def);
@@ -245,20 +244,13 @@ static void born_on_the_surface(void) {
   }
   vvs *s = m.self;
   tb_vec3 k = tb_normalize(tb_v3(0.3, -0.5, 0.8));
-  double c = cos(0.7), sn = sin(0.7);
-  for (int i = 0; i < s->nbase; i++) { /* Rodrigues */
-    tb_vec3 p = s->x0[i];
-    s->x[i] = tb_add(tb_add(tb_scale(p, c), tb_scale(tb_cross(k, p), sn)),
-                     tb_scale(k, tb_dot(k, p) * (1 - c)));
-  }
+  for (int i = 0; i < s->nbase; i++) s->x[i] = turned(k, 0.7, s->x0[i]);
   TB_CHECK(vvs_refine_step(s) == 1);
   double worst = 0, edge = 2 * 3.14159 / 20;
   int on = 0;
   for (int i = s->nbase; i < s->nv; i++) {
     if (s->follow[i] != VVS_SIM) continue;
-    tb_vec3 p = s->x0[i], want = tb_add(tb_add(tb_scale(p, c), tb_scale(tb_cross(k, p), sn)),
-                                        tb_scale(k, tb_dot(k, p) * (1 - c)));
-    worst = fmax(worst, tb_dist(s->x[i], want)), on++;
+    worst = fmax(worst, tb_dist(s->x[i], turned(k, 0.7, s->x0[i]))), on++;
   }
   TB_CHECK_MSG(on == 750 && worst < 1e-12 * edge, "%d points on, %g off their turned place", on,
                worst);
