@@ -82,17 +82,6 @@ static int mesh_info(int argc, char **argv) {
   return TB_EXIT_OK;
 }
 
-/* Does tb_mesh_write know out's extension (core/mesh_io.c's writers)? Checked before a
- * generator runs, so a typo costs no generation and exits 2. */
-static int writable_ext(const char *out) {
-  static const char *const exts[] = {".obj", ".off", ".node", ".vtk"};
-  const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
-  if (!dot || (slash && slash > dot)) return 0;
-  for (int i = 0; i < 4; i++)
-    if (!strcasecmp(dot, exts[i])) return 1;
-  return 0;
-}
-
 /* ---- mesh subdivide ---- */
 /* N levels of the modified butterfly scheme. A tet mesh is refused: the tet mesh's boundary
  * would leave the interior vertices unused, and the refined surface would no longer match
@@ -114,8 +103,8 @@ static int mesh_subdivide(int argc, char **argv) {
     fprintf(stderr, "usage: tissuebench mesh subdivide IN --levels N --out OUT\n");
     return TB_EXIT_INPUT;
   }
-  if (!writable_ext(out)) {
-    fprintf(stderr, "tissuebench mesh subdivide: %s: unknown extension (.obj .off .node .vtk)\n",
+  if (!tb_mesh_writable(out)) {
+    fprintf(stderr, "tissuebench mesh subdivide: %s: unknown extension (" TB_MESH_WRITES ")\n",
             out);
     return TB_EXIT_INPUT;
   }
@@ -250,9 +239,10 @@ static int mesh_generate(int argc, char **argv) {
     fprintf(stderr, "tissuebench mesh %s: give --out FILE and/or --stats\n", name);
     return TB_EXIT_INPUT;
   }
-  if (out && which != TB_PART_EDGES && !writable_ext(out)) {
+  if (out && which != TB_PART_EDGES && !tb_mesh_writable(out)) {
     fprintf(stderr,
-            "tissuebench mesh %s: %s: unknown extension (.obj .off .node .vtk; .edges with "
+            "tissuebench mesh %s: %s: unknown extension (" TB_MESH_WRITES
+            "; .edges with "
             "--part edges)\n",
             name, out);
     return TB_EXIT_INPUT;
@@ -297,7 +287,9 @@ static int mesh_generate(int argc, char **argv) {
 int tb_cmd_mesh(int argc, char **argv) {
   if (argc < 2) {
     fprintf(stderr,
-            "usage: tissuebench mesh info FILE | mesh subdivide IN --levels N --out OUT | mesh "
+            "usage: tissuebench mesh info FILE | mesh tetrahedralize IN --out OUT | mesh close IN "
+            "--out "
+            "OUT | mesh subdivide IN --levels N --out OUT | mesh "
             "spheres IN --count N --out OUT.sph | mesh spheres --info X.sph [--surface IN] | mesh "
             "NAME ... | mesh list\n");
     return TB_EXIT_INPUT;
@@ -305,6 +297,8 @@ int tb_cmd_mesh(int argc, char **argv) {
   if (!strcmp(argv[1], "info")) return mesh_info(argc - 1, argv + 1);
   if (!strcmp(argv[1], "subdivide")) return mesh_subdivide(argc - 1, argv + 1);
   if (!strcmp(argv[1], "spheres")) return tb_cmd_mesh_spheres(argc - 1, argv + 1);
+  if (!strcmp(argv[1], "tetrahedralize")) return tb_cmd_mesh_tetrahedralize(argc - 1, argv + 1);
+  if (!strcmp(argv[1], "close")) return tb_cmd_mesh_close(argc - 1, argv + 1);
   if (!strcmp(argv[1], "list")) {
     if (argc > 2) return tb_cli_bad_option("mesh list", argv[2]);
     tb_generator_list(stdout);

@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "tb_cli.h"
+#include "meshgen/tb_meshgen.h"
 #include "core/tb_parse.h"
 #include "core/tb_threads.h"
 #include "core/tb_timer.h"
@@ -235,6 +236,12 @@ int tb_cmd_simulate(int argc, char **argv) {
     double interval = s.desc.frame_interval > 0 ? s.desc.frame_interval : 1.0 / 30.0;
     every = lround(interval / s.def.dt) > 1 ? lround(interval / s.def.dt) : 1;
   }
+  if (s.meshed_nv)
+    printf(
+        "mesh: the surface's %d vertices and %d triangles tetrahedralised by TetGen (quality "
+        "%g, surface kept): %d nodes, %d tets (tissuebench mesh tetrahedralize chooses the "
+        "density: --tets N or --max-volume V)\n",
+        s.meshed_nv, s.meshed_ntri, TB_TETMESH_QUALITY, s.mesh.nv, s.mesh.ntet);
   if (statik)
     printf("scene %s: %d nodes, %d tets; model %s; %s (at most %ld steps of dt %g)\n", s.name,
            s.mesh.nv, s.mesh.ntet, mname, solver ? "static solve" : "run to rest", planned,

@@ -134,13 +134,24 @@ static const tb_command commands[] = {
      "  no point qualifies, 2 for a missing or malformed points file (FILE:LINE: reason)",
      tb_cmd_advise},
     {"mesh",
-     "mesh info FILE, subdivide a surface, fill it with spheres, or generate a mesh (liver, "
+     "mesh info FILE, tetrahedralize or close a surface, subdivide it, fill it with spheres, or "
+     "generate a mesh (liver, "
      "instrument, sphere, beam, spleen, gallbladder, steak)",
      "tissuebench mesh info FILE\n"
      "  counts, bounding box, closed/manifold, Euler characteristic, volume and self-\n"
      "  intersecting triangle pairs (crossing, not touching) of a mesh file\n"
      "  (.obj .off .stl .node/.ele .msh); for a .sph file, as mesh spheres --info;\n"
      "  malformed input: FILE:LINE: reason, exit 2\n"
+     "tissuebench mesh tetrahedralize IN --out OUT [--quality R] [--max-volume V | --tets N]\n"
+     "                                [--split-surface] [--repair]\n"
+     "  a closed surface (any format read here; unused vertices dropped) to tets by TetGen:\n"
+     "  radius-edge bound R (default 1.414), largest tet volume V or about N tets (the bound\n"
+     "  searched); the surface is kept unless --split-surface; prints counts, volume and the\n"
+     "  dihedral angles; writes .node (with .ele) .vtk .msh. A self-intersecting surface is\n"
+     "  refused naming the first crossing pair; --repair smooths the vertices near crossings\n"
+     "  first (and says how far they moved)\n"
+     "tissuebench mesh close IN --out OUT\n"
+     "  caps each hole of an open, oriented surface (an instrument) with a fan to its centroid\n"
      "tissuebench mesh subdivide IN --levels N --out OUT\n"
      "  N levels (1..6) of Zorin's modified butterfly subdivision (Bao 2006 §3.1): each level\n"
      "  splits every triangle in four, keeps the old vertices and adds one per edge; prints\n"
@@ -160,7 +171,7 @@ static const tb_command commands[] = {
      "  steak (exactly its vertex counts; meshgen/organs.c) (mesh list shows their settings)\n"
      "  --KEY VALUE  same as --set KEY=VALUE (dashes for underscores): mesh steak --verts 1266\n"
      "               --seed 2; mesh liver --part surface --surface-verts 8128\n"
-     "  --out FILE   write by extension: .obj .off .node (with .ele) .vtk; .edges for edges\n"
+     "  --out FILE   write by extension: .obj .off .stl .node (with .ele) .vtk .msh; .edges\n"
      "  --part PART  liver only: tets (default), surface (no TetGen; vertex count exact),\n"
      "               faces (all tet faces), edges\n"
      "  --stats      print the counts beside the documents' counts",

@@ -25,6 +25,9 @@ int tb_cmd_mesh(int argc, char **argv);
  * and, with a surface (may be NULL), its coverage on a grid of that many points. */
 int tb_cmd_mesh_spheres(int argc, char **argv);
 int tb_spheres_info(const char *path, const char *surface, int grid);
+/* `mesh tetrahedralize ...` and `mesh close ...` (commands/cmd_mesh_tets.c). */
+int tb_cmd_mesh_tetrahedralize(int argc, char **argv);
+int tb_cmd_mesh_close(int argc, char **argv);
 int tb_cmd_reproduce(int argc, char **argv);
 int tb_cmd_table(int argc, char **argv);
 int tb_cmd_figure(int argc, char **argv);

@@ -100,5 +100,6 @@ int tb_write_off(const char *path, const tb_mesh *m, tb_error *err);
 int tb_write_stl(const char *path, const tb_mesh *m, tb_error *err); /* ASCII */
 int tb_write_tetgen(const char *path, const tb_mesh *m, tb_error *err); /* .node + .ele */
 int tb_write_vtk(const char *path, const tb_mesh *m, tb_error *err);
+int tb_write_msh(const char *path, const tb_mesh *m, tb_error *err); /* Gmsh 2.2 ASCII */
 
 #endif

@@ -3,7 +3,9 @@
  * in their original order), TetGen .node/.ele/.face (1-based, TetGen's
  * default) and VTK legacy ASCII ("VTK File Formats", Kitware: an
  * UNSTRUCTURED_GRID of VTK_TETRA cells, type 10, or POLYDATA polygons over
- * the vertices they use).
+ * the vertices they use) and Gmsh's MSH 2.2 ASCII (Gmsh reference manual
+ * §9.1: nodes, then triangles, type 2, and tets, type 4, each with the two
+ * tags physical 1 and elementary 1).
  * Doubles are printed with %.17g so a write-read round trip is exact. */
 #include <errno.h>
 #include <stdlib.h>
@@ -202,5 +204,23 @@ int tb_write_vtk(const char *path, const tb_mesh *m, tb_error *err) {
     put_cells(f, m->tri, map, m->ntri, 3, "3", 0);
   }
   free(map);
+  return close_out(f, path, err);
+}
+
+int tb_write_msh(const char *path, const tb_mesh *m, tb_error *err) {
+  if (check(path, m, err)) return -1;
+  FILE *f = open_out(path, err);
+  if (!f) return -1;
+  fprintf(f, "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n", m->nv);
+  put_points(f, m, NULL, NULL);
+  fprintf(f, "$EndNodes\n$Elements\n%ld\n", (long)m->ntri + m->ntet);
+  for (int i = 0; i < m->ntri; i++)
+    fprintf(f, "%d 2 2 1 1 %d %d %d\n", i + 1, m->tri[3 * i] + 1, m->tri[3 * i + 1] + 1,
+            m->tri[3 * i + 2] + 1);
+  for (int i = 0; i < m->ntet; i++) {
+    const int *t = m->tet + 4 * i;
+    fprintf(f, "%d 4 2 1 1 %d %d %d %d\n", m->ntri + i + 1, t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1);
+  }
+  fputs("$EndElements\n", f);
   return close_out(f, path, err);
 }

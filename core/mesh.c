@@ -33,6 +33,26 @@ int tb_mesh_copy(tb_mesh *dst, const tb_mesh *src) {
   return 0;
 }
 
+int tb_mesh_drop_unused(tb_mesh *m) {
+  int *map = malloc(sizeof(int) * (size_t)(m->nv ? m->nv : 1));
+  if (!map) return -1;
+  for (int i = 0; i < m->nv; i++) map[i] = -1;
+  for (long k = 0; k < 3L * m->ntri; k++) map[m->tri[k]] = 0;
+  for (long k = 0; k < 4L * m->ntet; k++) map[m->tet[k]] = 0;
+  int n = 0;
+  for (int i = 0; i < m->nv; i++)
+    if (map[i] == 0) {
+      m->x[n] = m->x[i];
+      map[i] = n++;
+    }
+  for (long k = 0; k < 3L * m->ntri; k++) m->tri[k] = map[m->tri[k]];
+  for (long k = 0; k < 4L * m->ntet; k++) m->tet[k] = map[m->tet[k]];
+  int dropped = m->nv - n;
+  m->nv = n;
+  free(map);
+  return dropped;
+}
+
 static int same_bytes(const void *a, const void *b, size_t n) { return n == 0 || !memcmp(a, b, n); }
 
 int tb_mesh_equal(const tb_mesh *a, const tb_mesh *b) {

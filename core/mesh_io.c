@@ -19,12 +19,10 @@ static const reader readers[] = {{".obj", tb_read_obj},    {".off", tb_read_off}
                                  {".stl", tb_read_stl},    {".node", tb_read_tetgen},
                                  {".ele", tb_read_tetgen}, {".msh", tb_read_msh},
                                  {".vtu", tb_read_vtu},    {".vtk", tb_read_vtk}};
-static const writer writers[] = {{".obj", tb_write_obj},
-                                 {".off", tb_write_off},
-                                 {".stl", tb_write_stl},
-                                 {".node", tb_write_tetgen},
-                                 {".ele", tb_write_tetgen},
-                                 {".vtk", tb_write_vtk}};
+static const writer writers[] = {{".obj", tb_write_obj},    {".off", tb_write_off},
+                                 {".stl", tb_write_stl},    {".node", tb_write_tetgen},
+                                 {".ele", tb_write_tetgen}, {".vtk", tb_write_vtk},
+                                 {".msh", tb_write_msh}};
 
 /* The extension of the file name, with its dot, or "". */
 static const char *extension(const char *path) {
@@ -68,5 +66,12 @@ int tb_mesh_write(const char *path, const tb_mesh *m, tb_error *err) {
   const char *ext = extension(path);
   for (size_t i = 0; i < sizeof writers / sizeof writers[0]; i++)
     if (!strcasecmp(ext, writers[i].ext)) return writers[i].fn(path, m, err);
-  return tb_error_set(err, path, 0, "unknown mesh format '%s' (writes .obj .off .stl .node .vtk)", ext);
+  return tb_error_set(err, path, 0, "unknown mesh format '%s' (writes " TB_MESH_WRITES ")", ext);
+}
+
+int tb_mesh_writable(const char *path) {
+  const char *ext = extension(path);
+  for (size_t i = 0; i < sizeof writers / sizeof writers[0]; i++)
+    if (!strcasecmp(ext, writers[i].ext)) return 1;
+  return 0;
 }

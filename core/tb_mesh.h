@@ -59,6 +59,10 @@ void tb_mesh_bbox(const tb_mesh *m, tb_vec3 *lo, tb_vec3 *hi);
  * triangles enclose (divergence theorem; meaningful when closed). */
 double tb_mesh_volume(const tb_mesh *m);
 double tb_mesh_area(const tb_mesh *m);
+/* Removes vertices no triangle or tet uses, renumbering the elements
+ * (order kept). Returns how many were removed, or -1 when out of memory
+ * (m unchanged). */
+int tb_mesh_drop_unused(tb_mesh *m);
 /* Smallest signed tet volume (0 when there are no tets). */
 double tb_mesh_min_tet_volume(const tb_mesh *m);
 /* Topology of the triangles only; tets are ignored. */

@@ -14,9 +14,13 @@
 int tb_mesh_read(const char *path, tb_mesh *m, tb_error *err);
 
 /* Writes by extension: .obj/.off/.stl (triangles; STL in ASCII), .node (with .ele beside it,
- * tets), .vtk (unstructured grid when the mesh has tets, else polydata).
+ * tets), .vtk (unstructured grid when the mesh has tets, else polydata),
+ * .msh (Gmsh 2.2: triangles and tets).
  * Files holding only triangles (.obj, .off, polydata .vtk) carry only the
  * vertices the triangles use, renumbered in their original order. */
 int tb_mesh_write(const char *path, const tb_mesh *m, tb_error *err);
+/* The extensions tb_mesh_write knows, and whether path has one of them. */
+#define TB_MESH_WRITES ".obj .off .stl .node .vtk .msh"
+int tb_mesh_writable(const char *path);
 
 #endif

@@ -18,49 +18,6 @@
 
 #include "tb_meshgen.h"
 
-static int run(const tb_mesh *surf, double maxvol, tb_mesh *out, tb_error *err) {
-  char sw[64];
-  snprintf(sw, sizeof sw, "pq1.4Ya%.17g", maxvol);
-  return tb_tetgen(surf, sw, out, err);
-}
-
-/* Signed balance V/V* + T/T* - 2 (tv <= 0: T/T* - 1): decreasing as the
- * volume bound grows. */
-static double balance(const tb_mesh *m, double tv, double tt) {
-  if (tv <= 0) return m->ntet / tt - 1;
-  return tt > 0 ? m->nv / tv + m->ntet / tt - 2 : m->nv / tv - 1;
-}
-
-/* Bisection on the log of TetGen's maximum tet volume over [lo, hi] for
- * balance(tv, tt) = 0, at most `iters` meshes, until the interval is
- * narrower than `width` or the closest mesh's |balance| is at most `stop`.
- * The closest mesh met is kept in *best (its balance in *best_b). */
-static int bisect(const tb_mesh *surf, double lo, double hi, double tv, double tt, int iters,
-                  double width, double stop, tb_mesh *best, double *best_b, tb_error *err) {
-  memset(best, 0, sizeof *best);
-  *best_b = INFINITY;
-  for (int it = 0; it < iters && hi - lo > width && fabs(*best_b) > stop; it++) {
-    double mid = 0.5 * (lo + hi);
-    tb_mesh m;
-    if (run(surf, exp(mid), &m, err)) {
-      tb_mesh_free(best);
-      return -1;
-    }
-    double b = balance(&m, tv, tt);
-    if (fabs(b) < fabs(*best_b)) {
-      tb_mesh_free(best);
-      *best = m, *best_b = b;
-    } else {
-      tb_mesh_free(&m);
-    }
-    if (b > 0)
-      lo = mid; /* too many: allow larger tets */
-    else
-      hi = mid;
-  }
-  return 0;
-}
-
 /* Tets only (tet_verts 0): within TB_LIVER_TET_TOL of def->tets. */
 static int tets_only(const tb_liver_def *def, const tb_mesh *surf, double volume, tb_mesh *tets,
                      tb_error *err) {
@@ -69,7 +26,8 @@ static int tets_only(const tb_liver_def *def, const tb_mesh *surf, double volume
   double lo = log(volume / (4.0 * tt)), hi = log(volume);
   tb_mesh best;
   double best_b;
-  if (bisect(surf, lo, hi, 0, tt, 40, 1e-4, 0.25 * TB_LIVER_TET_TOL, &best, &best_b, err))
+  if (tb_tetgen_search(surf, "pq1.4Y", lo, hi, 0, tt, 40, 1e-4, 0.25 * TB_LIVER_TET_TOL, &best,
+                       &best_b, err))
     return -1;
   if (fabs(best_b) <= TB_LIVER_TET_TOL) {
     *tets = best;
@@ -102,7 +60,8 @@ int tb_liver_tets(const tb_liver_def *def, const tb_mesh *surf, tb_mesh *tets, t
   double lo = log(volume / (20.0 * tv)), hi = log(volume); /* log of the volume bound */
   tb_mesh best;
   double best_b;
-  if (bisect(surf, lo, hi, tv, tt, 30, 1e-3, -1, &best, &best_b, err)) return -1;
+  if (tb_tetgen_search(surf, "pq1.4Y", lo, hi, tv, tt, 30, 1e-3, -1, &best, &best_b, err))
+    return -1;
   if (fabs(best.nv / tv - 1) <= 0.1 && (tt < 0 || fabs(best.ntet / tt - 1) <= 0.1)) {
     *tets = best;
     return 0;

@@ -45,6 +45,54 @@ void tb_remesh_taubin(tb_mesh *m, int iters, double lambda, double mu);
  * the boundary triangles. TetGen's failures come back as err. */
 int tb_tetgen(const tb_mesh *surface, const char *switches, tb_mesh *out, tb_error *err);
 
+/* ---- a user's surface to tets (meshgen/tetmesh.c) ---- */
+/* TetGen's radius-edge bound when none is given: its own recommended q. */
+#define TB_TETMESH_QUALITY 1.414
+typedef struct tb_tetmesh_opts {
+  double quality;    /* radius-edge ratio bound, >= 1 (TetGen's q) */
+  double max_volume; /* largest tet volume (TetGen's a); 0: none */
+  int tets;          /* target tet count (the volume bound searched); 0: none */
+  int split_surface; /* 1: TetGen may add points on the surface; 0: the surface is kept (Y) */
+} tb_tetmesh_opts;
+tb_tetmesh_opts tb_tetmesh_default_opts(void);
+/* Why the closed surface `name` cannot be tetrahedralised: open, not
+ * manifold, misoriented, degenerate, or self-intersecting (the first pair
+ * and the count, by our exact test). 0 when it can. */
+int tb_tetmesh_check(const tb_mesh *surf, const char *name, tb_error *err);
+/* The surface (unused vertices dropped) tetrahedralised by TetGen with the
+ * options; with tets > 0 the volume bound is searched until the count is
+ * within 1% (at most 40 meshes; the closest mesh met, an error beyond 10%).
+ * Tets oriented positively, boundary triangles included; the surface's
+ * vertices come first, in order. */
+int tb_tetmesh(const tb_mesh *surf, const char *name, const tb_tetmesh_opts *o, tb_mesh *out,
+               tb_error *err);
+/* Shape of a tet mesh: dihedral angles (degrees) and the largest
+ * radius-edge ratio (circumradius over shortest edge; 0.612 for a regular
+ * tet). */
+typedef struct tb_tet_shape {
+  double min_dihedral, max_dihedral, max_radius_edge;
+} tb_tet_shape;
+tb_tet_shape tb_tet_mesh_shape(const tb_mesh *m);
+/* Moves vertices near self-intersections of the closed surface m (umbrella
+ * smoothing of the crossing triangles' vertices, the neighbourhood grown
+ * each round) until no pair crosses, at most `rounds` rounds. Returns the
+ * pairs left (0: untangled), or -1 with err; *moved gets the largest
+ * displacement in mean edge lengths and *nmoved the vertices moved. */
+int tb_surface_untangle(tb_mesh *m, int rounds, double *moved, int *nmoved, tb_error *err);
+/* Caps every hole of an open, consistently oriented 2-manifold surface (a
+ * fan around the loop's centroid, oriented like the surface); *loops gets
+ * the holes capped. A closed surface is left as it is. An error when a cap
+ * would cross the surface (m then unchanged but for spare capacity). */
+int tb_mesh_close(tb_mesh *m, int *loops, tb_error *err);
+/* Bisection on the log of TetGen's volume bound over [lo, hi], switches
+ * `prefix` + "a<bound>", for a balance V/V* + T/T* - 2 = 0 (tv <= 0: T/T* -
+ * 1), at most `iters` meshes, until the interval is narrower than `width`
+ * or the closest mesh's |balance| is at most `stop`. The closest mesh met is
+ * kept in *best (its balance in *best_b). */
+int tb_tetgen_search(const tb_mesh *surf, const char *prefix, double lo, double hi, double tv,
+                     double tt, int iters, double width, double stop, tb_mesh *best,
+                     double *best_b, tb_error *err);
+
 /* ---- the synthetic liver ---- */
 typedef struct tb_liver_def {
   int surface_verts; /* target surface vertices (thesis: 725; 0: tb_liver_surface_for(tets)) */

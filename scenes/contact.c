@@ -175,7 +175,8 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   if (!topo.closed)
     return tb_error_set(
         err, path, t->line,
-        "the instrument mesh is not closed (%d boundary edges): inside is undefined",
+        "the instrument mesh is not closed (%d boundary edges): inside is undefined "
+        "(tissuebench mesh close FILE --out CLOSED.obj caps its holes)",
         topo.boundary_edges);
   s->priv->tool_x = malloc(sizeof(tb_vec3) * (size_t)s->priv->tool.nv);
   s->priv->contact = calloc((size_t)s->mesh.nv, 1);

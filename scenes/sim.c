@@ -11,6 +11,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "meshgen/tb_meshgen.h"
 #include "sim_priv.h"
 
 /* The built-in scenes: scenes/NAME.ini. */
@@ -299,6 +300,22 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
     goto fail;
   }
   const tb_model_class *cls = tb_model_find(mname);
+  if (s->mesh.ntet < 1 && cls && !cls->surface_mesh && s->mesh.ntri > 0) {
+    /* a closed surface for a tet model: TetGen's default mesh of it */
+    tb_mesh tets;
+    tb_tetmesh_opts o = tb_tetmesh_default_opts();
+    if (tb_tetmesh(&s->mesh, path, &o, &tets, err)) {
+      char why[sizeof err->msg];
+      snprintf(why, sizeof why, "%s", err->msg);
+      tb_error_set(err, path, s->desc.mesh.line,
+                   "model %s needs tets and the surface cannot be tetrahedralised: %s", mname, why);
+      goto fail;
+    }
+    s->meshed_nv = s->mesh.nv - tb_mesh_topology(&s->mesh).unused_verts;
+    s->meshed_ntri = s->mesh.ntri;
+    tb_mesh_free(&s->mesh);
+    s->mesh = tets;
+  }
   if (s->mesh.ntet < 1 && (cls ? !cls->surface_mesh : s->mesh.ntri < 1)) {
     char takers[128] = "";
     for (int i = 0, len = 0; i < tb_model_count && len < (int)sizeof takers; i++)

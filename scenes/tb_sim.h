@@ -83,6 +83,8 @@ typedef struct tb_sim {
   int has_ground;
   tb_ground ground;
   int ground_off;       /* the scene's [ground] turned off (ground = 0): drawn, not acting */
+  int meshed_nv, meshed_ntri; /* a surface given to a tet model: its used vertices and
+                                 triangles (TetGen meshed it); 0: none */
   long settle_steps;    /* [ground] settle: the steps taken before t = 0 (0: none) */
   double settle_motion; /* the largest node motion of the last of them */
   /* the instrument (tb_sim_instrument poses it); its contacts at the last step */

@@ -187,6 +187,7 @@ static const struct {
     {"results", tb_tests_results},
     {"meshgen", tb_tests_meshgen},
     {"cli", tb_tests_cli},
+    {"tetmesh", tb_tests_tetmesh},
     {"tritri_fast", tb_tests_tritri_fast},
     {"tritri_exact", tb_tests_tritri_exact},
     {"refs", tb_tests_refs},

@@ -84,6 +84,7 @@ extern const tb_test_case tb_tests_mc[];
 extern const tb_test_case tb_tests_results[];
 extern const tb_test_case tb_tests_meshgen[];
 extern const tb_test_case tb_tests_cli[];
+extern const tb_test_case tb_tests_tetmesh[];
 extern const tb_test_case tb_tests_tritri_fast[];
 extern const tb_test_case tb_tests_tritri_exact[];
 extern const tb_test_case tb_tests_refs[];

@@ -250,7 +250,7 @@ static void mesh_out_errors_no_leak(void) {
   snprintf(out, sizeof out, "%s/no/such/dir/y.vtk", tb_test_tmpdir());
   char *argv[] = {"mesh", "beam", "--set", "nx=2", "--out", out, NULL};
   TB_CHECK(tb_cmd_mesh(6, argv) == TB_EXIT_FAIL);
-  snprintf(out, sizeof out, "%s/y.stl", tb_test_tmpdir());
+  snprintf(out, sizeof out, "%s/y.xyz", tb_test_tmpdir());
   TB_CHECK(tb_cmd_mesh(6, argv) == TB_EXIT_INPUT);
 }
 
