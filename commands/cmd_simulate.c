@@ -294,7 +294,7 @@ int tb_cmd_simulate(int argc, char **argv) {
   }
   if (rc == TB_EXIT_FAIL && vtk && s.health.ok) fprintf(stderr, PROG ": %s\n", err.msg);
   tb_error perr;
-  if (vtk && frame && tb_sim_write_pvd(vtk, frame, times, &perr)) {
+  if (vtk && frame && tb_sim_write_pvd(&s, vtk, frame, times, &perr)) {
     fprintf(stderr, PROG ": %s\n", perr.msg);
     rc = TB_EXIT_FAIL;
   }
@@ -356,7 +356,11 @@ int tb_cmd_simulate(int argc, char **argv) {
     else
       printf("%s at t = %g s: max node speed %.3g (rest below %.3g)\n",
              rest ? "at rest" : "NOT at rest", s.t, speed, tol);
-    if (vtk) printf("%d frames in %s (frame_NNNNN.vtu; frames.pvd for ParaView)\n", frame, vtk);
+    if (vtk)
+      printf(
+          "%d frames in %s (frames.pvd for ParaView: per frame frame_NNNNN.vtm, one block per "
+          "object; body.pvd etc. per object)\n",
+          frame, vtk);
     if (out_surface) {
       if (tb_sim_write_surface(&s, out_surface, &err)) {
         fprintf(stderr, PROG ": %s\n", err.msg);

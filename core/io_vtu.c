@@ -280,3 +280,25 @@ int tb_pvd_write(const char *path, int n, const double *times, const char *const
   fputs("  </Collection>\n</VTKFile>\n", f);
   return close_out(f, path, err);
 }
+
+int tb_vtm_write(const char *path, int n, const char *const *names, const char *const *files,
+                 tb_error *err) {
+  for (int i = 0; i < n; i++)
+    if (!names[i] || !*names[i] || !files[i] || !*files[i])
+      return tb_error_set(err, path, 0, "cannot write: block %d has no name or file", i);
+  FILE *f = fopen(path, "wb");
+  if (!f) return tb_error_set(err, path, 0, "cannot open for writing: %s", strerror(errno));
+  fputs(
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" "
+      "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <vtkMultiBlockDataSet>\n",
+      f);
+  for (int i = 0; i < n; i++) {
+    fprintf(f, "    <DataSet index=\"%d\" name=\"", i);
+    put_escaped(f, names[i]);
+    fputs("\" file=\"", f);
+    put_escaped(f, files[i]);
+    fputs("\"/>\n", f);
+  }
+  fputs("  </vtkMultiBlockDataSet>\n</VTKFile>\n", f);
+  return close_out(f, path, err);
+}

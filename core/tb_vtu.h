@@ -1,6 +1,7 @@
 /* VTK XML output for ParaView: one .vtu file (UnstructuredGrid) of one or
- * more pieces with point and cell data, a .pvd collection of such files over
- * time, and a reader for the .vtu files written here.
+ * more pieces with point and cell data, a .vtm multiblock naming several
+ * such files, a .pvd collection of files over time, and a reader for the
+ * .vtu files written here.
  *
  * File layout ("VTK File Formats", Kitware, XML section): version 1.0,
  * byte_order="LittleEndian", header_type="UInt64"; every DataArray is
@@ -48,6 +49,12 @@ int tb_vtu_write(const char *path, const tb_vtu_piece *pieces, int npieces, tb_e
 /* Writes a ParaView collection: n DataSets, times[i] and files[i] (names as
  * given, normally relative to the .pvd's folder), in that order. */
 int tb_pvd_write(const char *path, int n, const double *times, const char *const *files,
+                 tb_error *err);
+
+/* Writes a multiblock data set (.vtm): n named blocks, each one data set
+ * file (relative to the .vtm's folder), in that order; ParaView shows each
+ * block as its own object. */
+int tb_vtm_write(const char *path, int n, const char *const *names, const char *const *files,
                  tb_error *err);
 
 /* An array to fetch while reading: set name and on_cells; the reader fills

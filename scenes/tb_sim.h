@@ -170,18 +170,21 @@ int tb_sim_degraded(const tb_sim *s, char *why, size_t cap);
 #define TB_SIM_REST_WINDOW 0.1
 int tb_sim_at_rest(const tb_sim *s, double *speed, double *tol);
 
-/* ParaView output (scenes/output.c): the current state as
- * dir/frame_NNNNN.vtu (the body's tets with point data displacement and
- * velocity, cell data strain, von_mises (models with E and nu) and
- * inverted; the instrument and the ground as their own pieces), dir
- * created; and dir/frames.pvd naming frames 0..n-1 with their times. */
+/* ParaView output (scenes/output.c): the current state as one .vtu per
+ * object (body, a tet model's current surface, instrument posed now,
+ * ground) and dir/frame_NNNNN.vtm naming them as blocks; dir created. The
+ * body carries point data displacement, velocity, fixed and driven, and
+ * cell data equivalent_green_strain, von_mises_stress (models with E and
+ * nu) and inverted. tb_sim_write_pvd writes dir/frames.pvd (the .vtm files
+ * with their times) and one NAME.pvd per object. */
 int tb_sim_write_frame(tb_sim *s, const char *dir, int frame, tb_error *err);
 /* Per tet of the current state (arrays of ntet, any may be NULL): the
  * equivalent Green strain, the von Mises stress of S = lambda tr(E) I +
  * 2 mu E (NAN for models without E and nu), inverted (signed volume <= 0).
  * Returns 1 when the model has a stress (E and nu). */
 int tb_sim_tet_fields(const tb_sim *s, double *strain, double *vm, unsigned char *inv);
-int tb_sim_write_pvd(const char *dir, int nframes, const double *times, tb_error *err);
+int tb_sim_write_pvd(const tb_sim *s, const char *dir, int nframes, const double *times,
+                     tb_error *err);
 /* The model's current surface (cut, or refined) into path, by extension
  * (core/tb_mesh_io.h's writers: .obj, .off, .stl, .vtk). */
 int tb_sim_write_surface(const tb_sim *s, const char *path, tb_error *err);

@@ -1,16 +1,18 @@
 #!/bin/sh
-# scripts/setup.sh [--fuzz]: installs the Debian 12 packages tissuebench
-# needs: with apt-get when run as root, otherwise prints the one command to
-# run and fails. --fuzz adds clang, libclang-rt-14-dev (libFuzzer,
-# sanitizers) and libomp-14-dev (OpenMP for clang), which only the fuzzing
-# harnesses need (scripts/fuzz.sh, .ci/run).
+# scripts/setup.sh [--test | --fuzz]: installs the Debian 12 packages
+# tissuebench needs: with apt-get when run as root, otherwise prints the one
+# command to run and fails. --test adds python3-vtk9 (VTK's own readers check
+# the ParaView files; ./tissuebench test asks for it); --fuzz adds clang,
+# libclang-rt-14-dev (libFuzzer, sanitizers) and libomp-14-dev (OpenMP for
+# clang), which only the fuzzing harnesses need (scripts/fuzz.sh, .ci/run).
 packages="meson ninja-build pkg-config gcc g++ libsuitesparse-dev libopenblas-dev libfcl-dev
 libccd-dev libbullet-dev libcgal-dev libgmp-dev tetgen libtet1.5-dev gnuplot-nox libexpat1-dev
 libinih-dev libosmesa6-dev libgl-dev libpng-dev parallel"
 case "${1:-}" in
+  --test) packages="$packages python3-vtk9" ;;
   --fuzz) packages="$packages clang libclang-rt-14-dev libomp-14-dev" ;;
   "") ;;
-  *) echo "usage: scripts/setup.sh [--fuzz]" >&2; exit 2 ;;
+  *) echo "usage: scripts/setup.sh [--test | --fuzz]" >&2; exit 2 ;;
 esac
 
 missing=""
