@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "tb_cli.h"
+#include "core/tb_paths.h"
 #include "measure/tb_points.h"
 
 /* ---- the choice ---- */
@@ -73,7 +74,7 @@ static int usage(const char *msg) {
 }
 
 int tb_cmd_advise(int argc, char **argv) {
-  const char *scene = NULL, *points = NULL, *results = TB_SOURCE_ROOT "/results";
+  const char *scene = NULL, *points = NULL, *results = tb_results_dir();
   double tol = 0, budget = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];

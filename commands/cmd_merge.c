@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "tb_cli.h"
+#include "core/tb_paths.h"
 #include "core/tb_parse.h"
 #include "report/tb_results.h"
 
@@ -243,7 +244,7 @@ static int check_shards(char **dirs, const tb_shard_info *info, int nd, tb_error
 }
 
 int tb_cmd_merge(int argc, char **argv) {
-  const char *out = TB_SOURCE_ROOT "/results";
+  const char *out = tb_results_dir();
   char **dirs = calloc((size_t)argc + 1, sizeof *dirs);
   int nd = 0;
   if (!dirs) return TB_EXIT_FAIL;

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "tb_cli.h"
+#include "core/tb_paths.h"
 #include "core/tb_timer.h"
 #include "report/tb_results.h"
 #include "suites/tb_suites.h"
@@ -18,7 +19,7 @@
 int tb_cmd_reproduce(int argc, char **argv) {
   int nsuites;
   const tb_suite_entry *suites = tb_suites(&nsuites);
-  tb_suite_opts o = {0, 1.0, 1, TB_SOURCE_ROOT "/results", NULL, NULL};
+  tb_suite_opts o = {0, 1.0, 1, tb_results_dir(), NULL, NULL};
   const char *only = NULL;
   int shard_k = 0, shard_n = 0;
   for (int i = 1; i < argc; i++) {

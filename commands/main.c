@@ -5,9 +5,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "tb_cli.h"
+#include "core/tb_paths.h"
 #include "core/tb_threads.h"
 #include "reference/tb_oracles.h"
 #include "report/tb_results.h"
@@ -90,9 +92,10 @@ static const tb_command commands[] = {
      "  --set      a scene key (dt duration amplitude release nodes gravity vmax inversion drag\n"
      "             energy_factor energy_every rest_speed ground; 0 means 0) or a model key\n"
      "             (--list shows each model's keys, defaults and ranges)\n"
-     "  --vtk DIR  ParaView frames: DIR/frame_NNNNN.vtu every K steps (--every K; default the\n"
-     "             scene's [output] every, or 30 per simulated second) and DIR/frames.pvd; a\n"
-     "             surface model's frames hold its current surface (cut, or refined)\n"
+     "  --vtk DIR  ParaView files every K steps (--every K; default the scene's [output]\n"
+     "             every, or 30 per simulated second): DIR/frames.pvd over frame_NNNNN.vtm,\n"
+     "             one block per object (body, surface, instrument, ground; each also\n"
+     "             NAME_NNNNN.vtu and NAME.pvd); a surface model's body is its current surface\n"
      "  --out-surface FILE  the model's surface at the end (cut, or refined) by extension:\n"
      "             .obj .off .stl .vtk\n"
      "  prints the final state (max displacement and its node, volume change, energy,\n"
@@ -208,7 +211,8 @@ static int cmd_test(int argc, char **argv) {
   return TB_EXIT_FAIL;
 }
 
-/* The meson project version and, when git knows it, the source's commit. */
+/* The meson project version, the source's commit when git knows it, and where the files, the
+ * shared data and the results are. */
 static int print_version(void) {
   tb_context c;
   tb_context_collect(&c, 0);
@@ -216,6 +220,11 @@ static int print_version(void) {
   if (strcmp(c.commit, "unknown") != 0)
     printf(" (commit %.12s%s)", c.commit, c.dirty > 0 ? ", dirty" : "");
   printf("\n");
+  struct stat st;
+  printf("files:   %s (scenes, scripts; TB_DATA_DIR overrides)\n", tb_root());
+  printf("data:    %s (%s; TB_SHARED_DATA overrides)\n", tb_shared_data(),
+         stat(tb_shared_data(), &st) == 0 ? "present" : "absent: suites run without it");
+  printf("results: %s (--results overrides)\n", tb_results_dir());
   return TB_EXIT_OK;
 }
 

@@ -14,12 +14,10 @@
 #include <unistd.h>
 
 #include "tb_results.h"
+#include "core/tb_paths.h"
 #include "tb_versions.h"
 #include "core/tb_threads.h"
 
-#ifndef TB_SOURCE_ROOT
-#define TB_SOURCE_ROOT "."
-#endif
 #ifndef TB_COMPILER
 #define TB_COMPILER "unknown"
 #endif
@@ -67,7 +65,7 @@ static int git(const char *args, char *out, size_t cap) {
   char cmd[1400], root[1024];
   size_t k = 0;
   root[k++] = '\'';
-  for (const char *p = TB_SOURCE_ROOT; *p && k + 6 < sizeof root; p++) {
+  for (const char *p = tb_root(); *p && k + 6 < sizeof root; p++) {
     if (*p == '\'') {
       memcpy(root + k, "'\\''", 4);
       k += 4;

@@ -15,10 +15,7 @@
 #include <unistd.h>
 
 #include "results_priv.h"
-
-#ifndef TB_SOURCE_ROOT
-#define TB_SOURCE_ROOT "."
-#endif
+#include "core/tb_paths.h"
 
 extern char **environ;
 
@@ -130,7 +127,7 @@ int tb_suite_chart_vars(tb_suite *s, const char *script, const char *datafile, c
                         "a chart needs a suite, a script in scripts/ and relative file names");
   if (tb_results_partial(s)) return 0;
   char spath[1024], data[1024], base[1024], png[1100], svg[1100];
-  snprintf(spath, sizeof spath, "%s/scripts/%s", TB_SOURCE_ROOT, script);
+  snprintf(spath, sizeof spath, "%s/scripts/%s", tb_root(), script);
   snprintf(data, sizeof data, "%s/%s", s->dir, datafile);
   snprintf(base, sizeof base, "%s/%s", s->dir, outbase);
   snprintf(png, sizeof png, "%s.png", base);

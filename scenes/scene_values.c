@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "scene_priv.h"
+#include "core/tb_paths.h"
 
 /* ---- numbers ---- */
 
@@ -176,7 +177,7 @@ int tb_scene_resolve_path(const char *dir, const char *value, char *out, size_t 
     if (env && *env)
       snprintf(base, sizeof base, "%s", env);
     else
-      snprintf(base, sizeof base, "%s/../shared/data", TB_SOURCE_ROOT);
+      snprintf(base, sizeof base, "%s", tb_shared_data());
     if (access(base, F_OK))
       return *why = "data: names ../shared/data (or $TB_DATA_DIR), which is not present", -1;
     n = snprintf(out, cap, "%s/%s", base, value + strlen(prefix));

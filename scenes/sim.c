@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 
 #include "meshgen/tb_meshgen.h"
+#include "core/tb_paths.h"
 #include "sim_priv.h"
 
 /* The built-in scenes: scenes/NAME.ini. */
@@ -55,7 +56,7 @@ static int is_builtin(const char *name) {
 
 void tb_sim_scene_path(const char *scene, char *out, size_t cap) {
   if (is_builtin(scene))
-    snprintf(out, cap, "%s/scenes/%s.ini", TB_SOURCE_ROOT, scene);
+    snprintf(out, cap, "%s/scenes/%s.ini", tb_root(), scene);
   else
     snprintf(out, cap, "%s", scene);
 }
@@ -273,6 +274,15 @@ static int settle(tb_sim *s, tb_error *err) {
   return rc;
 }
 
+/* The material keys every model shares (models/tb_model.h's TB_SETTINGS_MASS and
+ * TB_SETTINGS_MATERIAL): a scene's material, whichever model runs it. */
+static int material_key(const char *key) {
+  static const char *const keys[] = {"E", "nu", "density", "node_mass"};
+  for (int i = 0; i < 4; i++)
+    if (!strcmp(key, keys[i])) return 1;
+  return 0;
+}
+
 int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, const char *model,
                        const tb_settings *set, const tb_mesh *mesh, tb_error *err) {
   memset(s, 0, sizeof *s);
@@ -364,14 +374,15 @@ int tb_sim_create_desc(tb_sim *s, tb_scene_desc *desc, const tb_sim_def *def, co
   if (!(s->def.vmax > 0)) s->def.vmax = 100.0 * s->size / s->def.duration; /* not given */
   tb_settings all;
   tb_settings_init(&all);
-  /* another model than the file's: the file's keys it does not have belong
-   * to the file's model (sphere-press's alpha for msm-vvs) and are skipped */
+  /* another model than the file's: only the file's material keys carry over
+   * (where it has them); the rest are the file's model's (sphere-press's
+   * alpha for msm-vvs, a step scale, is not sm's alpha, a stiffness) */
   int other = s->desc.model[0] && strcmp(mname, s->desc.model) != 0;
   for (int i = 0; i < s->desc.nmodel_set; i++) {
     char key[64];
     snprintf(key, sizeof key, "%.*s", (int)strcspn(s->desc.model_set[i], "="),
              s->desc.model_set[i]);
-    if (other && !tb_model_has_setting(mname, key)) continue;
+    if (other && (!tb_model_has_setting(mname, key) || !material_key(key))) continue;
     tb_settings one;
     tb_settings_init(&one);
     tb_error e2;

@@ -48,7 +48,7 @@ static int load_sets(const tb_suite_opts *o, named_set *sets, tb_suite *s, int *
       tb_pairs_free(&sets[n].set);
   }
   tb_pairset sep;
-  int jrc = tb_pairs_read_jgt_dir(TB_SHARED_DATA "/jgt-shen2003", &sets[n].set, &sep, &err);
+  int jrc = tb_pairs_read_jgt_dir(TB_SHARED_DATA_FILE("jgt-shen2003"), &sets[n].set, &sep, &err);
   if (jrc < 0) {
     fprintf(stderr, "correctness: %s\n", err.msg);
     *bad = 1;

@@ -30,8 +30,8 @@
 #define SHALLOW 0.01   /* a crossing this many mean edges deep is counted apart in the notes */
 #define HOLD 0.08      /* the held end: this share of the long extent */
 #define NORGANS_MAX 6
-#define SOFA_SURF TB_SHARED_DATA "/sofa/liver-smooth.obj"
-#define SOFA_SPH TB_SHARED_DATA "/sofa/liver.sph"
+#define SOFA_SURF TB_SHARED_DATA_FILE("sofa/liver-smooth.obj")
+#define SOFA_SPH TB_SHARED_DATA_FILE("sofa/liver.sph")
 
 /* An organ as files, and its box. */
 typedef struct organ {

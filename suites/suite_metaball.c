@@ -39,8 +39,8 @@
 #define GOAL_CUT 2.0
 #define W 640 /* pictures */
 #define H 480
-#define SOFA_SURF TB_SHARED_DATA "/sofa/liver-smooth.obj"
-#define SOFA_SPH TB_SHARED_DATA "/sofa/liver.sph"
+#define SOFA_SURF TB_SHARED_DATA_FILE("sofa/liver-smooth.obj")
+#define SOFA_SPH TB_SHARED_DATA_FILE("sofa/liver.sph")
 #define NMAX (TB_NORGANS + 1)
 #define SPHERE_SCALE 0.35 /* the pictures draw the spheres at this share of their radius */
 

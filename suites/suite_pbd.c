@@ -42,7 +42,7 @@
 #define ITERS 5         /* the patent's iterations */
 #define GOAL_US 0.2     /* our goal: microseconds per element-step at 12829 tets, one thread */
 #define DEPTH_GOAL 1e-6 /* our goal: no node deeper below the ground than this x size */
-#define SOFA_LIVER TB_SHARED_DATA "/sofa/liver.msh"
+#define SOFA_LIVER TB_SHARED_DATA_FILE("sofa/liver.msh")
 
 /* The patent's tables 1 and 2 (its machine is not named). */
 #define NROWS 4

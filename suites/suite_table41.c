@@ -188,7 +188,7 @@ static int table41(const tb_suite_opts *o, tb_suite *s, const tb_pairset *d40, i
 static int jgt(const tb_suite_opts *o, tb_suite *s, int reps) {
   tb_pairset in, sep;
   tb_error err;
-  int jrc = tb_pairs_read_jgt_dir(TB_SHARED_DATA "/jgt-shen2003", &in, &sep, &err);
+  int jrc = tb_pairs_read_jgt_dir(TB_SHARED_DATA_FILE("jgt-shen2003"), &in, &sep, &err);
   if (jrc < 0) {
     fprintf(stderr, "table 4.1: %s\n", err.msg);
     return 1;

@@ -171,8 +171,8 @@ int tb_table42_near_miss(tb_suite *s, const tb_suite_opts *o, const tb_mesh *liv
   tb_mesh sofa[2] = {{0}, {0}}, raw;
   char why[200] = "";
   int have_sofa = 1;
-  static const char *const files[2] = {TB_SHARED_DATA "/sofa/liver-smooth.obj",
-                                       TB_SHARED_DATA "/sofa/dental_instrument.obj"};
+  const char *const files[2] = {TB_SHARED_DATA_FILE("sofa/liver-smooth.obj"),
+                                TB_SHARED_DATA_FILE("sofa/dental_instrument.obj")};
   for (int k = 0; k < 2 && have_sofa; k++) {
     tb_error e;
     if (tb_mesh_read(files[k], &raw, &e)) {

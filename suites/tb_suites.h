@@ -7,10 +7,12 @@
 
 #include <stdint.h>
 
+#include "core/tb_paths.h"
+
 /* Real data from the field, read at run time when present. */
-#define TB_SHARED_DATA TB_SOURCE_ROOT "/../shared/data"
+#define TB_SHARED_DATA_FILE(rel) tb_path_in(tb_shared_data(), rel)
 /* The 40 designed triangle pairs (thesis §4.4.2; ours, hand-verified). */
-#define TB_DESIGNED_PAIRS TB_SOURCE_ROOT "/tests/data/designed40.txt"
+#define TB_DESIGNED_PAIRS tb_path_in(tb_root(), "tests/data/designed40.txt")
 
 /* Options every suite receives. */
 typedef struct tb_suite_opts {

@@ -421,7 +421,41 @@ static void nul_byte_in_lines(void) {
   TB_CHECK_MSG(tb_test_cli_run(args) == 2 && strstr(tb_test_out, "nul.txt:3:"), "%s", tb_test_out);
 }
 
+/* A copied checkout and an installed tree read their own scenes and write their own results, not
+ * the tree the binary was compiled in; TB_DATA_DIR overrides both. */
+static void runs_from_anywhere(void) {
+  const char *t = tb_test_tmpdir();
+  char cmd[4096], out[8192];
+  /* each tree's beam scene runs for its own duration: 0.05 s in the copy, 0.07 s installed */
+  snprintf(cmd, sizeof cmd,
+           "set -e; cd '%s'; rm -rf copy inst; mkdir -p copy/build copy/scenes inst/bin "
+           "inst/share/tissuebench/scenes; cp '%s' copy/build/; cp '%s' inst/bin/; touch "
+           "copy/meson.build; sed 's/^duration = .*/duration = 0.05/' '%s/scenes/beam.ini' "
+           ">copy/scenes/beam.ini; sed 's/^duration = .*/duration = 0.07/' '%s/scenes/beam.ini' "
+           ">inst/share/tissuebench/scenes/beam.ini",
+           t, tb_test_cli(), tb_test_cli(), tb_test_source_root(), tb_test_source_root());
+  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "%s", out);
+  snprintf(cmd, sizeof cmd, "cd / && '%s/copy/build/tissuebench' --version 2>&1", t);
+  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "%s", out);
+  char want[1200];
+  snprintf(want, sizeof want, "results: %s/copy/results", t);
+  TB_CHECK_MSG(strstr(out, want), "%s", out);
+  static const char *const run[3][2] = {
+      {"", "copy/build"}, {"", "inst/bin"}, {"TB_DATA_DIR=copy ", "inst/bin"}};
+  static const char *const steps[3] = {"5 steps", "7 steps", "5 steps"};
+  for (int k = 0; k < 3; k++) {
+    snprintf(cmd, sizeof cmd, "cd '%s' && %s%s/tissuebench simulate --scene beam --model msm 2>&1",
+             t, run[k][0], run[k][1]);
+    TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0 && strstr(out, steps[k]), "%s%s: %s",
+                 run[k][0], run[k][1], out);
+  }
+  snprintf(cmd, sizeof cmd, "cd '%s' && inst/bin/tissuebench --version", t);
+  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0 && strstr(out, "results: ./results"), "%s",
+               out);
+}
+
 const tb_test_case tb_tests_cli[] = {
+    {"runs_from_anywhere", runs_from_anywhere},
     {"version_flag", version_flag},
     {"test_runner_list_and_no_match", test_runner_list_and_no_match},
     {"setup_script", setup_script},
