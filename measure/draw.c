@@ -9,8 +9,9 @@
 const float tb_draw_body_rgb[3] = {0.86f, 0.45f, 0.40f},
             tb_draw_tool_rgb[3] = {0.62f, 0.64f, 0.68f};
 
-void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, const char *label,
-                 int wireframe) {
+void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double lo, double hi,
+                 const char *label, int wireframe) {
+  if (!(hi > lo)) hi = lo + 1;
   tb_surface su = tb_model_surface(&s->model);
   if (s->has_ground || s->ground_off) {
     tb_vec3 c = tb_v3(0, 0, 0);
@@ -24,8 +25,8 @@ void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, cons
                          .tri = su.tri,
                          .rgb = {b[0], b[1], b[2]},
                          .value = value,
-                         .lo = 0,
-                         .hi = hi > 0 ? hi : 1,
+                         .lo = lo,
+                         .hi = hi,
                          .wireframe = wireframe};
   tb_renderer_mesh(r, &body);
   tb_mesh tool;
@@ -34,7 +35,7 @@ void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, cons
         .nv = tool.nv, .ntri = tool.ntri, .x = tool.x, .tri = tool.tri, .rgb = {t[0], t[1], t[2]}};
     tb_renderer_mesh(r, &m);
   }
-  if (value) tb_renderer_colorbar(r, 0, hi > 0 ? hi : 1, label);
+  if (value) tb_renderer_colorbar(r, lo, hi, label);
 }
 
 double tb_draw_displacement(const tb_sim *s, double *value) {
@@ -72,10 +73,10 @@ int tb_draw_structure(tb_renderer *r, const tb_sim *s, tb_error *err) {
   tb_model_groups g = s->model.cls->groups(s->model.self);
   float *rgb = malloc(sizeof(float) * 3 * (size_t)g.n);
   if (!rgb) return tb_error_set(err, "draw", 0, "out of memory (%d points)", g.n);
-  /* group q's colour: the golden-ratio walk along the colour map */
+  /* group q's colour: a qualitative palette (neighbouring numbers far apart in colour) */
   for (int i = 0; i < g.n; i++)
     if (g.group[i] >= 0)
-      tb_colormap(fmod(g.group[i] * 0.618034, 1.0), rgb + 3 * i);
+      tb_palette(g.group[i], rgb + 3 * i);
     else
       rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.5f;
   tb_renderer_points(r, g.n, x, rgb, 4);

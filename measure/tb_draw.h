@@ -13,10 +13,10 @@
 extern const float tb_draw_body_rgb[3], tb_draw_tool_rgb[3];
 
 /* The ground (if any, also one the scene turned off: ground = 0), the body's current surface
- * coloured by value (per node, over [0, hi]; NULL: flat) with its colour bar named label, and the
- * instrument (if any). */
-void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double hi, const char *label,
-                 int wireframe);
+ * coloured by value (per node, over [lo, hi], clamped; NULL: flat) with its colour bar named
+ * label, and the instrument (if any). */
+void tb_draw_sim(tb_renderer *r, tb_sim *s, const double *value, double lo, double hi,
+                 const char *label, int wireframe);
 /* Each surface point's distance from its rest position into value[su.nv]
  * (su = tb_model_surface: points beyond the mesh's nodes, a finer level of
  * msm-vvs, measured from their own rest positions); returns the largest. */

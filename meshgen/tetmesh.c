@@ -18,8 +18,6 @@ tb_tetmesh_opts tb_tetmesh_default_opts(void) {
 }
 
 int tb_tetmesh_check(const tb_mesh *surf, const char *name, tb_error *err) {
-  if (surf->ntri < 4)
-    return tb_error_set(err, name, 0, "%d triangles: not a closed surface", surf->ntri);
   tb_mesh_topo t = tb_mesh_topology(surf);
   if (t.degenerate_tris)
     return tb_error_set(err, name, 0, "%d degenerate triangles (a vertex repeated)",
@@ -36,6 +34,8 @@ int tb_tetmesh_check(const tb_mesh *surf, const char *name, tb_error *err) {
     return tb_error_set(err, name, 0,
                         "not consistently oriented (%d edges traversed twice the same way)",
                         t.misoriented_edges);
+  if (surf->ntri < 4)
+    return tb_error_set(err, name, 0, "%d triangles: not a closed surface", surf->ntri);
   tb_pairlist self = {0, 0, NULL};
   if (tb_collide_self(surf->x, surf->tri, surf->ntri, &self, err)) return -1;
   if (self.n) {

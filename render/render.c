@@ -14,16 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tb_render.h"
-
-struct tb_renderer {
-  OSMesaContext ctx;
-  int w, h, ss;          /* image size, samples per pixel side */
-  unsigned char *buf;    /* (w ss) x (h ss) RGBA, bottom row first (GL's order) */
-  unsigned char *image;  /* w x h RGB, top row first */
-  GLfloat *vx, *vn, *vc; /* scratch: per-vertex position, normal, colour */
-  int cap;
-};
+#include "render_priv.h"
 
 tb_renderer *tb_renderer_new(int w, int h, int ss, tb_error *err) {
   if (w < 8 || h < 8 || w > 8192 || h > 8192)
@@ -42,12 +33,17 @@ tb_renderer *tb_renderer_new(int w, int h, int ss, tb_error *err) {
     tb_renderer_free(r);
     return tb_error_set(err, "render", 0, "cannot make an OSMesa context (libosmesa6)"), NULL;
   }
+  if (tb_text_open(&r->text, err)) {
+    tb_renderer_free(r);
+    return NULL;
+  }
   return r;
 }
 
 void tb_renderer_free(tb_renderer *r) {
   if (!r) return;
   if (r->ctx) OSMesaDestroyContext(r->ctx);
+  tb_text_close(&r->text);
   free(r->buf), free(r->image), free(r->vx), free(r->vn), free(r->vc);
   free(r);
 }
@@ -63,6 +59,7 @@ static void look_at(const tb_camera *c) {
 }
 
 void tb_renderer_begin(tb_renderer *r, const tb_camera *cam, const float bg[3]) {
+  r->nlabels = 0;
   OSMesaMakeCurrent(r->ctx, r->buf, GL_UNSIGNED_BYTE, r->w * r->ss, r->h * r->ss);
   glViewport(0, 0, r->w * r->ss, r->h * r->ss);
   glClearColor(bg[0], bg[1], bg[2], 1);
@@ -226,6 +223,16 @@ void tb_renderer_ground(tb_renderer *r, tb_vec3 p, tb_vec3 n, tb_vec3 c, double 
 
 /* ---- the colour map and its bar ---- */
 
+void tb_palette(int k, float rgb[3]) {
+  /* Kelly's colours of maximum contrast (1965) without white and black */
+  static const unsigned hex[20] = {0xF3C300, 0x875692, 0xF38400, 0xA1CAF1, 0xBE0032,
+                                   0xC2B280, 0x848482, 0x008856, 0xE68FAC, 0x0067A5,
+                                   0xF99379, 0x604E97, 0xF6A600, 0xB3446C, 0xDCD300,
+                                   0x882D17, 0x8DB600, 0x654522, 0xE25822, 0x2B3D26};
+  unsigned c = hex[(k % 20 + 20) % 20];
+  for (int j = 0; j < 3; j++) rgb[j] = (float)((c >> (16 - 8 * j)) & 0xFF) / 255.0f;
+}
+
 void tb_colormap(double u, float rgb[3]) {
   /* nine stops from dark violet through blue and green to yellow (our
    * approximation of a perceptually ordered map) */
@@ -241,8 +248,6 @@ void tb_colormap(double u, float rgb[3]) {
   for (int c = 0; c < 3; c++) rgb[c] = stop[k][c] + f * (stop[k + 1][c] - stop[k][c]);
 }
 
-void tb_stroke_text(double x, double y, double size, const char *s); /* render/font.c */
-
 void tb_renderer_colorbar(tb_renderer *r, double lo, double hi, const char *label) {
   int W = r->w * r->ss, H = r->h * r->ss;
   glMatrixMode(GL_PROJECTION);
@@ -254,38 +259,66 @@ void tb_renderer_colorbar(tb_renderer *r, double lo, double hi, const char *labe
   glLoadIdentity();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_LIGHTING);
-  double x0 = W - 0.09 * W, x1 = W - 0.06 * W, y0 = 0.2 * H, y1 = 0.8 * H;
+  double x0 = 0.91, x1 = 0.94, y0 = 0.2, y1 = 0.8;
   glBegin(GL_QUAD_STRIP);
   for (int k = 0; k <= 32; k++) {
     float rgb[3];
     tb_colormap(k / 32.0, rgb);
     glColor3f(rgb[0], rgb[1], rgb[2]);
-    double y = y0 + (y1 - y0) * k / 32;
-    glVertex2d(x0, y), glVertex2d(x1, y);
+    double y = (y0 + (y1 - y0) * k / 32) * H;
+    glVertex2d(x0 * W, y), glVertex2d(x1 * W, y);
   }
   glEnd();
-  glColor3f(0.1f, 0.1f, 0.1f);
-  glLineWidth((GLfloat)r->ss);
-  double size = 0.025 * H;
-  char text[32];
-  /* numbers right-aligned against the bar, the label above it ending at its right edge */
-  double em = 5.5 * size / 6;
-  snprintf(text, sizeof text, "%.3g", hi);
-  tb_stroke_text(x0 - 0.01 * W - em * (double)strlen(text), y1 - 0.5 * size, size, text);
-  snprintf(text, sizeof text, "%.3g", lo);
-  tb_stroke_text(x0 - 0.01 * W - em * (double)strlen(text), y0 - 0.5 * size, size, text);
-  if (label) tb_stroke_text(x1 - em * (double)strlen(label), y1 + 1.2 * size, size, label);
   glEnable(GL_DEPTH_TEST);
   glMatrixMode(GL_PROJECTION);
   glPopMatrix();
   glMatrixMode(GL_MODELVIEW);
   glPopMatrix();
+  /* numbers right-aligned against the bar, the label above it ending at its right edge */
+  static const float ink[3] = {0.1f, 0.1f, 0.1f};
+  double size = 0.03;
+  char text[32];
+  snprintf(text, sizeof text, "%.3g", hi);
+  tb_renderer_text(r, x0 - 0.01, y1 - 0.35 * size, size, 1, ink, text);
+  snprintf(text, sizeof text, "%.3g", lo);
+  tb_renderer_text(r, x0 - 0.01, y0 - 0.35 * size, size, 1, ink, text);
+  if (label) tb_renderer_text(r, x1, y1 + 0.8 * size, size, 1, ink, label);
+}
+
+void tb_renderer_legend(tb_renderer *r, double y, int n, const char *const *labels,
+                        const float (*rgb)[3]) {
+  int W = r->w * r->ss, H = r->h * r->ss;
+  double size = 0.03, step = 1.5 * size;
+  glMatrixMode(GL_PROJECTION);
+  glPushMatrix();
+  glLoadIdentity();
+  glOrtho(0, W, 0, H, -1, 1);
+  glMatrixMode(GL_MODELVIEW);
+  glPushMatrix();
+  glLoadIdentity();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_LIGHTING);
+  glBegin(GL_QUADS);
+  for (int k = 0; k < n; k++) {
+    double y0 = (y - k * step) * H, x0 = 0.02 * W, e = 0.8 * size * H;
+    glColor3f(rgb[k][0], rgb[k][1], rgb[k][2]);
+    glVertex2d(x0, y0), glVertex2d(x0 + e, y0), glVertex2d(x0 + e, y0 + e), glVertex2d(x0, y0 + e);
+  }
+  glEnd();
+  glEnable(GL_DEPTH_TEST);
+  glMatrixMode(GL_PROJECTION);
+  glPopMatrix();
+  glMatrixMode(GL_MODELVIEW);
+  glPopMatrix();
+  static const float ink[3] = {0.1f, 0.1f, 0.1f};
+  for (int k = 0; k < n; k++)
+    tb_renderer_text(r, 0.02 + 1.2 * size * H / W, y - k * step, size, -1, ink, labels[k]);
 }
 
 /* ---- the image ---- */
 
 const unsigned char *tb_renderer_pixels(tb_renderer *r, int *w, int *h) {
-  glFinish();
+  tb_text_draw(r);
   int ss = r->ss, W = r->w * ss;
   for (int y = 0; y < r->h; y++)
     for (int x = 0; x < r->w; x++)

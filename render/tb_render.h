@@ -3,9 +3,9 @@
  * input gives the same pixels on every machine) draws into memory, libpng
  * writes the file. Shaded surfaces with per-vertex normals, one light,
  * back faces in their own colour; per-vertex colour maps with a colour
- * bar; wireframes and line sets (springs, tet edges); a ground square.
- * No display, no font files: the colour bar's numbers are drawn with a
- * small stroke font of our own. */
+ * bar; wireframes and line sets (springs, tet edges); a ground square;
+ * text in DejaVu Sans by FreeType (labels, legends, the colour bar's
+ * numbers). No display needed. */
 #ifndef TB_RENDER_H
 #define TB_RENDER_H
 
@@ -20,9 +20,18 @@ typedef struct tb_camera {
   double half_height;
 } tb_camera;
 
-/* The thesis's views of a body with bounding box [lo, hi] (z up): front
- * (from -y), left-front, left-back, top (from +z), fitted to the box.
- * Returns -1 for an unknown name. */
+/* The thesis's views of a body with bounding box [lo, hi] and the given up
+ * direction: front (for z up from -y, for y up from +z), left-front,
+ * left-back, top (from above), at the nearest distance where the box
+ * fills 90% of the height or the width of a view of that aspect
+ * (width / height). Returns -1 for an unknown name or a zero up. */
+int tb_camera_preset_up(const char *name, tb_vec3 lo, tb_vec3 hi, tb_vec3 up, double aspect,
+                        tb_camera *out);
+/* The same view fitted to n points (a body's surface: the tightest fit), aimed at the middle of
+ * their extent across the view. */
+int tb_camera_preset_points(const char *name, const tb_vec3 *x, int n, tb_vec3 up, double aspect,
+                            tb_camera *out);
+/* The same with z up and aspect 4:3. */
 int tb_camera_preset(const char *name, tb_vec3 lo, tb_vec3 hi, tb_camera *out);
 /* "eye=x,y,z target=x,y,z [up=x,y,z] (fov=DEG | ortho=HALF_HEIGHT)",
  * fields separated by spaces or ';'. Errors name the field. */
@@ -59,8 +68,21 @@ void tb_renderer_points(tb_renderer *r, int n, const tb_vec3 *x, const float *rg
  * the projection of c. */
 void tb_renderer_ground(tb_renderer *r, tb_vec3 p, tb_vec3 n, tb_vec3 c, double half);
 /* The colour bar of the colour map on the right, with lo, hi and a label
- * drawn in the stroke font (digits, signs, '.', 'e', letters a-z). */
+ * (the quantity and its unit) above it. */
 void tb_renderer_colorbar(tb_renderer *r, double lo, double hi, const char *label);
+/* Text s with its baseline at (x, y), fractions of the image's width and
+ * height from the lower left; size: the font's height as a fraction of the
+ * image's height; align -1 left, 0 centred, 1 right of x. Drawn over
+ * the whole picture (when its pixels are read); at most 64 a picture. */
+void tb_renderer_text(tb_renderer *r, double x, double y, double size, int align, const float rgb[3],
+                      const char *s);
+/* A legend at the upper left: n coloured squares, each with its label,
+ * the first with its baseline at height y (a fraction of the image's). */
+void tb_renderer_legend(tb_renderer *r, double y, int n, const char *const *labels,
+                        const float (*rgb)[3]);
+/* A qualitative palette for categories (clusters, pieces): colour k of 20
+ * well-separated ones (Kelly 1965), repeating. */
+void tb_palette(int k, float rgb[3]);
 /* The colour map (viridis-like) at u in [0, 1]. */
 void tb_colormap(double u, float rgb[3]);
 /* Writes the image as an 8-bit RGB PNG (no time stamp: same pixels, same

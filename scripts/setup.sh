@@ -7,7 +7,7 @@
 # clang), which only the fuzzing harnesses need (scripts/fuzz.sh, .ci/run).
 packages="meson ninja-build pkg-config gcc g++ libsuitesparse-dev libopenblas-dev libfcl-dev
 libccd-dev libbullet-dev libcgal-dev libgmp-dev tetgen libtet1.5-dev gnuplot-nox libexpat1-dev
-libinih-dev libosmesa6-dev libgl-dev libpng-dev parallel"
+libinih-dev libosmesa6-dev libgl-dev libpng-dev libfreetype-dev fonts-dejavu-core parallel"
 case "${1:-}" in
   --test) packages="$packages python3-vtk9" ;;
   --fuzz) packages="$packages clang libclang-rt-14-dev libomp-14-dev" ;;

@@ -78,7 +78,7 @@ static void body(fig *f, tb_sim *s, int colour) {
   tb_surface su = tb_model_surface(&s->model);
   double *u = colour ? malloc(sizeof(double) * (size_t)su.nv) : NULL, hi = 0;
   if (u) hi = tb_draw_displacement(s, u);
-  tb_draw_sim(f->r, s, u, hi, "displacement", 0);
+  tb_draw_sim(f->r, s, u, 0, hi, "displacement", 0);
   free(u);
 }
 
@@ -260,7 +260,31 @@ static void collision(fig *f, const tb_suite_opts *o) {
     fprintf(stderr, "figures: %s\n", err.msg);
     f->failed = 1;
   }
-  for (int q = 0; c && tx && hit && !f->failed && q < TB_COLLISION_SCENE_ROWS; q++) {
+  /* one camera for every row, fitted to the liver and the instrument's part near it in any row
+   * (within half the liver's size of its box) */
+  tb_vec3 lo, hi;
+  tb_mesh_bbox(&liver, &lo, &hi);
+  double reach = 0.5 * tb_dist(lo, hi);
+  tb_vec3 *fit =
+      malloc(sizeof(tb_vec3) * ((size_t)liver.nv + (size_t)tool.nv * TB_COLLISION_SCENE_ROWS));
+  int nfit = liver.nv;
+  if (fit) memcpy(fit, liver.x, sizeof(tb_vec3) * (size_t)liver.nv);
+  for (int q = 0; fit && !f->failed && q < TB_COLLISION_SCENE_ROWS; q++) {
+    tb_mat3 R;
+    tb_vec3 t;
+    tb_collision_scene_pose(path[q], &R, &t);
+    for (int i = 0; i < tool.nv; i++) {
+      tb_vec3 p = tb_add(tb_m3_mulv(R, tool.x[i]), t);
+      if (p.x > lo.x - reach && p.x < hi.x + reach && p.y > lo.y - reach && p.y < hi.y + reach &&
+          p.z > lo.z - reach && p.z < hi.z + reach)
+        fit[nfit++] = p;
+    }
+  }
+  tb_camera cam;
+  int have_cam =
+      fit && !tb_camera_preset_points("left-front", fit, nfit, tb_v3(0, 0, 1), 4.0 / 3.0, &cam);
+  free(fit);
+  for (int q = 0; c && tx && hit && have_cam && !f->failed && q < TB_COLLISION_SCENE_ROWS; q++) {
     tb_mat3 R;
     tb_vec3 t;
     tb_collision_scene_pose(path[q], &R, &t);
@@ -270,11 +294,6 @@ static void collision(fig *f, const tb_suite_opts *o) {
     for (int k = 0; k < pairs.n; k++)
       if (!k || pairs.ij[2 * k] != pairs.ij[2 * k - 2])
         memcpy(hit + 3 * nh++, liver.tri + 3 * pairs.ij[2 * k], sizeof(int) * 3);
-    tb_vec3 lo, hi;
-    tb_mesh_bbox(&liver, &lo, &hi);
-    tb_camera cam;
-    tb_vec3 ctr = tb_scale(tb_add(lo, hi), 0.5);
-    cam = (tb_camera){tb_add(ctr, tb_v3(4, -12, 9)), ctr, tb_v3(0, 0, 1), 32, 0};
     tb_renderer_begin(f->r, &cam, BG);
     /* every tet face, oriented either way: both sides in the body's colour */
     tb_render_mesh b = {.nv = liver.nv,

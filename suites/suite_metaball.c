@@ -30,6 +30,7 @@
 #include "core/tb_timer.h"
 #include "cutting/tb_cut_surface.h"
 #include "measure/tb_draw.h"
+#include "measure/tb_pieces.h"
 #include "meshgen/tb_meshgen.h"
 #include "meshgen/tb_sphpack.h"
 #include "render/tb_render.h"
@@ -67,7 +68,8 @@ typedef struct row {
   double *store; /* every sample array above, one block */
   tb_sphere_coverage cov;
   tb_cut_stats st;
-  double sag; /* largest point displacement before the cut */
+  tb_vec3 blade[4]; /* the last cut's blade plane */
+  double sag;       /* largest point displacement before the cut */
   int nv_after, ntri_after;
   tb_vec3 *x_after; /* rep 0's surface after the cut, to compare */
   int *tri_after;
@@ -167,32 +169,71 @@ static int organs(int only_steak, uint64_t seed, organ *o, char *sofa_why, size_
   return n + 1;
 }
 
-/* The spheres above (lifted by dz; created at the cut, index >= nold, in
- * orange) and the surface below, from the left front of box lo..hi. */
-static int picture(tb_renderer *r, tb_model *m, int nold, tb_vec3 lo, tb_vec3 hi, const char *path,
-                   tb_error *err) {
+/* The spheres above (lifted by dz; created at the cut, index >= nold, in orange) and the surface
+ * below, from the left front of box lo..hi, with a legend and a title. After a cut (blade not
+ * NULL) the blade's plane is outlined and the pieces are drawn apart: each piece of the surface
+ * and each sphere moved off the blade's plane by a tenth of the box's long side, as the patent's
+ * figs. 7-10 show them. */
+static int picture(tb_renderer *r, tb_model *m, int nold, tb_vec3 lo, tb_vec3 hi,
+                   const tb_vec3 *blade, const char *title, const char *path, tb_error *err) {
   double dz = 1.2 * (hi.z - lo.z) + 0.5 * (hi.y - lo.y); /* clear of the surface in view */
+  double gap = 0.1 * fmax(hi.x - lo.x, hi.y - lo.y);
   tb_camera cam;
-  tb_camera_preset("left-front", lo, tb_add(hi, tb_v3(0, 0, dz)), &cam);
+  tb_vec3 top = tb_add(hi, tb_v3(0, 0, dz));
+  if (blade) lo = tb_madd(lo, -gap, tb_v3(1, 1, 0)), top = tb_madd(top, gap, tb_v3(1, 1, 0));
+  tb_camera_preset("left-front", lo, top, &cam);
   tb_renderer_begin(r, &cam, (const float[3]){1, 1, 1});
   tb_surface su = tb_model_surface(m);
-  tb_render_mesh rm = {.nv = su.nv, .ntri = su.ntri, .x = su.x, .tri = su.tri};
+  tb_model_spheres sp = m->cls->spheres(m->self);
+  tb_vec3 *x = malloc(sizeof(tb_vec3) * (size_t)(su.nv + 1)),
+          *c = malloc(sizeof(tb_vec3) * (size_t)(sp.n + 1));
+  unsigned char *show = malloc((size_t)sp.n + 1);
+  tb_pieces pc = {0};
+  if (!x || !c || !show ||
+      (blade && tb_pieces_measure(su.nv, su.x, su.ntri, su.tri, 0, &pc, err))) {
+    free(x), free(c), free(show);
+    return blade ? -1 : tb_error_set(err, "metaball", 0, "out of memory");
+  }
+  /* the side of the blade's plane: +1 or -1 along its normal */
+  tb_vec3 n = blade ? tb_normalize(tb_cross(tb_sub(blade[1], blade[0]), tb_sub(blade[3], blade[0])))
+                    : tb_v3(0, 0, 0);
+  memcpy(x, su.x, sizeof(tb_vec3) * (size_t)su.nv);
+  for (int i = 0; i < sp.n; i++) c[i] = tb_add(sp.c[i], tb_v3(0, 0, dz));
+  if (blade) {
+    double *side = calloc((size_t)pc.n + 1, sizeof(double));
+    for (int i = 0; side && i < su.nv; i++)
+      if (pc.of_vertex[i] >= 0) side[pc.of_vertex[i]] += tb_dot(tb_sub(su.x[i], blade[0]), n);
+    for (int i = 0; side && i < su.nv; i++)
+      if (pc.of_vertex[i] >= 0) x[i] = tb_madd(x[i], side[pc.of_vertex[i]] > 0 ? gap : -gap, n);
+    for (int i = 0; i < sp.n; i++)
+      c[i] = tb_madd(c[i], tb_dot(tb_sub(sp.c[i], blade[0]), n) > 0 ? gap : -gap, n);
+    free(side);
+    tb_pieces_free(&pc);
+  }
+  tb_render_mesh rm = {.nv = su.nv, .ntri = su.ntri, .x = x, .tri = su.tri};
   memcpy(rm.rgb, tb_draw_body_rgb, sizeof rm.rgb);
   tb_renderer_mesh(r, &rm);
-  tb_model_spheres sp = m->cls->spheres(m->self);
-  tb_vec3 *c = malloc(sizeof(tb_vec3) * (size_t)sp.n);
-  unsigned char *show = malloc((size_t)sp.n);
-  if (!c || !show) return free(c), free(show), tb_error_set(err, "metaball", 0, "out of memory");
-  for (int i = 0; i < sp.n; i++) c[i] = tb_add(sp.c[i], tb_v3(0, 0, dz));
+  static const float old_rgb[3] = {0.55f, 0.65f, 0.85f}, new_rgb[3] = {0.95f, 0.55f, 0.15f};
   int rc = 0;
   for (int pass = 0; pass < 2 && !rc; pass++) {
     for (int i = 0; i < sp.n; i++) show[i] = sp.alive[i] && (i >= nold) == pass;
-    rc = tb_draw_spheres(
-        r, sp.n, c, sp.r, show, SPHERE_SCALE,
-        pass ? (const float[3]){0.95f, 0.55f, 0.15f} : (const float[3]){0.55f, 0.65f, 0.85f}, err);
+    rc = tb_draw_spheres(r, sp.n, c, sp.r, show, SPHERE_SCALE, pass ? new_rgb : old_rgb, err);
   }
   tb_draw_links(r, sp.nlinks, sp.links, c, (const float[3]){0.15f, 0.15f, 0.2f}, 1.0f);
-  free(c), free(show);
+  if (blade) {
+    tb_vec3 e[8];
+    for (int k = 0; k < 4; k++) e[2 * k] = blade[k], e[2 * k + 1] = blade[(k + 1) % 4];
+    tb_renderer_lines(r, 4, e, (const float[3]){0.2f, 0.2f, 0.2f}, 2);
+  }
+  static const char *const labels[4] = {"surface: the point set's skin", "spheres (drawn above)",
+                                        "spheres the cut made", "the blade's plane"};
+  const float rgbs[4][3] = {{tb_draw_body_rgb[0], tb_draw_body_rgb[1], tb_draw_body_rgb[2]},
+                            {old_rgb[0], old_rgb[1], old_rgb[2]},
+                            {new_rgb[0], new_rgb[1], new_rgb[2]},
+                            {0.2f, 0.2f, 0.2f}};
+  tb_renderer_text(r, 0.02, 0.95, 0.035, -1, (const float[3]){0.1f, 0.1f, 0.1f}, title);
+  tb_renderer_legend(r, 0.89, blade ? 4 : 2, labels, rgbs);
+  free(x), free(c), free(show);
   return rc ? -1 : tb_renderer_write_png(r, path, err);
 }
 
@@ -210,6 +251,8 @@ int tb_mbs_cut(tb_model *m, const tb_step *in, tb_mbs_cut_times *o, tb_error *er
     p[0] = tb_v3(lo.x - m, c.y, z0), p[1] = tb_v3(hi.x + m, c.y, z0);
   }
   tb_vec3 depth = tb_v3(0, 0, hi.z - lo.z + 2 * mz), path[2] = {p[0], p[0]};
+  o->blade[0] = p[0], o->blade[1] = p[1], o->blade[2] = tb_add(p[1], depth);
+  o->blade[3] = tb_add(p[0], depth);
   tb_cut_event ev = {TB_CUT_BEGIN, 0, NULL, depth};
   if (tb_model_cut(m, &ev, NULL, err)) return -1;
   for (int f = 1; f <= TB_MBS_CUT_FRAMES; f++) {
@@ -243,6 +286,7 @@ static int cut(tb_model *m, const tb_step *in, row *w, tb_error *err) {
   w->end_w[w->nend] = o.end_wall, w->end[w->nend] = o.end_cpu;
   w->nend++;
   w->st = o.st;
+  memcpy(w->blade, o.blade, sizeof w->blade);
   return 0;
 }
 
@@ -297,7 +341,9 @@ static int run(const organ *g, int rep, const tb_mbs_plan *p, int grid, uint64_t
   char path[1200];
   if (rep == 0) {
     snprintf(path, sizeof path, "%s/%s-before.png", dir, stem);
-    if ((rc = picture(r, &m, ms.n, lo, hi, path, err))) goto done;
+    char title[160];
+    snprintf(title, sizeof title, "%.60s before the cut (%d spheres)", g->name, ms.n);
+    if ((rc = picture(r, &m, ms.n, lo, hi, NULL, title, path, err))) goto done;
   }
   if ((rc = cut(&m, &in, w, err))) goto done;
   /* this repetition's medians: its blocks' and its cut frames' */
@@ -326,7 +372,10 @@ static int run(const organ *g, int rep, const tb_mbs_plan *p, int grid, uint64_t
     memcpy(w->x_after, su.x, sizeof(tb_vec3) * (size_t)su.nv);
     memcpy(w->tri_after, su.tri, sizeof(int) * 3 * (size_t)su.ntri);
     snprintf(path, sizeof path, "%s/%s-after.png", dir, stem);
-    rc = picture(r, &m, ms.n, lo, hi, path, err);
+    char title[160];
+    snprintf(title, sizeof title, "%.60s %d frames after the cut, pieces drawn apart", g->name,
+             AFTER_FRAMES);
+    rc = picture(r, &m, ms.n, lo, hi, w->blade, title, path, err);
   } else {
     w->identical &= su.nv == w->nv_after && su.ntri == w->ntri_after &&
                     !memcmp(su.x, w->x_after, sizeof(tb_vec3) * (size_t)su.nv) &&

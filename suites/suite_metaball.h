@@ -41,6 +41,7 @@ typedef struct tb_mbs_cut_times {
   double wall[TB_MBS_CUT_FRAMES];                          /* a frame's wall ms */
   double end_cpu, end_wall;
   tb_cut_stats st;
+  tb_vec3 blade[4]; /* the plane the blade swept: path start, end, end + depth, start + depth */
 } tb_mbs_cut_times;
 int tb_mbs_cut(tb_model *m, const tb_step *in, tb_mbs_cut_times *o, tb_error *err);
 /* 1 when every point of m is finite. */

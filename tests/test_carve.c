@@ -231,9 +231,9 @@ static void scene_sees_tets_left(void) {
   TB_CHECK_MSG(strstr(tb_test_out, "inverted tets 0") && strstr(tb_test_out, "status: stable"),
                "%s", tb_test_out);
   char path[1300];
-  snprintf(path, sizeof path, "%s/frame_00000.vtu", dir);
+  snprintf(path, sizeof path, "%s/body_00000.vtu", dir);
   char *a = tb_test_slurp(path);
-  snprintf(path, sizeof path, "%s/frame_00001.vtu", dir);
+  snprintf(path, sizeof path, "%s/body_00001.vtu", dir);
   char *b = tb_test_slurp(path);
   const char *ca = a ? strstr(a, "NumberOfCells=\"") : NULL,
              *cb = b ? strstr(b, "NumberOfCells=\"") : NULL;

@@ -189,7 +189,10 @@ static void version_flag(void) {
   char want[64];
   snprintf(want, sizeof want, "tissuebench %s", TB_VERSION);
   TB_CHECK_MSG(strncmp(tb_test_out, want, strlen(want)) == 0, "got: %s", tb_test_out);
-  TB_CHECK(strchr(tb_test_out, '\n') == tb_test_out + strlen(tb_test_out) - 1); /* one line */
+  /* the version line, then where the files, the shared data and the results are */
+  TB_CHECK_MSG(strstr(tb_test_out, "\nfiles:   ") && strstr(tb_test_out, "\ndata:    ") &&
+                   strstr(tb_test_out, "\nresults: "),
+               "%s", tb_test_out);
 }
 
 /* tb_tests --list names cases without running them; no match fails. */

@@ -166,8 +166,8 @@ static void exports_show_the_cut(void) {
     tb_mesh_free(&m);
   }
   char first[1100], last[1100];
-  snprintf(first, sizeof first, "%s/frames/frame_00000.vtu", tb_test_tmpdir());
-  snprintf(last, sizeof last, "%s/frames/frame_00026.vtu", tb_test_tmpdir());
+  snprintf(first, sizeof first, "%s/frames/body_00000.vtu", tb_test_tmpdir());
+  snprintf(last, sizeof last, "%s/frames/body_00026.vtu", tb_test_tmpdir());
   char *a = tb_test_slurp(first), *b = tb_test_slurp(last);
   TB_CHECK(a && b && strstr(a, "NumberOfPoints=\"1266\"") && !strstr(b, "NumberOfPoints=\"1266\""));
   free(a), free(b);

@@ -167,8 +167,8 @@ static void render_refined(void) {
              tb_test_cli(), dir, k);
     TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "%s", out);
   }
-  const char *at = strstr(out, "displacement from 0 to ");
-  double hi = at ? atof(at + strlen("displacement from 0 to ")) : NAN;
+  const char *at = strstr(out, "displacement: largest ");
+  double hi = at ? atof(at + strlen("displacement: largest ")) : NAN;
   tb_sim s;
   if (sim_open(&s, "levels=2 refine_force=0.1")) return;
   tb_error err;
