@@ -29,7 +29,7 @@ int tb_cmd_reproduce(int argc, char **argv) {
     else if (!strcmp(a, "--full"))
       o.full = 1;
     else if (!strcmp(a, "--list")) {
-      for (int s = 0; s < nsuites; s++) printf("%-12s %s\n", suites[s].name, suites[s].summary);
+      tb_suites_print(stdout);
       return TB_EXIT_OK;
     } else if (!strcmp(a, "--only") && i + 1 < argc)
       only = argv[++i];
@@ -71,7 +71,9 @@ int tb_cmd_reproduce(int argc, char **argv) {
     } else
       return tb_cli_bad_option("reproduce", a);
   }
-  if (only) { /* every listed name must be a suite; no empty list or item */
+  char canon[512] = "";
+  if (only) { /* every listed name must be a suite (or its alias); no empty list or item */
+    size_t used = 0;
     for (const char *p = only;;) {
       const char *c = strchr(p, ',');
       size_t len = c ? (size_t)(c - p) : strlen(p);
@@ -79,16 +81,21 @@ int tb_cmd_reproduce(int argc, char **argv) {
         fprintf(stderr, "tissuebench reproduce: --only '%s': an empty suite name (--list)\n", only);
         return TB_EXIT_INPUT;
       }
-      int found = 0;
-      for (int s = 0; s < nsuites; s++)
-        found |= strlen(suites[s].name) == len && !strncmp(suites[s].name, p, len);
-      if (!found) {
+      int s = tb_suite_find(p, len);
+      if (s < 0) {
         fprintf(stderr, "tissuebench reproduce: unknown suite '%.*s' (--list)\n", (int)len, p);
         return TB_EXIT_INPUT;
       }
+      int n = snprintf(canon + used, sizeof canon - used, "%s%s", used ? "," : "", suites[s].name);
+      if (n < 0 || (size_t)n >= sizeof canon - used) {
+        fprintf(stderr, "tissuebench reproduce: --only: too many suites\n");
+        return TB_EXIT_INPUT;
+      }
+      used += (size_t)n;
       if (!c) break;
       p = c + 1;
     }
+    only = canon;
   }
   int failed = 0, status[TB_SHARD_SUITES];
   tb_error err = {{0}};
@@ -138,39 +145,34 @@ int tb_cmd_reproduce(int argc, char **argv) {
   return failed || no_report ? TB_EXIT_FAIL : TB_EXIT_OK;
 }
 
-/* `table NAME` / `figure NAME` [options]: reproduce --only the suite that
- * makes it. */
+/* `table NAME` / `figure NAME` [options]: reproduce --only the suite of that name (or alias). */
 static int run_alias(const char *kind, int argc, char **argv) {
-  int fig = !strcmp(kind, "figure"), nsuites;
+  int nsuites;
   const tb_suite_entry *suites = tb_suites(&nsuites);
   if (argc < 2 || argv[1][0] == '-') {
     fprintf(stderr, "usage: tissuebench %s NAME [--quick|--full] [--seed N] [--results DIR]\n",
             kind);
-    for (int s = 0; s < nsuites; s++) {
-      const char *alias = fig ? suites[s].figure : suites[s].table;
-      if (alias) fprintf(stderr, "  %-12s %s\n", alias, suites[s].summary);
-    }
+    tb_suites_print(stderr);
     return TB_EXIT_INPUT;
   }
-  for (int s = 0; s < nsuites; s++) {
-    const char *alias = fig ? suites[s].figure : suites[s].table;
-    if (!alias || strcmp(alias, argv[1])) continue;
-    char *args[64];
-    int n = 0;
-    args[n++] = "reproduce";
-    args[n++] = "--only";
-    args[n++] = (char *)suites[s].name;
-    for (int i = 2; i < argc; i++) {
-      if (!strcmp(argv[i], "--only") || n == 63) /* the alias is the --only */
-        return tb_cli_bad_option(kind, argv[i]);
-      args[n++] = argv[i];
-    }
-    args[n] = NULL;
-    return tb_cmd_reproduce(n, args);
+  int s = tb_suite_find(argv[1], strlen(argv[1]));
+  if (s < 0) {
+    fprintf(stderr, "tissuebench %s: unknown %s '%s' (tissuebench %s lists them)\n", kind, kind,
+            argv[1], kind);
+    return TB_EXIT_INPUT;
   }
-  fprintf(stderr, "tissuebench %s: unknown %s '%s' (tissuebench %s lists them)\n", kind, kind,
-          argv[1], kind);
-  return TB_EXIT_INPUT;
+  char *args[64];
+  int n = 0;
+  args[n++] = "reproduce";
+  args[n++] = "--only";
+  args[n++] = (char *)suites[s].name;
+  for (int i = 2; i < argc; i++) {
+    if (!strcmp(argv[i], "--only") || n == 63) /* the name is the --only */
+      return tb_cli_bad_option(kind, argv[i]);
+    args[n++] = argv[i];
+  }
+  args[n] = NULL;
+  return tb_cmd_reproduce(n, args);
 }
 
 int tb_cmd_table(int argc, char **argv) { return run_alias("table", argc, argv); }

@@ -9,7 +9,12 @@
 #include <unistd.h>
 
 #include "tb_cli.h"
+#include "collision/tb_tritri.h"
 #include "core/tb_paths.h"
+#include "meshgen/tb_generators.h"
+#include "models/tb_model.h"
+#include "scenes/tb_sim.h"
+#include "suites/tb_suites.h"
 #include "core/tb_threads.h"
 #include "reference/tb_oracles.h"
 #include "report/tb_results.h"
@@ -21,8 +26,34 @@ static int cmd_test(int argc, char **argv);
 #define TB_VERSION "unknown"
 #endif
 
+/* ---- --help's lists, from the registries ---- */
+static void list_suites(FILE *f) { tb_suites_print(f); }
+
+static void list_scenes_models(FILE *f) {
+  int n;
+  const char *const *names = tb_sim_scene_names(&n);
+  fprintf(f, "scenes (scenes/NAME.ini):\n");
+  for (int i = 0; i < n; i++) fprintf(f, "  %-14s %s\n", names[i], tb_sim_scene_summary(names[i]));
+  fprintf(f, "models (simulate --list shows their settings):\n");
+  for (int i = 0; i < tb_model_count; i++)
+    fprintf(f, "  %-14s %s\n", tb_model_classes[i]->name, tb_model_classes[i]->summary);
+}
+
+static void list_generators(FILE *f) {
+  fprintf(f, "generators (mesh NAME):\n");
+  tb_generator_list(f);
+}
+
+static void list_methods(FILE *f) {
+  int n;
+  const tb_tritri_method *m = tb_tritri_methods(&n);
+  fprintf(f, "methods:\n");
+  for (int i = 0; i < n; i++)
+    fprintf(f, "  %-18s %s%s\n", m[i].name, m[i].source, m[i].exact ? " (exact)" : "");
+}
+
 static const tb_command commands[] = {
-    {"help", "list the subcommands", "tissuebench help", cmd_help},
+    {"help", "list the subcommands", "tissuebench help", cmd_help, NULL},
     {"reproduce", "run the reproduction suites into results/",
      "tissuebench reproduce [--quick|--full] [--seed N] [--only SUITE[,SUITE...]] [--results DIR]\n"
      "                      [--shard k/N]\n"
@@ -34,38 +65,33 @@ static const tb_command commands[] = {
      "  --shard k/N  this machine's share (k of N) of the run, for `merge`: every N-th case\n"
      "            of the suites made of cases (pareto, stability, pbd-stiffness, scaling),\n"
      "            every N-th of the other suites whole",
-     tb_cmd_reproduce},
+     tb_cmd_reproduce, list_suites},
     {"merge", "combine the folders of `reproduce --shard k/N` (k = 1..N) into one results folder",
      "tissuebench merge SHARD_DIR... [--out DIR]\n"
      "  the N folders written by `reproduce --shard k/N --results SHARD_DIR`; checks they are the\n"
      "  N shards of one run (options, commit), then makes the suites' tables, charts and\n"
      "  REPORT.md in DIR (default results/) as an unsharded run would (scripts/slurm-array.sh)",
-     tb_cmd_merge},
+     tb_cmd_merge, NULL},
     {"test", "run the whole test suite (ends with \"N passed, N failed\")",
      "tissuebench test [--list] [SUBSTRING...]\n"
      "  runs the test cases whose \"suite/name\" contains any SUBSTRING (all without);\n"
      "  --list prints their names without running them; no match is an error (exit 2)",
-     cmd_test},
-    {"table", "make one table of the reproduction (correctness, 4.1, 4.2, refit, meshes, 3.5)",
+     cmd_test, NULL},
+    {"table", "make one table of the reproduction (reproduce --only NAME)",
      "tissuebench table NAME [--quick|--full] [--seed N] [--results DIR]\n"
-     "  4.2          thesis table 4.2: queries/s against intersecting pairs, liver vs instrument\n"
-     "  refit        the deforming liver: refit, rebuild, FCL refit, Bullet update, query\n"
-     "  correctness  triangle tests' wrong answers against the exact oracle, per family\n"
-     "  4.1          thesis table 4.1: ms for 0.1-2 million tests, ns/pair on the JGT pairs\n"
-     "  meshes       generated meshes beside the documents' counts\n"
-     "  3.5          thesis §3.5: steps/s of the deformation models on the liver; recovery",
-     tb_cmd_table},
-    {"figure", "make one figure of the reproduction (3.10)",
+     "  NAME: a suite's name or its table's (4.1 is table-4.1)",
+     tb_cmd_table, list_suites},
+    {"figure", "make one figure of the reproduction (reproduce --only NAME)",
      "tissuebench figure NAME [--quick|--full] [--seed N] [--results DIR]\n"
-     "  3.10         thesis fig. 3.10: shape-matching time per frame against particle count",
-     tb_cmd_figure},
+     "  NAME: a suite's name or its figure's (3.10 is figure-3.10)",
+     tb_cmd_figure, list_suites},
     {"tritri", "classify triangle pairs with one method (0/1 per pair)",
      "tissuebench tritri --method NAME [--input FILE] [--repeat K]\n"
      "  reads pairs from FILE or stdin, one per line: 18 numbers p0 p1 p2 q0 q1 q2 (x y z each;\n"
      "  anything strtod accepts, hex floats too; '#' starts a comment); writes 0 or 1 per pair.\n"
      "  --repeat K  also classify the whole set K times; median ns/pair on stderr\n"
      "  --method list  prints the methods",
-     tb_cmd_tritri},
+     tb_cmd_tritri, list_methods},
     {"collide", "all intersecting triangle pairs of two meshes with one BVH method",
      "tissuebench collide --bvh NAME [--tritest NAME] A B [--xform-b M] [--pairs] [--repeat K]\n"
      "  NAME: sphere, aabb, composite (ours), fcl-aabb, fcl-obbrss, bullet-gimpact,\n"
@@ -75,15 +101,14 @@ static const tb_command commands[] = {
      "  --tritest    the triangle test for ours and brute (default exact; tritri --method list)\n"
      "  --pairs      print every intersecting pair \"i j\" (0-based, sorted) on stdout\n"
      "  a summary (pairs, volume tests, triangle tests, build and query time) goes to stderr",
-     tb_cmd_collide},
+     tb_cmd_collide, NULL},
     {"simulate", "run one deformation model on a scene or on a mesh file",
      "tissuebench simulate --scene NAME|FILE [--model NAME] [options]\n"
      "tissuebench simulate --model NAME --mesh FILE [--fix IDS | --fix-box x0,y0,z0,x1,y1,z1]\n"
      "                    [--gravity gx,gy,gz] [options]\n"
      "tissuebench simulate --list\n"
-     "  --scene    a built-in scene (liver-stretch, liver-press, beam, drop, beam-stretch,\n"
-     "             beam-twist, beam-crush, liver-drop, slope, liver-hang: scenes/NAME.ini) or a\n"
-     "             scene file (scenes/README.md)\n"
+     "  --scene    a built-in scene (listed below: scenes/NAME.ini) or a scene file\n"
+     "             (scenes/README.md)\n"
      "  --mesh     any mesh file mesh info reads (data:PATH: ../shared/data/PATH)\n"
      "  --fix      node ids, 0-based in the file's own node order (e.g. 3,39,64)\n"
      "  --static   the static equilibrium where the model has a static solve (fem, fem-corot),\n"
@@ -106,7 +131,7 @@ static const tb_command commands[] = {
      "  a volume change beyond the material's tolerance ((1 - 2 nu) / 2, at least 5%) or its\n"
      "  energy above its bound (exits 3); \"unstable (reason)\" when it blows up (exits 1);\n"
      "  bad input, in the command line or a scene file (FILE:LINE), exits 2",
-     tb_cmd_simulate},
+     tb_cmd_simulate, list_scenes_models},
     {"render", "pictures of a mesh or of a scene at chosen times (PNG, headless)",
      "tissuebench render --mesh FILE --out PICTURE.png [options]\n"
      "tissuebench render --scene NAME|FILE [--model M] [--set k=v ...] [--times t1,t2,... | "
@@ -129,9 +154,9 @@ static const tb_command commands[] = {
      "                patent's upper row); --contacts: surface triangles crossing the instrument\n"
      "  a scene is drawn at each time (DIR/tT.png; default: its end) or every K steps\n"
      "  (DIR/frame_NNNNN.png), with its instrument, ground, time and names. OSMesa on Mesa's\n"
-     "  softpipe rasterizer, text in DejaVu Sans by FreeType:\n"
-     "  rasterizer: the same input gives the same bytes. Bad camera, size or times exit 2",
-     tb_cmd_render},
+     "  softpipe rasterizer, text in DejaVu Sans by FreeType: the same input gives the same\n"
+     "  bytes. Bad camera, size, range or times exit 2",
+     tb_cmd_render, list_scenes_models},
     {"advise", "the cheapest model for a scene and an error tolerance",
      "tissuebench advise --scene NAME (--tol X | --budget-ms Y | both) [--points FILE]\n"
      "                   [--results DIR]\n"
@@ -141,7 +166,7 @@ static const tb_command commands[] = {
      "  --budget-ms, the most accurate within Y ms per step; with both, the cheapest within X\n"
      "  and Y. Only settled runs count. Prints the choice and the evidence rows; exit 1 when\n"
      "  no point qualifies, 2 for a missing or malformed points file (FILE:LINE: reason)",
-     tb_cmd_advise},
+     tb_cmd_advise, NULL},
     {"mesh",
      "mesh info FILE, tetrahedralize or close a surface, subdivide it, fill it with spheres, or "
      "generate a mesh (liver, "
@@ -184,7 +209,7 @@ static const tb_command commands[] = {
      "  --part PART  liver only: tets (default), surface (no TetGen; vertex count exact),\n"
      "               faces (all tet faces), edges\n"
      "  --stats      print the counts beside the documents' counts",
-     tb_cmd_mesh},
+     tb_cmd_mesh, list_generators},
 };
 static const int ncommands = (int)(sizeof commands / sizeof commands[0]);
 
@@ -270,10 +295,33 @@ static void drop_threads(int *argc, char **argv) {
   }
 }
 
+/* getopt_long's two spellings: "--opt=value" becomes "--opt" "value" (the first '=' splits;
+ * "--set=E=3000" is "--set" "E=3000"). Returns the new argument vector (argv when nothing
+ * splits), or NULL when out of memory. */
+static char **split_equals(int *argc, char **argv) {
+  int n = 0;
+  for (int i = 2; i < *argc; i++) n += !strncmp(argv[i], "--", 2) && strchr(argv[i], '=');
+  if (!n) return argv;
+  static char **out; /* kept for the program's life, as argv is */
+  out = malloc(sizeof(char *) * (size_t)(*argc + n + 1));
+  if (!out) return NULL;
+  int k = 0;
+  for (int i = 0; i < *argc; i++) {
+    char *eq = i >= 2 && !strncmp(argv[i], "--", 2) ? strchr(argv[i], '=') : NULL;
+    if (eq) *eq = 0; /* the option's name ends where its value starts */
+    out[k++] = argv[i];
+    if (eq) out[k++] = eq + 1;
+  }
+  out[k] = NULL;
+  *argc = k;
+  return out;
+}
+
 int main(int argc, char **argv) {
   tb_cli_set_commands(commands, ncommands);
   tb_oracles_register();
   if (argc < 2) return cmd_help(1, argv), TB_EXIT_INPUT;
+  if (!(argv = split_equals(&argc, argv))) return TB_EXIT_FAIL;
   int threads = find_threads(argc, argv);
   if (threads < 0) return TB_EXIT_INPUT;
   tb_threads_environment(threads, argv);
@@ -293,6 +341,7 @@ int main(int argc, char **argv) {
     if (strcmp(name, commands[i].name)) continue;
     if (tb_cli_has_help(argc - 1, argv + 1)) {
       printf("%s\n\n%s\n", commands[i].summary, commands[i].usage);
+      if (commands[i].lists) commands[i].lists(stdout);
       return TB_EXIT_OK;
     }
     if (tb_cli_check_repeats(name, argc - 1, argv + 1)) return TB_EXIT_INPUT;

@@ -4,6 +4,7 @@
 #define TB_CLI_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include "core/tb_error.h"
 #include "measure/tb_points.h"
@@ -14,6 +15,7 @@ typedef struct tb_command {
   const char *summary;
   const char *usage; /* printed by --help */
   int (*run)(int argc, char **argv);
+  void (*lists)(FILE *f); /* --help's lists from the registries (suites, scenes, ...), or NULL */
 } tb_command;
 
 /* Exit codes: 1 a failure or an unstable run, 2 bad input, 3 a run that

@@ -74,6 +74,32 @@ const tb_suite_entry *tb_suites(int *n) {
   return suites;
 }
 
+static int is(const char *a, const char *name, size_t n) {
+  return a && strlen(a) == n && !strncmp(a, name, n);
+}
+
+int tb_suite_find(const char *name, size_t n) {
+  for (int s = 0; s < nsuites; s++)
+    if (is(suites[s].name, name, n) || is(suites[s].table, name, n) ||
+        is(suites[s].figure, name, n))
+      return s;
+  return -1;
+}
+
+void tb_suites_print(FILE *f) {
+  fprintf(f, "suites (a table's or figure's name works too, e.g. 4.1 for table-4.1):\n");
+  for (int s = 0; s < nsuites; s++) {
+    const char *alias = suites[s].table && strcmp(suites[s].table, suites[s].name) ? suites[s].table
+                        : suites[s].figure && strcmp(suites[s].figure, suites[s].name)
+                            ? suites[s].figure
+                            : NULL;
+    char head[48];
+    snprintf(head, sizeof head, "%s%s%s%s", suites[s].name, alias ? " (" : "", alias ? alias : "",
+             alias ? ")" : "");
+    fprintf(f, "  %-22s %s\n", head, suites[s].summary);
+  }
+}
+
 /* REPORT.md's order, the documents': the thesis' chapter 2 (meshes), its
  * chapter 3 (deformation: its table and figure, then our reference, the
  * calibration against it, the error/speed trade-off, stability), its

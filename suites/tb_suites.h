@@ -5,7 +5,9 @@
 #ifndef TB_SUITES_H
 #define TB_SUITES_H
 
+#include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "core/tb_paths.h"
 
@@ -41,6 +43,12 @@ struct tb_report;
 const tb_suite_entry *tb_suites(int *n);
 /* Is name in the comma-separated list? */
 int tb_suite_listed(const char *list, const char *name);
+/* The suite called name (n characters; its results folder) or aliased so
+ * (its table or figure name, e.g. 4.1 for table-4.1): its index in
+ * tb_suites(), or -1. */
+int tb_suite_find(const char *name, size_t n);
+/* Every suite, one line each: its name, its aliases and what it makes. */
+void tb_suites_print(FILE *f);
 /* Places the suites in REPORT.md in the documents' order, status[s] for
  * suite s (TB_REPORT_*), and writes it (tb_report_end). */
 int tb_reproduce_report(struct tb_report *r, const int *status);

@@ -277,6 +277,15 @@ int main(int argc, char **argv) {
   tb_oracles_register();
   int list = 0, k = 1; /* drop --list from the filters */
   for (int i = 1; i < argc; i++) {
+    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+      printf(
+          "usage: tissuebench test [--list] [SUBSTRING...]\n"
+          "  runs the test cases whose \"suite/name\" contains any SUBSTRING (all without), each\n"
+          "  in its own process; ends with \"N passed, N failed, N skipped\" (exit 1 on a "
+          "failure);\n"
+          "  --list prints their names without running them; no match is an error (exit 2)\n");
+      return 0;
+    }
     if (strcmp(argv[i], "--list") == 0)
       list = 1;
     else

@@ -9,6 +9,9 @@
 #include "commands/tb_cli.h"
 #include "measure/tb_fidelity.h"
 #include "measure/tb_points.h"
+#include "models/tb_model.h"
+#include "scenes/tb_sim.h"
+#include "suites/tb_suites.h"
 
 static void help_lists_commands(void) {
   TB_CHECK(tb_test_cli_run("help") == 0);
@@ -457,7 +460,68 @@ static void runs_from_anywhere(void) {
                out);
 }
 
+/* Every --help is complete: it lists every suite, scene, model and generator the registries
+ * hold, and exits 0 (test --help too). */
+static void help_from_registries(void) {
+  int ns, nsc;
+  const tb_suite_entry *su = tb_suites(&ns);
+  const char *const *scenes = tb_sim_scene_names(&nsc);
+  static const char *const suite_cmds[] = {"reproduce", "table", "figure"};
+  for (int c = 0; c < 3; c++) {
+    char args[64];
+    snprintf(args, sizeof args, "%s --help", suite_cmds[c]);
+    TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s: %s", args, tb_test_out);
+    for (int s = 0; s < ns; s++)
+      TB_CHECK_MSG(strstr(tb_test_out, su[s].name), "%s lacks %s", args, su[s].name);
+  }
+  static const char *const sim_cmds[] = {"simulate", "render"};
+  for (int c = 0; c < 2; c++) {
+    char args[64];
+    snprintf(args, sizeof args, "%s --help", sim_cmds[c]);
+    TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s: %s", args, tb_test_out);
+    for (int s = 0; s < nsc; s++)
+      TB_CHECK_MSG(strstr(tb_test_out, scenes[s]), "%s lacks scene %s", args, scenes[s]);
+    for (int m = 0; m < tb_model_count; m++)
+      TB_CHECK_MSG(strstr(tb_test_out, tb_model_classes[m]->name), "%s lacks model %s", args,
+                   tb_model_classes[m]->name);
+  }
+  TB_CHECK(tb_test_cli_run("mesh --help") == 0 && strstr(tb_test_out, "gallbladder") &&
+           strstr(tb_test_out, "tetrahedralize"));
+  TB_CHECK(tb_test_cli_run("tritri --help") == 0 && strstr(tb_test_out, "cgal"));
+  char cmd[1200];
+  snprintf(cmd, sizeof cmd, "'%s/tb_tests' --help", TB_BUILD_ROOT);
+  TB_CHECK_MSG(
+      tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0 && strstr(tb_test_out, "SUBSTRING"),
+      "%s", tb_test_out);
+}
+
+/* One name per suite: its table's or figure's name finds the same suite everywhere. */
+static void suite_names_everywhere(void) {
+  TB_CHECK(tb_suite_find("4.1", 3) >= 0 &&
+           tb_suite_find("4.1", 3) == tb_suite_find("table-4.1", 9));
+  TB_CHECK(tb_suite_find("pictures", 8) >= 0 &&
+           tb_suite_find("pictures", 8) == tb_suite_find("figures", 7));
+  TB_CHECK(tb_suite_find("4.1x", 4) < 0 && tb_suite_find("4.", 2) < 0);
+  TB_CHECK(tb_test_cli_run("reproduce --only meshes,4.2x") == 2 &&
+           strstr(tb_test_out, "unknown suite '4.2x'"));
+  TB_CHECK(tb_test_cli_run("table nonesuch") == 2);
+}
+
+/* getopt_long's spelling --opt=value, for every command's options and --threads. */
+static void option_equals_value(void) {
+  TB_CHECK_MSG(tb_test_cli_run("simulate --scene=beam --model=msm --steps=3 --threads=1") == 0 &&
+                   strstr(tb_test_out, "3 steps") && strstr(tb_test_out, "threads: 1"),
+               "%s", tb_test_out);
+  TB_CHECK_MSG(
+      tb_test_cli_run("mesh sphere --set=verts=162 --stats") == 0 && strstr(tb_test_out, "162"),
+      "%s", tb_test_out);
+  TB_CHECK(tb_test_cli_run("simulate --scene=beam --model=msm --steps=x") == 2);
+}
+
 const tb_test_case tb_tests_cli[] = {
+    {"help_from_registries", help_from_registries},
+    {"suite_names_everywhere", suite_names_everywhere},
+    {"option_equals_value", option_equals_value},
     {"runs_from_anywhere", runs_from_anywhere},
     {"version_flag", version_flag},
     {"test_runner_list_and_no_match", test_runner_list_and_no_match},
