@@ -141,7 +141,7 @@ static int surface_format(const char *path) {
 
 int tb_cmd_simulate(int argc, char **argv) {
   const char *model = NULL, *scene = NULL, *vtk = NULL, *mesh = NULL, *fix = NULL, *fixbox = NULL;
-  const char *gravity = NULL, *out_surface = NULL;
+  const char *gravity = NULL, *out_surface = NULL, *json = NULL;
   long steps = 0, every = 0;
   int statik = 0;
   tb_sim_def sd;
@@ -173,6 +173,7 @@ int tb_cmd_simulate(int argc, char **argv) {
                         : !strcmp(a, "--fix-box")     ? &fixbox
                         : !strcmp(a, "--gravity")     ? &gravity
                         : !strcmp(a, "--out-surface") ? &out_surface
+                        : !strcmp(a, "--json")        ? &json
                                                       : NULL;
     if (slot) {
       if (*slot) return bad("%s given twice", a);
@@ -263,6 +264,15 @@ int tb_cmd_simulate(int argc, char **argv) {
   if (vtk) times[frame++] = s.t;
   long done = 0;
   double change = 0;
+  char why[600] = "";
+  tb_run_summary sum = {.status = "failed",
+                        .reason = why,
+                        .cpu_ms = NAN,
+                        .wall_ms = NAN,
+                        .cpu_min_ms = NAN,
+                        .cpu_max_ms = NAN,
+                        .speed = NAN,
+                        .rest_tol = NAN};
   if (statik && rc == TB_EXIT_OK) {
     tb_clock c = tb_clock_start();
     done = run_static(&s, planned, solver, &change, &err);
@@ -270,6 +280,8 @@ int tb_cmd_simulate(int argc, char **argv) {
     ms[0] /= done > 0 ? done : 1, cpu[0] /= done > 0 ? done : 1;
     if (done < 0) {
       printf("status: unstable (%s)\n", err.msg);
+      snprintf(why, sizeof why, "%s", err.msg);
+      sum.status = "unstable";
       rc = TB_EXIT_FAIL;
     } else if (vtk && tb_sim_write_frame(&s, vtk, frame, &err))
       rc = TB_EXIT_FAIL;
@@ -282,6 +294,8 @@ int tb_cmd_simulate(int argc, char **argv) {
     tb_clock_ms(&c, ms + done, cpu + done);
     if (failed) {
       printf("status: unstable (%s)\n", err.msg);
+      snprintf(why, sizeof why, "%s", err.msg);
+      sum.status = "unstable";
       rc = TB_EXIT_FAIL;
       break;
     }
@@ -304,6 +318,9 @@ int tb_cmd_simulate(int argc, char **argv) {
     tb_sim_metrics m = tb_sim_measure(&s);
     double speed, tol;
     int rest = tb_sim_at_rest(&s, &speed, &tol);
+    sum.cpu_ms = st.median, sum.wall_ms = sw.median, sum.cpu_min_ms = st.min,
+    sum.cpu_max_ms = st.max;
+    sum.have_metrics = 1, sum.m = m, sum.rest = rest, sum.speed = speed, sum.rest_tol = tol;
     if (statik)
       printf("time per %s: %.4f ms CPU (wall %.4f ms; mean over %ld)\n", solver ? "solve" : "step",
              st.median, sw.median, done);
@@ -369,14 +386,21 @@ int tb_cmd_simulate(int argc, char **argv) {
         printf("surface: %d points, %d triangles in %s\n", tb_model_surface(&s.model).nv,
                tb_model_surface(&s.model).ntri, out_surface);
     }
-    char why[300];
     if (rc != TB_EXIT_OK)
       ;
     else if (tb_sim_degraded(&s, why, sizeof why)) {
       printf("status: degraded (%s)\n", why);
+      sum.status = "degraded";
       rc = TB_EXIT_DEGRADED;
-    } else
+    } else {
       printf("status: stable\n");
+      sum.status = "stable";
+    }
+  }
+  sum.steps = done;
+  if (json && tb_simulate_json(json, &s, &sum, &err)) {
+    fprintf(stderr, PROG ": %s\n", err.msg);
+    if (rc == TB_EXIT_OK) rc = TB_EXIT_FAIL;
   }
   free(ms), free(times);
   tb_sim_destroy(&s);

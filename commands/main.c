@@ -121,6 +121,8 @@ static const tb_command commands[] = {
      "             every, or 30 per simulated second): DIR/frames.pvd over frame_NNNNN.vtm,\n"
      "             one block per object (body, surface, instrument, ground; each also\n"
      "             NAME_NNNNN.vtu and NAME.pvd); a surface model's body is its current surface\n"
+     "  --json FILE  the summary below as one JSON object (status, times per step in ms,\n"
+     "             final state); written for unstable runs too\n"
      "  --out-surface FILE  the model's surface at the end (cut, or refined) by extension:\n"
      "             .obj .off .stl .vtk\n"
      "  prints the final state (max displacement and its node, volume change, energy,\n"

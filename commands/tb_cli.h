@@ -8,6 +8,7 @@
 
 #include "core/tb_error.h"
 #include "measure/tb_points.h"
+#include "scenes/tb_sim.h"
 #include "suites/tb_suites.h"
 
 typedef struct tb_command {
@@ -56,6 +57,20 @@ typedef struct tb_shard_info {
 int tb_shard_info_write(const char *dir, const tb_shard_info *s, tb_error *err);
 int tb_shard_info_read(const char *dir, tb_shard_info *s, tb_error *err);
 int tb_cmd_merge(int argc, char **argv);
+
+/* `simulate --json FILE` (commands/simulate_json.c): the summary simulate prints, for programs:
+ * the status ("stable", "degraded", "unstable") and its reason, the times per step, and, when
+ * the run ended (have_metrics), the final state. */
+typedef struct tb_run_summary {
+  const char *status, *reason;
+  long steps;
+  double cpu_ms, wall_ms, cpu_min_ms, cpu_max_ms;
+  int have_metrics;
+  tb_sim_metrics m;
+  int rest;
+  double speed, rest_tol;
+} tb_run_summary;
+int tb_simulate_json(const char *path, const tb_sim *s, const tb_run_summary *r, tb_error *err);
 
 /* advise's choice: with tol > 0, among usable points with rms_err <= tol
  * (and ms_step <= budget_ms when budget_ms > 0) the fastest (ties: the

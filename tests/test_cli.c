@@ -1,5 +1,6 @@
 /* The command line, end to end through the built binary: help, --help of
  * every subcommand, exit codes, mesh info, mesh generation, reproduce. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -518,7 +519,43 @@ static void option_equals_value(void) {
   TB_CHECK(tb_test_cli_run("simulate --scene=beam --model=msm --steps=x") == 2);
 }
 
+/* simulate --json: one JSON object a JSON parser reads, with the printed summary's values; an
+ * unstable run writes one too. */
+static void simulate_json(void) {
+  char args[1200], cmd[1400], out[4096];
+  snprintf(args, sizeof args, "simulate --scene beam --model fem-corot --steps 20 --json %s/s.json",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  const char *p = strstr(tb_test_out, "max displacement ");
+  double printed = p ? atof(p + strlen("max displacement ")) : NAN;
+  snprintf(cmd, sizeof cmd,
+           "/usr/bin/python3 -c \"import json,sys; d=json.load(open('%s/s.json')); "
+           "print(d['status'], d['steps'], d['nodes'], repr(d['max_displacement']), "
+           "d['at_rest'], d['time_per_step_cpu_median_ms'] > 0)\" 2>&1",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "%s", out);
+  char status[32] = "", rest[8] = "", pos[8] = "";
+  int steps = 0, nodes = 0;
+  double disp = NAN;
+  TB_CHECK_MSG(
+      sscanf(out, "%31s %d %d %lf %7s %7s", status, &steps, &nodes, &disp, rest, pos) == 6 &&
+          !strcmp(status, "stable") && steps == 20 && nodes == 189 &&
+          fabs(disp - printed) <= 1e-5 * printed && !strcmp(pos, "True"),
+      "%s (printed %g)", out, printed);
+  snprintf(args, sizeof args,
+           "simulate --scene sphere-press --set alpha=120 --steps 400 --json %s/u.json",
+           tb_test_tmpdir());
+  TB_CHECK(tb_test_cli_run(args) == 1);
+  snprintf(cmd, sizeof cmd,
+           "/usr/bin/python3 -c \"import json; d=json.load(open('%s/u.json')); "
+           "print(d['status'], len(d['reason']) > 0)\" 2>&1",
+           tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0 && !strncmp(out, "unstable True", 13), "%s",
+               out);
+}
+
 const tb_test_case tb_tests_cli[] = {
+    {"simulate_json", simulate_json},
     {"help_from_registries", help_from_registries},
     {"suite_names_everywhere", suite_names_everywhere},
     {"option_equals_value", option_equals_value},
