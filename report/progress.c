@@ -1,5 +1,6 @@
-/* A one-line progress bar on stderr, redrawn in place with '\r', shown only
- * when stderr is a terminal so logs and pipes stay clean: label, bar,
+/* A one-line progress bar on stderr, redrawn in place with '\r' when stderr
+ * is a terminal; into a log or a pipe the same line is written whole, once a
+ * minute at most, so a long run is never silent and a log stays short: label, bar,
  * percent, done/total, time elapsed and an estimate of the time left, and
  * a long item's latest heartbeat note. The bookkeeping (tb_progress_update)
  * and the line (tb_progress_format) are pure functions of the time given,
@@ -8,6 +9,7 @@
  * line left. */
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -16,6 +18,7 @@
 
 #define BAR_WIDTH 24
 #define REDRAW_S 0.25 /* at most four redraws a second between items */
+#define LOG_S 60.0    /* not a terminal: a line a minute at most ($TB_PROGRESS_LOG_S overrides) */
 
 int tb_progress_update(tb_progress_run *r, const char *label, long done, long total, double now) {
   if (!label) label = "";
@@ -100,8 +103,20 @@ const char *tb_progress_format(char *buf, size_t cap, const tb_progress_run *r, 
 
 static tb_progress_run run; /* the bar on stderr */
 static int run_tty;         /* stderr is a terminal (checked when a run begins) */
+static double last_log;     /* not a terminal: when the last line was written (s since start) */
+static double log_every = LOG_S;
 
 static double now_s(void) { return (double)tb_time_ns() * 1e-9; }
+
+/* Not a terminal: the line once LOG_S has passed since the last one (or the run's start). */
+static void log_line(double now) {
+  if (now - run.start - last_log < log_every) return;
+  char line[320];
+  tb_progress_format(line, sizeof line, &run, now);
+  fprintf(stderr, "%s\n", line);
+  fflush(stderr);
+  last_log = now - run.start;
+}
 
 static void draw(double now, int end) {
   char line[320];
@@ -120,8 +135,15 @@ void tb_progress(const char *label, long done, long total) {
   if (run.last_draw < 0) { /* a new run */
     if (was_active && run_tty && strcmp(was_label, run.label)) fputc('\n', stderr);
     run_tty = isatty(STDERR_FILENO);
+    last_log = 0;
+    const char *e = getenv("TB_PROGRESS_LOG_S");
+    log_every = e && *e ? atof(e) : LOG_S;
   }
   if (redraw && run_tty) draw(now, !run.active);
+  if (!run_tty) {
+    if (run.last_draw < 0) run.last_draw = 0;
+    log_line(now);
+  }
 }
 
 void tb_progress_done(void) {
@@ -131,14 +153,18 @@ void tb_progress_done(void) {
 }
 
 void tb_progress_tick(const char *fmt, ...) {
-  if (!run.active || !run_tty) return;
+  if (!run.active) return;
   double now = now_s();
-  if (now - run.start - run.last_draw < REDRAW_S) return;
+  if (!run_tty && now - run.start - last_log < log_every) return;
+  if (run_tty && now - run.start - run.last_draw < REDRAW_S) return;
   if (fmt) { /* formatted only when drawn */
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(run.note, sizeof run.note, fmt, ap);
     va_end(ap);
   }
-  draw(now, 0);
+  if (run_tty)
+    draw(now, 0);
+  else
+    log_line(now);
 }

@@ -325,6 +325,17 @@ tb_suite *tb_suite_begin(const char *dir, const char *name, const char *title, u
     snprintf(s->exe, sizeof s->exe, "unknown");
   tb_context_collect(&s->ctx, seed);
   tb_noise_mark_take(&s->start);
+  /* the folder is marked until tb_suite_end: a run killed on the way leaves the mark */
+  char mark[1200];
+  snprintf(mark, sizeof mark, "%s/" TB_INCOMPLETE, dir);
+  FILE *f = fopen(mark, "w");
+  if (f) {
+    fprintf(f,
+            "The suite %s started writing this folder at %s and did not finish (interrupted or "
+            "crashed): its files may be partial or from an earlier run. Run it again.\n",
+            name, s->ctx.date);
+    fclose(f);
+  }
   return s;
 }
 
@@ -615,6 +626,9 @@ static void note_noise(tb_suite *s) {
 
 int tb_suite_end(tb_suite *s, tb_error *err) {
   if (!s) return tb_error_set(err, "tb_suite_end", 0, "no suite (tb_suite_begin failed?)");
+  char mark[1200];
+  snprintf(mark, sizeof mark, "%s/" TB_INCOMPLETE, s->dir);
+  remove(mark);
   note_noise(s);
   if (tb_results_partial(s)) { /* a shard's share of the cases: only their outcomes */
     int rc = tb_results_shard_write(s, err);

@@ -150,6 +150,9 @@ tb_stats tb_stats_of(const double *samples, int n);
 
 /* ---- a suite run ---- */
 typedef struct tb_suite tb_suite;
+/* The file tb_suite_begin writes into the suite's folder and tb_suite_end
+ * removes: a folder holding it is from a run that did not finish. */
+#define TB_INCOMPLETE "INCOMPLETE"
 /* dir: the output folder (created, with parents). */
 tb_suite *tb_suite_begin(const char *dir, const char *name, const char *title, uint64_t seed,
                          tb_error *err);

@@ -11,6 +11,7 @@
 #include "measure/tb_fidelity.h"
 #include "measure/tb_points.h"
 #include "models/tb_model.h"
+#include "report/tb_results.h"
 #include "scenes/tb_sim.h"
 #include "suites/tb_suites.h"
 
@@ -147,8 +148,16 @@ static void reproduce_meshes_suite(void) {
   TB_CHECK(tb_test_cli_run("reproduce --only nonsense") == 2);
   TB_CHECK(tb_test_cli_run("reproduce --seed x") == 2);
   char args[1024];
-  snprintf(args, sizeof args, "reproduce --only meshes --results %s/res", tb_test_tmpdir());
-  TB_CHECK_MSG(tb_test_cli_run(args) == 0, "%s", tb_test_out);
+  /* into a pipe, the progress is written as whole lines (here every one: the interval 0) */
+  snprintf(args, sizeof args,
+           "TB_PROGRESS_LOG_S=0 '%s' reproduce --only meshes --results %s/res 2>&1 | cat",
+           tb_test_cli(), tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_run(args, tb_test_out, sizeof tb_test_out) == 0 &&
+                   strstr(tb_test_out, "\nmeshes [") && strstr(tb_test_out, "left\n") &&
+                   !strchr(tb_test_out, '\r'),
+               "%s", tb_test_out);
+  snprintf(args, sizeof args, "test -e %s/res/meshes/" TB_INCOMPLETE, tb_test_tmpdir());
+  TB_CHECK_MSG(tb_test_run(args, NULL, 0) != 0, "a finished suite is marked incomplete");
   static const char *files[] = {"table.md",       "table-counts.csv", "data.json",
                                 "liver.vtk",      "liver-faces.obj",  "instrument.obj",
                                 "sphere-252.obj", "sphere-1002.obj"};

@@ -942,7 +942,25 @@ static void test_report(void) {
   TB_CHECK(tb_suite_end(s, &err) != 0 && strstr(err.msg, "nothing.png"));
 }
 
+/* A suite's folder is marked INCOMPLETE from tb_suite_begin until tb_suite_end: a run killed in
+ * between leaves the mark. */
+static void incomplete_mark(void) {
+  char dir[600], mark[700];
+  snprintf(dir, sizeof dir, "%s/marked", tb_test_tmpdir());
+  snprintf(mark, sizeof mark, "%s/" TB_INCOMPLETE, dir);
+  tb_error err;
+  tb_suite *s = tb_suite_begin(dir, "marked", NULL, 1, &err);
+  TB_CHECK_MSG(s, "%s", err.msg);
+  FILE *f = fopen(mark, "r");
+  char text[400] = "";
+  if (f) text[fread(text, 1, sizeof text - 1, f)] = 0, fclose(f);
+  TB_CHECK_MSG(strstr(text, "did not finish"), "no mark: '%s'", text);
+  TB_CHECK(tb_suite_end(s, &err) == 0);
+  TB_CHECK_MSG(!fopen(mark, "r"), "the mark stayed after tb_suite_end");
+}
+
 const tb_test_case tb_tests_results[] = {
+    {"incomplete_mark", incomplete_mark},
     {"json_validator", test_json_validator},
     {"stats_odd", test_stats_odd},
     {"stats_even", test_stats_even},
