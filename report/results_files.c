@@ -1,7 +1,10 @@
 /* The files of a suite run: table.md (GitHub markdown: title, the run's
  * context, then notes, tables and charts in the order added), one CSV per
  * table, table-<name>.csv (RFC 4180 quoting; bare numbers, units in the
- * header; a column mixing numbers and text is reported as a misuse) and
+ * header; a column mixing numbers and text is reported as a misuse), the
+ * same in tidy long form, table-<name>.long.csv (one measurement a row: the
+ * row's text columns, then metric, value, unit, the unit taken from the
+ * header's parentheses), and
  * data.json in Google Benchmark's JSON layout ("context" plus "benchmarks":
  * one "iteration" entry per repetition, then mean/median/stddev/min/max
  * "aggregate" entries, min and max being our extension to its
@@ -186,6 +189,60 @@ static void csv_write(FILE *f, const tb_table *t) {
   }
 }
 
+/* Units a header's parentheses may hold (others, such as "(CPU)", qualify the metric). */
+static int is_unit(const char *u, size_t n) {
+  static const char *const units[] = {
+      "ns",      "us",      "ms",      "s",       "min",     "h",   "%",  "% of length", "Hz",
+      "kHz",     "MHz",     "GHz",     "B",       "kB",      "KiB", "MB", "MiB",         "GB",
+      "GiB",     "bytes",   "x",       "mm",      "cm",      "m",   "Pa", "kPa",         "deg",
+      "degrees", "ns/pair", "ms/step", "us/step", "steps/s", "1/s"};
+  for (size_t k = 0; k < sizeof units / sizeof units[0]; k++)
+    if (strlen(units[k]) == n && !strncmp(units[k], u, n)) return 1;
+  return 0;
+}
+
+/* The long form: a column holds text when none of its cells is a number. */
+static int text_column(const tb_table *t, int j) {
+  for (int r = 0; r < t->nrows; r++)
+    if (t->isnum[(size_t)r * (size_t)t->ncols + (size_t)j]) return 0;
+  return 1;
+}
+
+static void long_write(FILE *f, const tb_table *t) {
+  for (int j = 0; j < t->ncols; j++)
+    if (t->only[j] != TB_MD_ONLY && text_column(t, j)) {
+      csv_field(f, t->csv_cols[j] ? t->csv_cols[j] : t->cols[j]);
+      fputc(',', f);
+    }
+  fputs("metric,value,unit\n", f);
+  for (int r = 0; r < t->nrows; r++)
+    for (int j = 0; j < t->ncols; j++) {
+      size_t at = (size_t)r * (size_t)t->ncols + (size_t)j;
+      if (t->only[j] == TB_MD_ONLY || !t->isnum[at] || !isfinite(t->vals[at])) continue;
+      for (int k = 0; k < t->ncols; k++)
+        if (t->only[k] != TB_MD_ONLY && text_column(t, k)) {
+          const char *c = tb_results_cell(t, r, k);
+          if (!text_is_empty(c)) csv_field(f, c);
+          fputc(',', f);
+        }
+      /* "time (ms)": metric "time", unit "ms"; "steps/s (CPU)" stays whole, CPU being no unit */
+      const char *name = t->csv_cols[j] ? t->csv_cols[j] : t->cols[j];
+      char metric[200], unit[64] = "";
+      snprintf(metric, sizeof metric, "%s", name);
+      const char *open = strrchr(name, '(');
+      size_t n = open ? (size_t)(open - name) : 0, len = strlen(name);
+      if (open && name[len - 1] == ')' && is_unit(open + 1, len - (size_t)(open - name) - 2)) {
+        snprintf(unit, sizeof unit, "%.*s", (int)(len - (size_t)(open - name) - 2), open + 1);
+        while (n > 0 && name[n - 1] == ' ') n--;
+        snprintf(metric, sizeof metric, "%.*s", (int)n, name);
+      }
+      csv_field(f, metric);
+      fprintf(f, ",%.10g,", t->vals[at]);
+      if (unit[0]) csv_field(f, unit);
+      fputc('\n', f);
+    }
+}
+
 /* ---- data.json ---- */
 
 static void json_str(FILE *f, const char *s) {
@@ -275,9 +332,34 @@ static void json_context(FILE *f, const tb_suite *s) {
   fprintf(f, "    \"seed\": %llu\n  },\n", (unsigned long long)c->seed);
 }
 
-/* One "benchmarks" entry; rep >= 0 for an iteration, else an aggregate. */
-static void json_entry(FILE *f, const tb_results_bench *b, int family, int rep, const char *agg,
-                       double real, double cpu, int last) {
+/* Seconds per unit of "ns", "us", "ms" or "s". */
+static double unit_s(const char *unit) {
+  return !strcmp(unit, "ns") ? 1e-9 : !strcmp(unit, "us") ? 1e-6 : !strcmp(unit, "ms") ? 1e-3 : 1;
+}
+
+/* The file's one time unit: the largest of s, ms, us, ns in which every benchmark's median CPU
+ * and wall times are at least 1 (Google Benchmark's compare.py prints whole units). */
+static const char *file_unit(const tb_suite *s) {
+  static const char *const units[4] = {"s", "ms", "us", "ns"};
+  double least = INFINITY;
+  for (int i = 0; i < s->nbenches; i++) {
+    const tb_results_bench *b = &s->benches[i];
+    if (b->n == 0) continue;
+    tb_stats a = tb_stats_of(b->real, b->n), c = tb_stats_of(b->cpu, b->n);
+    double u = unit_s(b->unit);
+    if (a.median > 0) least = fmin(least, a.median * u);
+    if (c.median > 0) least = fmin(least, c.median * u);
+  }
+  for (int k = 0; k < 3; k++)
+    if (least >= unit_s(units[k])) return units[k];
+  return "ns";
+}
+
+/* One "benchmarks" entry in the file's unit; rep >= 0 for an iteration, else an aggregate. */
+static void json_entry(FILE *f, const tb_results_bench *b, const char *unit, int family, int rep,
+                       const char *agg, double real, double cpu, int last) {
+  double scale = unit_s(b->unit) / unit_s(unit);
+  real *= scale, cpu *= scale;
   fputs("    {\n      \"name\": ", f);
   if (agg) {
     size_t n = strlen(b->name) + strlen(agg) + 2;
@@ -307,7 +389,7 @@ static void json_entry(FILE *f, const tb_results_bench *b, int family, int rep, 
   json_num(f, real);
   fputs(",\n      \"cpu_time\": ", f);
   json_num(f, cpu);
-  fprintf(f, ",\n      \"time_unit\": \"%s\"", b->unit);
+  fprintf(f, ",\n      \"time_unit\": \"%s\"", unit);
   int stddev = agg && strcmp(agg, "stddev") == 0; /* counters are constant per benchmark */
   for (int k = 0; k < b->ncounters; k++) {
     fputs(",\n      ", f);
@@ -322,27 +404,29 @@ static void json_write(FILE *f, const tb_suite *s) {
   fputs("{\n", f);
   json_context(f, s);
   fputs("  \"benchmarks\": [\n", f);
+  const char *u = file_unit(s);
   for (int i = 0; i < s->nbenches; i++) {
     const tb_results_bench *b = &s->benches[i];
     int last = i == s->nbenches - 1;
     if (b->n == 0) { /* counters only: one iteration, no time */
-      json_entry(f, b, i, 0, NULL, 0, 0, last);
+      json_entry(f, b, u, i, 0, NULL, 0, 0, last);
       continue;
     }
-    for (int r = 0; r < b->n; r++) json_entry(f, b, i, r, NULL, b->real[r], b->cpu[r], 0);
+    for (int r = 0; r < b->n; r++) json_entry(f, b, u, i, r, NULL, b->real[r], b->cpu[r], 0);
     tb_stats a = tb_stats_of(b->real, b->n), c = tb_stats_of(b->cpu, b->n);
-    json_entry(f, b, i, -1, "mean", a.mean, c.mean, 0);
-    json_entry(f, b, i, -1, "median", a.median, c.median, 0);
-    json_entry(f, b, i, -1, "stddev", a.stddev, c.stddev, 0);
-    json_entry(f, b, i, -1, "min", a.min, c.min, 0);
-    json_entry(f, b, i, -1, "max", a.max, c.max, last);
+    json_entry(f, b, u, i, -1, "mean", a.mean, c.mean, 0);
+    json_entry(f, b, u, i, -1, "median", a.median, c.median, 0);
+    json_entry(f, b, u, i, -1, "stddev", a.stddev, c.stddev, 0);
+    json_entry(f, b, u, i, -1, "min", a.min, c.min, 0);
+    json_entry(f, b, u, i, -1, "max", a.max, c.max, last);
   }
   fputs("  ]\n}\n", f);
 }
 
 /* ---- writing them ---- */
 
-static int write_file(tb_suite *s, const char *name, const tb_table *t, tb_error *err) {
+static int write_file(tb_suite *s, const char *name, const tb_table *t, int long_form,
+                      tb_error *err) {
   char *path = tb_results_join(s->dir, name);
   if (!path) return tb_error_set(err, s->dir, 0, "out of memory");
   FILE *f = fopen(path, "w");
@@ -351,7 +435,9 @@ static int write_file(tb_suite *s, const char *name, const tb_table *t, tb_error
     free(path);
     return -1;
   }
-  if (t)
+  if (t && long_form)
+    long_write(f, t);
+  else if (t)
     csv_write(f, t);
   else if (strcmp(name, "table.md") == 0)
     md_write(f, s);
@@ -388,13 +474,15 @@ int tb_results_write_files(tb_suite *s, tb_error *err) {
   char *old = tb_results_join(s->dir, "data.csv"); /* the stacked CSV of earlier versions */
   if (old) remove(old);
   free(old);
-  if (write_file(s, "table.md", NULL, err)) return -1;
+  if (write_file(s, "table.md", NULL, 0, err)) return -1;
   for (int i = 0; i < s->nitems; i++) {
     if (s->items[i].kind != TB_ITEM_TABLE) continue;
-    char name[200];
+    char name[200], lname[210];
     csv_name(s, i, name, sizeof name);
     csv_check(s, s->items[i].table);
-    if (write_file(s, name, s->items[i].table, err)) return -1;
+    if (write_file(s, name, s->items[i].table, 0, err)) return -1;
+    snprintf(lname, sizeof lname, "%.*s.long.csv", (int)(strlen(name) - 4), name);
+    if (write_file(s, lname, s->items[i].table, 1, err)) return -1;
   }
-  return write_file(s, "data.json", NULL, err);
+  return write_file(s, "data.json", NULL, 0, err);
 }
