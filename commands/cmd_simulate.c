@@ -34,7 +34,7 @@ static void list_all(void) {
   }
 }
 
-/* The README's list: one row per model, its keys with their defaults
+/* docs/reference.md's list: one row per model, its keys with their defaults
  * (choices: the default's name, then the choices). */
 static void list_markdown(void) {
   printf("| model | settings (`--set key=value`; default) |\n|---|---|\n");

@@ -26,7 +26,7 @@
  * struct. Callers pass key=value text in a tb_settings; tb_model_create
  * fills the model's struct from the table's defaults, then the user's
  * values, each parsed and range-checked against the table. `simulate
- * --set`, `simulate --list` and the README's lists come from the tables. */
+ * --set`, `simulate --list` and docs/reference.md's lists come from the tables. */
 #define TB_SETTINGS_MAX 32
 #define TB_SETTING_TEXT_MAX 256 /* a value's text, and a FILE setting's field, with its NUL */
 typedef struct tb_settings {

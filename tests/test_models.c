@@ -507,10 +507,10 @@ static void simulate_cli(void) {
   TB_CHECK_MSG(strstr(md, "| `msm` | `density` 1, `node_mass` 1,") &&
                    strstr(md, "`sm_mode` quadratic (rigid\\|linear\\|quadratic)"),
                "%s", md);
-  snprintf(cmd, sizeof cmd, "cat %s/README.md", tb_test_source_root());
+  snprintf(cmd, sizeof cmd, "cat %s/docs/reference.md", tb_test_source_root());
   TB_CHECK(tb_test_run(cmd, tb_test_out, sizeof tb_test_out) == 0);
   TB_CHECK_MSG(strstr(tb_test_out, md),
-               "README.md's model settings differ from "
+               "docs/reference.md's model settings differ from "
                "`simulate --list-markdown`:\n%s",
                md);
   TB_CHECK(tb_test_cli_run("simulate --list") == 0);
