@@ -228,7 +228,44 @@ static void sofa_liver_smooth_repaired(void) {
   tb_mesh_free(&t), tb_mesh_free(&m);
 }
 
+/* The README's path from a surface to a rendered, ParaView-readable press, with its own scene
+ * file (read from the README) on a generated liver surface: every command succeeds. */
+static void readme_end_to_end(void) {
+  char path[700], cmd[2400], out[8192];
+  snprintf(path, sizeof path, "%s/README.md", tb_test_source_root());
+  char *md = tb_test_slurp(path);
+  const char *a = md ? strstr(md, "```ini\n") : NULL, *b = a ? strstr(a + 7, "```") : NULL;
+  TB_CHECK_MSG(a && b && strstr(a, "file = liver.vtk"), "no press.ini in the README");
+  if (!a || !b) {
+    free(md);
+    return;
+  }
+  char dir[600];
+  snprintf(dir, sizeof dir, "%s/readme", tb_test_tmpdir());
+  snprintf(cmd, sizeof cmd, "mkdir -p '%s'", dir);
+  tb_test_run(cmd, NULL, 0);
+  snprintf(path, sizeof path, "%s/press.ini", dir);
+  FILE *f = fopen(path, "w");
+  if (f) fwrite(a + 7, 1, (size_t)(b - a - 7), f), fclose(f);
+  free(md);
+  const char *cli = tb_test_cli();
+  snprintf(
+      cmd, sizeof cmd,
+      "cd '%s' && '%s' mesh liver --part surface --set surface_verts=300 --out organ.obj && "
+      "'%s' mesh info organ.obj && '%s' mesh tetrahedralize organ.obj --repair --out liver.vtk "
+      "&& '%s' simulate --scene press.ini --vtk out/ --json out/run.json; s=$?; "
+      "[ $s -eq 0 ] || [ $s -eq 3 ] || exit $s; "
+      "'%s' render --scene press.ini --color von_mises --times 0,1 --size 160x120 --out pics/ "
+      "&& test -s pics/t1.000.png && test -s out/frames.pvd && test -s out/run.json",
+      dir, cli, cli, cli, cli, cli);
+  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0, "%s", out);
+  TB_CHECK_MSG(strstr(out, "self-intersecting 0 triangle pairs") &&
+                   strstr(out, "wrote liver.vtk") && strstr(out, "instrument: largest penetration"),
+               "%s", out);
+}
+
 const tb_test_case tb_tests_tetmesh[] = {
+    {"readme_end_to_end", readme_end_to_end},
     {"sofa_liver_smooth_repaired", sofa_liver_smooth_repaired},
     {"shape_of_regular_tet", shape_of_regular_tet},
     {"tetrahedralize_sphere", tetrahedralize_sphere},
