@@ -135,7 +135,7 @@ static void picture(ctx *c, tb_sim *s, int wire, const char *name, const char *c
   tb_surface su = tb_model_surface(&s->model);
   double *u = malloc(sizeof(double) * (size_t)su.nv);
   if (u) tb_draw_displacement(s, u);
-  tb_draw_sim(rr, s, u, 0, U_SCALE, "displacement", wire);
+  tb_draw_sim(rr, s, u, 0, U_SCALE, "displacement (sphere radii)", wire);
   free(u);
   char path[1200];
   snprintf(path, sizeof path, "%s/%s", c->dir, name);

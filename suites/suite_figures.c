@@ -78,7 +78,7 @@ static void body(fig *f, tb_sim *s, int colour) {
   tb_surface su = tb_model_surface(&s->model);
   double *u = colour ? malloc(sizeof(double) * (size_t)su.nv) : NULL, hi = 0;
   if (u) hi = tb_draw_displacement(s, u);
-  tb_draw_sim(f->r, s, u, 0, hi, "displacement", 0);
+  tb_draw_sim(f->r, s, u, 0, hi, "displacement (mesh length unit)", 0);
   free(u);
 }
 
@@ -513,7 +513,7 @@ static void errors(fig *f, const tb_suite_opts *o) {
                          .lo = 0,
                          .hi = top > 0 ? top : 1};
     tb_renderer_mesh(f->r, &rm);
-    tb_renderer_colorbar(f->r, 0, top > 0 ? top : 1, "error / umax");
+    tb_renderer_colorbar(f->r, 0, top > 0 ? top : 1, "error / max |u_ref|");
     char name[64], cap[1200];
     snprintf(name, sizeof name, "error-%s.png", models[k]);
     snprintf(cap, sizeof cap,

@@ -342,7 +342,8 @@ static int run(const organ *g, int rep, const tb_mbs_plan *p, int grid, uint64_t
   if (rep == 0) {
     snprintf(path, sizeof path, "%s/%s-before.png", dir, stem);
     char title[160];
-    snprintf(title, sizeof title, "%.60s before the cut (%d spheres)", g->name, ms.n);
+    snprintf(title, sizeof title, "%.60s before the cut: %d spheres, held at both ends, sagging",
+             g->name, ms.n);
     if ((rc = picture(r, &m, ms.n, lo, hi, NULL, title, path, err))) goto done;
   }
   if ((rc = cut(&m, &in, w, err))) goto done;
@@ -373,8 +374,8 @@ static int run(const organ *g, int rep, const tb_mbs_plan *p, int grid, uint64_t
     memcpy(w->tri_after, su.tri, sizeof(int) * 3 * (size_t)su.ntri);
     snprintf(path, sizeof path, "%s/%s-after.png", dir, stem);
     char title[160];
-    snprintf(title, sizeof title, "%.60s %d frames after the cut, pieces drawn apart", g->name,
-             AFTER_FRAMES);
+    snprintf(title, sizeof title, "%.60s, t = %g s after the cut (pieces drawn apart)", g->name,
+             AFTER_FRAMES * TB_MBS_DT);
     rc = picture(r, &m, ms.n, lo, hi, w->blade, title, path, err);
   } else {
     w->identical &= su.nv == w->nv_after && su.ntri == w->ntri_after &&
