@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "meshgen/tb_meshgen.h"
 #include "sim_priv.h"
 
 /* ---- geometry ---- */
@@ -172,11 +173,18 @@ int tb_sim_contact_setup(tb_sim *s, tb_error *err) {
   if (s->priv->tool.ntri < 1)
     return tb_error_set(err, path, t->line, "the instrument mesh has no triangles");
   tb_mesh_topo topo = tb_mesh_topology(&s->priv->tool);
+  int holes = 0;
+  if (!topo.closed && t->close) {
+    tb_error e2;
+    if (tb_mesh_close(&s->priv->tool, &holes, &e2))
+      return tb_error_set(err, path, t->line, "the instrument mesh: %s", e2.msg);
+    topo = tb_mesh_topology(&s->priv->tool);
+  }
   if (!topo.closed)
     return tb_error_set(
         err, path, t->line,
         "the instrument mesh is not closed (%d boundary edges): inside is undefined "
-        "(tissuebench mesh close FILE --out CLOSED.obj caps its holes)",
+        "(close = 1 caps its holes, as tissuebench mesh close does)",
         topo.boundary_edges);
   s->priv->tool_x = malloc(sizeof(tb_vec3) * (size_t)s->priv->tool.nv);
   s->priv->contact = calloc((size_t)s->mesh.nv, 1);

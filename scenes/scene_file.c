@@ -360,6 +360,12 @@ static int tool_key(parser *p, tb_scene_tool *t, const char *key, const char *va
       return fail(p, "%s: '%s' is not a number", key, value);
     return 1;
   }
+  if (!strcmp(key, "close")) {
+    if (strcmp(value, "0") && strcmp(value, "1"))
+      return fail(p, "close: '%s' is not 0 or 1%s", value, "");
+    t->close = value[0] == '1';
+    return 1;
+  }
   return mesh_key(p, &t->mesh, key, value);
 }
 

@@ -115,6 +115,7 @@ typedef struct tb_scene_tool {
   tb_motion motion;   /* the tool's pose relative to origin + offset */
   tb_expr margin;     /* contact margin (distance kept from the tool's surface) */
   tb_expr friction;   /* Coulomb coefficient on the tool's surface (0: frictionless) */
+  int close;          /* `close = 1`: an open mesh's holes are capped (meshgen's tb_mesh_close) */
   int line;
 } tb_scene_tool;
 
