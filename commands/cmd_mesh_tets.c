@@ -25,7 +25,8 @@ static int read_surface(const char *cmd, const char *in, tb_mesh *m) {
     return TB_EXIT_INPUT;
   }
   int dropped = tb_mesh_drop_unused(m);
-  if (dropped > 0) printf("%s: %d unused vertices dropped\n", in, dropped);
+  if (dropped > 0)
+    printf("%s: %d unused vertex%s dropped\n", in, dropped, dropped == 1 ? "" : "es");
   return dropped < 0 ? TB_EXIT_FAIL : TB_EXIT_OK;
 }
 

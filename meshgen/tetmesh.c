@@ -96,8 +96,9 @@ int tb_tetmesh(const tb_mesh *surf, const char *name, const tb_tetmesh_opts *o, 
   if (!(o->max_volume >= 0) || !isfinite(o->max_volume) || o->tets < 0 ||
       (o->max_volume > 0 && o->tets > 0))
     return tb_error_set(err, name, 0, "give a volume bound (> 0) or a tet count (> 0), not both");
-  tb_mesh s = {surf->nv, surf->x, surf->ntri, surf->tri, 0, NULL, 0};
-  if (tb_mesh_copy(&s, &s)) return tb_error_set(err, name, 0, "out of memory");
+  /* the triangles alone (a tet mesh's tets would be kept), copied to drop unused vertices */
+  tb_mesh tris = {surf->nv, surf->x, surf->ntri, surf->tri, 0, NULL, 0}, s;
+  if (tb_mesh_copy(&s, &tris)) return tb_error_set(err, name, 0, "out of memory");
   int rc = tb_mesh_drop_unused(&s) < 0 ? tb_error_set(err, name, 0, "out of memory")
                                        : tb_tetmesh_check(&s, name, err);
   double volume = fabs(tb_mesh_volume(&s));
