@@ -468,6 +468,15 @@ static void runs_from_anywhere(void) {
   snprintf(cmd, sizeof cmd, "cd '%s' && inst/bin/tissuebench --version", t);
   TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0 && strstr(out, "results: ./results"), "%s",
                out);
+  /* meson install (into a staging folder): the installed program finds its installed scenes */
+  snprintf(cmd, sizeof cmd,
+           "meson install -C '%s' --destdir '%s/staged' --no-rebuild --quiet >/dev/null 2>&1 && "
+           "cd '%s' && p=$(find staged -path '*/bin/tissuebench') && $p --version && $p simulate "
+           "--scene beam --model msm --steps 2",
+           TB_BUILD_ROOT, t, t);
+  TB_CHECK_MSG(tb_test_run(cmd, out, sizeof out) == 0 && strstr(out, "/share/tissuebench (") &&
+                   strstr(out, "scene beam"),
+               "%s", out);
 }
 
 /* Every --help is complete: it lists every suite, scene, model and generator the registries
