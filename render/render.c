@@ -248,8 +248,11 @@ void tb_colormap(double u, float rgb[3]) {
   for (int c = 0; c < 3; c++) rgb[c] = stop[k][c] + f * (stop[k + 1][c] - stop[k][c]);
 }
 
-void tb_renderer_colorbar(tb_renderer *r, double lo, double hi, const char *label) {
-  int W = r->w * r->ss, H = r->h * r->ss;
+static const float ink[3] = {0.1f, 0.1f, 0.1f}; /* labels' colour */
+
+/* Flat drawing over the picture in pixels of the supersampled buffer (W x H), origin lower left:
+ * no depth test, no lighting; overlay_end restores the camera's state. */
+static void overlay_begin(int W, int H) {
   glMatrixMode(GL_PROJECTION);
   glPushMatrix();
   glLoadIdentity();
@@ -259,6 +262,19 @@ void tb_renderer_colorbar(tb_renderer *r, double lo, double hi, const char *labe
   glLoadIdentity();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_LIGHTING);
+}
+
+static void overlay_end(void) {
+  glEnable(GL_DEPTH_TEST);
+  glMatrixMode(GL_PROJECTION);
+  glPopMatrix();
+  glMatrixMode(GL_MODELVIEW);
+  glPopMatrix();
+}
+
+void tb_renderer_colorbar(tb_renderer *r, double lo, double hi, const char *label) {
+  int W = r->w * r->ss, H = r->h * r->ss;
+  overlay_begin(W, H);
   double x0 = 0.91, x1 = 0.94, y0 = 0.2, y1 = 0.8;
   glBegin(GL_QUAD_STRIP);
   for (int k = 0; k <= 32; k++) {
@@ -269,13 +285,8 @@ void tb_renderer_colorbar(tb_renderer *r, double lo, double hi, const char *labe
     glVertex2d(x0 * W, y), glVertex2d(x1 * W, y);
   }
   glEnd();
-  glEnable(GL_DEPTH_TEST);
-  glMatrixMode(GL_PROJECTION);
-  glPopMatrix();
-  glMatrixMode(GL_MODELVIEW);
-  glPopMatrix();
+  overlay_end();
   /* numbers right-aligned against the bar, the label above it ending at its right edge */
-  static const float ink[3] = {0.1f, 0.1f, 0.1f};
   double size = 0.03;
   char text[32];
   snprintf(text, sizeof text, "%.3g", hi);
@@ -289,15 +300,7 @@ void tb_renderer_legend(tb_renderer *r, double y, int n, const char *const *labe
                         const float (*rgb)[3]) {
   int W = r->w * r->ss, H = r->h * r->ss;
   double size = 0.03, step = 1.5 * size;
-  glMatrixMode(GL_PROJECTION);
-  glPushMatrix();
-  glLoadIdentity();
-  glOrtho(0, W, 0, H, -1, 1);
-  glMatrixMode(GL_MODELVIEW);
-  glPushMatrix();
-  glLoadIdentity();
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_LIGHTING);
+  overlay_begin(W, H);
   glBegin(GL_QUADS);
   for (int k = 0; k < n; k++) {
     double y0 = (y - k * step) * H, x0 = 0.02 * W, e = 0.8 * size * H;
@@ -305,12 +308,7 @@ void tb_renderer_legend(tb_renderer *r, double y, int n, const char *const *labe
     glVertex2d(x0, y0), glVertex2d(x0 + e, y0), glVertex2d(x0 + e, y0 + e), glVertex2d(x0, y0 + e);
   }
   glEnd();
-  glEnable(GL_DEPTH_TEST);
-  glMatrixMode(GL_PROJECTION);
-  glPopMatrix();
-  glMatrixMode(GL_MODELVIEW);
-  glPopMatrix();
-  static const float ink[3] = {0.1f, 0.1f, 0.1f};
+  overlay_end();
   for (int k = 0; k < n; k++)
     tb_renderer_text(r, 0.02 + 1.2 * size * H / W, y - k * step, size, -1, ink, labels[k]);
 }
