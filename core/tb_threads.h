@@ -29,6 +29,10 @@ int tb_threads_serial_begin(void);
 void tb_threads_serial_end(int was);
 /* The count in effect (1 without OpenMP). */
 int tb_threads(void);
+/* Inside a parallel region: the calling thread's number (0 .. team - 1) and
+ * the team's size; outside one: 0 and 1. */
+int tb_thread_id(void);
+int tb_threads_team(void);
 /* Cores online. */
 int tb_threads_cores(void);
 

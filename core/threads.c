@@ -116,3 +116,19 @@ int tb_threads(void) {
   return 1;
 #endif
 }
+
+int tb_thread_id(void) {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+int tb_threads_team(void) {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}

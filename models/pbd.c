@@ -31,7 +31,7 @@
  * The ground is projected with the tets (own_ground): see pbd_solve.c.
  *
  * Cutting removes the tets the blade touches (carve.c): their constraints
- * leave the colour lists, the masses are lumped again from the tets left. */
+ * leave the schedule, the masses are lumped again from the tets left. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -46,15 +46,11 @@ static void destroy(void *self) {
       free(s->w);
   free(s->depth), free(s->cids), free(s->cp), free(s->cdepth), free(s->cvn), free(s->keep),
       free(s->fric);
-  free(s->tet), free(s->vol), free(s->dminv), free(s->lam), free(s->colour_start);
-  free(s->hit), free(s->orig);
+  free(s->tet), free(s->vol), free(s->dminv), free(s->lam), free(s->tmesh);
+  free(s->xo), free(s->vo), free(s->hit), free(s->orig), free(s->cost), free(s->busy);
+  tb_tet_slabs_free(&s->sl);
   tb_carve_free(&s->carve);
   free(s);
-}
-
-static int by_key(const void *a, const void *b) {
-  uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-  return (x > y) - (x < y);
 }
 
 static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_error *err) {
@@ -83,44 +79,27 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
   s->keep = malloc(sizeof(double) * V), s->fric = calloc(V, sizeof(tb_vec3));
   s->tet = malloc(sizeof *s->tet * T), s->vol = malloc(sizeof(double) * T);
   s->dminv = malloc(sizeof *s->dminv * T), s->lam = calloc(T, sizeof(double));
+  s->tmesh = malloc(sizeof(int) * 4 * T);
+  s->xo = malloc(sizeof(tb_vec3) * V), s->vo = calloc(V, sizeof(tb_vec3));
   if (!s->x || !s->xm1 || !s->p || !s->v || !s->vm1 || !s->mass || !s->invm || !s->w || !s->depth ||
       !s->cids || !s->cp || !s->cdepth || !s->cvn || !s->keep || !s->fric || !s->tet || !s->vol ||
-      !s->dminv || !s->lam) {
+      !s->dminv || !s->lam || !s->tmesh || !s->xo || !s->vo) {
     tb_error_set(err, name, 0, "out of memory (%d nodes, %d tets)", nv, nt);
     goto fail;
   }
-  if (tb_check_tets(mesh, err) ||
-      tb_lumped_masses(mesh, set->density, set->node_mass, s->mass, err))
+  if (tb_check_tets(mesh, err) || tb_carve_init(&s->carve, mesh, name, err) ||
+      tb_lumped_masses(mesh, set->density, set->node_mass, s->carve.mass, err) ||
+      tb_tet_slabs_build(mesh, TB_SWEEP_SLABS, &s->sl, err))
     goto fail;
-  for (int i = 0; i < nv; i++) s->invm[i] = 1 / s->mass[i];
-  memcpy(s->x, mesh->x, sizeof(tb_vec3) * V);
-  memcpy(s->xm1, mesh->x, sizeof(tb_vec3) * V);
-  memcpy(s->p, mesh->x, sizeof(tb_vec3) * V);
-  int *order = NULL;
-  if (tb_tet_colours(mesh, &s->ncolours, &order, &s->colour_start, err)) goto fail;
-  /* within a colour, tets by their smallest node: the threads' shares of a
-   * colour then write disjoint ranges of node indices (no false sharing),
-   * and one thread walks the nodes in order */
-  uint64_t *key = malloc(sizeof(uint64_t) * T);
-  if (!key) {
-    tb_error_set(err, name, 0, "out of memory");
-    free(order);
-    goto fail;
+  const int *old = s->sl.old, *order = s->sl.order;
+  for (int n = 0; n < nv; n++) {
+    s->mass[n] = s->carve.mass[old[n]], s->invm[n] = 1 / s->mass[n];
+    s->x[n] = s->xm1[n] = s->p[n] = mesh->x[old[n]];
   }
-  for (int c = 0; c < s->ncolours; c++) {
-    int a = s->colour_start[c], n = s->colour_start[c + 1] - a;
-    for (int k = 0; k < n; k++) { /* (smallest node, tet): unique, so the order is total */
-      const int *e = mesh->tet + 4 * order[a + k];
-      int lo = e[0] < e[1] ? e[0] : e[1], lo2 = e[2] < e[3] ? e[2] : e[3];
-      key[k] = (uint64_t)(lo < lo2 ? lo : lo2) << 32 | (uint32_t)order[a + k];
-    }
-    qsort(key, (size_t)n, sizeof *key, by_key);
-    for (int k = 0; k < n; k++) order[a + k] = (int)(key[k] & 0xffffffffu);
-  }
-  free(key);
-  for (int k = 0; k < nt; k++) { /* colour order: nodes, volume, D_m^-1 */
+  memcpy(s->xo, mesh->x, sizeof(tb_vec3) * V);
+  for (int k = 0; k < nt; k++) { /* schedule order: nodes, volume, D_m^-1 */
     const int *e = mesh->tet + 4 * order[k];
-    memcpy(s->tet[k], e, sizeof s->tet[k]);
+    for (int j = 0; j < 4; j++) s->tet[k][j] = s->sl.nw[e[j]];
     tb_vec3 x3 = mesh->x[e[3]];
     tb_mat3 dm;
     for (int j = 0; j < 3; j++) {
@@ -131,17 +110,19 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
     tb_mat3 inv;
     if (!tb_m3_inverse(dm, &inv)) { /* volume > 0 (tb_check_tets) but numerically flat */
       tb_error_set(err, "mesh", 0, "tet %d is degenerate (volume %g)", order[k], s->vol[k]);
-      free(order);
       goto fail;
     }
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 3; c++) s->dminv[k][3 * r + c] = inv.m[r][c];
   }
   s->hit = calloc(T, 1), s->orig = malloc(sizeof(int) * T);
-  if (s->orig) memcpy(s->orig, order, sizeof(int) * T);
-  free(order);
-  if (!s->hit || !s->orig || tb_carve_init(&s->carve, mesh, name, err)) goto fail;
-  memcpy(s->carve.mass, s->mass, sizeof(double) * V);
+  s->cost = calloc((size_t)s->sl.ntasks, sizeof(double));
+  s->busy = calloc((size_t)s->sl.ntasks, sizeof(double));
+  if (!s->hit || !s->orig || !s->cost || !s->busy) {
+    tb_error_set(err, name, 0, "out of memory");
+    goto fail;
+  }
+  memcpy(s->orig, order, sizeof(int) * T);
   return s;
 fail:
   destroy(s);
@@ -155,9 +136,9 @@ static void *create_xpbd(const tb_mesh *mesh, const void *set, tb_error *err) {
   return create_any(mesh, set, 1, err);
 }
 
-static const tb_vec3 *positions(const void *self) { return ((const pbd *)self)->x; }
-static const tb_vec3 *velocities(const void *self) { return ((const pbd *)self)->v; }
-static const double *masses(const void *self) { return ((const pbd *)self)->mass; }
+static const tb_vec3 *positions(const void *self) { return ((const pbd *)self)->xo; }
+static const tb_vec3 *velocities(const void *self) { return ((const pbd *)self)->vo; }
+static const double *masses(const void *self) { return ((const pbd *)self)->carve.mass; }
 
 /* Kinetic energy plus the strain energy of the material E, nu names (for
  * pbd-stvk a measure, not a conserved quantity: see the head of the file).
@@ -182,26 +163,26 @@ static double energy(const void *self) {
 static void correct(void *self, int n, const int *ids, const tb_vec3 *x, const tb_vec3 *v) {
   pbd *s = self;
   for (int k = 0; k < n; k++) {
-    int i = ids[k];
-    if (x) s->x[i] = x[k];
-    if (v) s->v[i] = v[k];
+    int i = s->sl.nw[ids[k]];
+    if (x) s->x[i] = s->xo[ids[k]] = x[k];
+    if (v) s->v[i] = s->vo[ids[k]] = v[k];
     s->xm1[i] = s->have_prev ? tb_madd(s->x[i], -s->last_dt, s->v[i]) : s->x[i];
     s->vm1[i] = s->v[i];
   }
 }
 
 /* A cut event: at MOVE the tets the blade touched leave every per-tet
- * array (colour order kept), then the masses and the surface follow. */
+ * array (the schedule's order kept), then the masses and the surface follow. */
 static int cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *err) {
   pbd *s = self;
   int nhit = tb_carve_event(&s->carve, ev, s->x, (const int *)s->tet, s->nt, NULL, s->hit, err);
   if (nhit < 0) return -1;
   if (ev->kind == TB_CUT_END && st) tb_carve_stats(&s->carve, st);
   if (nhit == 0) return 0;
-  int n = 0;
-  for (int c = 0; c < s->ncolours; c++) {
-    int a = s->colour_start[c], b = s->colour_start[c + 1];
-    s->colour_start[c] = n;
+  int n = 0, *task = s->sl.task;
+  for (int q = 0; q < s->sl.ntasks; q++) {
+    int a = task[q], b = task[q + 1];
+    task[q] = n;
     for (int t = a; t < b; t++) {
       if (s->hit[t]) {
         s->carve.alive[s->orig[t]] = 0;
@@ -214,13 +195,16 @@ static int cut(void *self, const tb_cut_event *ev, tb_cut_stats *st, tb_error *e
       n++;
     }
   }
-  s->colour_start[s->ncolours] = n;
+  task[s->sl.ntasks] = n;
   memset(s->hit, 0, (size_t)s->nt);
   s->nt = n;
-  if (tb_carve_update(&s->carve, (const int *)s->tet, n, NULL, nhit, s->set.density,
-                      s->set.node_mass, err))
+  for (int t = 0; t < n; t++)
+    for (int j = 0; j < 4; j++) s->tmesh[4 * t + j] = s->sl.old[s->tet[t][j]];
+  if (tb_carve_update(&s->carve, s->tmesh, n, NULL, nhit, s->set.density, s->set.node_mass, err))
     return -1;
-  for (int i = 0; i < s->nv; i++) s->mass[i] = s->carve.mass[i], s->invm[i] = 1 / s->mass[i];
+  for (int i = 0; i < s->nv; i++) {
+    s->mass[i] = s->carve.mass[s->sl.old[i]], s->invm[i] = 1 / s->mass[i];
+  }
   return 0;
 }
 
@@ -230,7 +214,7 @@ static const unsigned char *tets_alive(const void *self) {
 
 static tb_surface surface(const void *self) {
   const pbd *s = self;
-  return tb_carve_surface(&s->carve, s->x);
+  return tb_carve_surface(&s->carve, s->xo);
 }
 
 #define S pbd_settings

@@ -16,15 +16,32 @@ typedef struct pbd_settings {
   int iterations, energy, integrator;
 } pbd_settings;
 
+/* Threads that share a sweep at most (more wait at its barriers). */
+#define PBD_MAX_THREADS 256
+
 typedef struct pbd {
   int xpbd; /* 1: XPBD (compliance, accumulated lambda); 0: the patent's PBD */
   pbd_settings set;
   double mu, lambda; /* Lame parameters from E, nu */
   int nv, nt;
+  /* the sweeps' schedule (models/tet_slabs.c): the nodes numbered slab by
+   * slab (every per-node array below is in that order, internal node n is
+   * mesh node old[n]), the tets by task, the tasks by phase */
+  tb_tet_slabs sl;
+  /* the threads' shares: in each phase p, thread k runs the tasks
+   * share[p][k] .. share[p][k+1], contiguous ranges of about equal cost;
+   * cost[q]: task q's wall time a step, a running mean (tet counts until
+   * measured); busy[q]: its time in this step's sweeps so far. Which thread
+   * runs a task never changes the result (a phase's tasks share no node). */
+  int share[4][PBD_MAX_THREADS + 1];
+  double *cost, *busy;
+  int measured;
   /* hot, per node: current, previous and predicted positions, current and
-   * previous velocity, inverse mass (w) and the w the step uses (0 for prescribed nodes) */
+   * previous velocity, mass, inverse mass (w) and the w the step uses (0 for
+   * prescribed nodes) */
   tb_vec3 *x, *xm1, *p, *v, *vm1;
   double *mass, *invm, *w;
+  tb_vec3 *xo, *vo; /* x and v in the mesh's node order, after every step */
   /* per node, the ground contact of the step: normal correction, and the
    * contact list (ids, positions, keep) friction works on */
   double *depth;
@@ -33,13 +50,13 @@ typedef struct pbd {
   double *cdepth;     /* its summed normal correction */
   double *cvn, *keep; /* its predicted normal velocity; the tangential share friction kept */
   tb_vec3 *fric;      /* per node: friction's tangential correction so far in the step */
-  /* hot, per tet in colour order: nodes, rest volume, D_m^-1 (row-major),
-   * XPBD's lambda */
+  /* hot, per tet in the schedule's order: nodes (internal), rest volume,
+   * D_m^-1 (row-major), XPBD's lambda */
   int (*tet)[4];
   double *vol;
   double (*dminv)[9];
   double *lam;
-  int ncolours, *colour_start;
+  int *tmesh; /* 4 nt: the tets' mesh node ids, for the carving's masses and surface */
   /* cutting: the tets removed so far, the surface left (carve.c) */
   tb_carve carve;
   unsigned char *hit; /* per tet: touched by the blade at this MOVE */

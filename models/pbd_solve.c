@@ -39,10 +39,11 @@
  *       XPBD: C = sqrt(2U) with compliance 1 (so C^2 / 2 = U, the element's
  *             energy), dlambda = (-C - a lambda) / (sum_j w_j |g_j|^2 / C^2 + a),
  *             a = 1 / dt^2, lambda += dlambda, dp_j = w_j (g_j / C) dlambda.
- *     Tets are swept colour by colour (tets of one colour share no node,
- *     models/tet_colour.c): a colour's tets are projected in parallel and
- *     the result does not depend on the thread count. After the tets of
- *     each sweep the ground constraint (p - q).n >= 0 (patent eq. 4) is
+ *     Tets are swept in the phases of the slab schedule (models/tet_slabs.c:
+ *     slab interiors, even interfaces, odd interfaces, wide tets; a phase's
+ *     tasks share no node, a task's tets go in a fixed order): four barriers
+ *     a sweep, and the result does not depend on the thread count. After
+ *     the tets of each sweep the ground constraint (p - q).n >= 0 (patent eq. 4) is
  *     projected for every free node, so the sweep ends with nothing below
  *     the ground, and friction acts on the nodes the ground touched
  *     (ground_sweep).
@@ -53,11 +54,15 @@
  *     sticks gets no tangential velocity). Prescribed nodes get the velocity that moved them,
  *     (x_fixed - x_n) / dt.
  *  4. PBD's constraint damping (see 0.) on the new positions and velocities.
- * Nothing is allocated here. */
+ * The state is kept in the schedule's node order; the step reads the
+ * forces and prescribed nodes through it and ends by copying x and v into
+ * the mesh's order. Nothing is allocated here. */
 #include <math.h>
 #include <string.h>
 
 #include "pbd_priv.h"
+#include "core/tb_threads.h"
+#include "core/tb_timer.h"
 
 /* An inverted or flat tet (det F <= 0): the energy and stress of Irving,
  * Teran & Fedkiw 2004 ("Invertible finite elements"), as Bender et al.
@@ -181,6 +186,56 @@ static inline void damp_rate(pbd *s, int t, double c) {
   for (int j = 0; j < 4; j++) v[n[j]] = tb_madd(v[n[j]], f * wj[j], g[j]);
 }
 
+/* The threads' shares for this step (see struct pbd): each phase's tasks
+ * cut into nth contiguous ranges of about equal cost, a task going to the
+ * share its cost's midpoint falls in. One thread, at the step's start. */
+static void plan(pbd *s, int nth) {
+  const int *phase = s->sl.phase, *task = s->sl.task;
+  for (int q = 0; q < s->sl.ntasks; q++) { /* the last step's times into the running mean */
+    if (s->measured) s->cost[q] = 0.5 * (s->cost[q] + s->busy[q]);
+    s->busy[q] = 0;
+  }
+  if (!s->measured)
+    for (int q = 0; q < s->sl.ntasks; q++) s->cost[q] = task[q + 1] - task[q];
+  for (int ph = 0; ph < 4; ph++) {
+    int a = phase[ph], b = phase[ph + 1], q = a;
+    double total = 0, acc = 0;
+    for (int r = a; r < b; r++) total += s->cost[r];
+    s->share[ph][0] = a;
+    for (int k = 1; k < nth; k++) {
+      while (q < b && acc + 0.5 * s->cost[q] < total * k / nth) acc += s->cost[q++];
+      s->share[ph][k] = q;
+    }
+    s->share[ph][nth] = b;
+  }
+}
+
+/* One sweep of project (damp_share < 0) or damp_rate (damp_share: its
+ * share) over the tets, phase by phase, thread k of nth running its share
+ * of each phase (none for k >= nth), a barrier after each phase; every
+ * thread of the team calls it. The projections' tasks are timed for the
+ * next plan when threads share them. */
+static void sweep(pbd *s, int k, int nth, int back, double alpha, double gamma, double damp_share) {
+  const int *task = s->sl.task, *phase = s->sl.phase;
+  for (int f = 0; f < 4; f++) {
+    int ph = back ? 3 - f : f;
+    if (phase[ph] == phase[ph + 1]) continue;
+    int lo = k < nth ? s->share[ph][k] : 0, hi = k < nth ? s->share[ph][k + 1] : 0;
+    for (int r = lo; r < hi; r++) {
+      int q = back ? lo + hi - 1 - r : r;
+      uint64_t t0 = nth > 1 ? tb_time_ns() : 0;
+      if (damp_share >= 0)
+        for (int t = task[q]; t < task[q + 1]; t++) damp_rate(s, t, damp_share);
+      else if (back)
+        for (int t = task[q + 1] - 1; t >= task[q]; t--) project(s, t, alpha, gamma);
+      else
+        for (int t = task[q]; t < task[q + 1]; t++) project(s, t, alpha, gamma);
+      if (nth > 1 && damp_share < 0) s->busy[q] += 1e-9 * (double)(tb_time_ns() - t0);
+    }
+#pragma omp barrier
+  }
+}
+
 /* Step 0: velocities relative to the rigid motion damped by the share c. */
 static void damp(pbd *s, double c) {
   double M = 0;
@@ -240,30 +295,69 @@ static int ground_sweep(pbd *s, const tb_ground *gr) {
   return nc;
 }
 
+/* Step 3's contacts: restitution and friction's share of the velocity. */
+static void contact_velocities(pbd *s, const tb_ground *gr, int nc) {
+  for (int k = 0; k < nc; k++) {
+    int i = s->cids[k];
+    tb_vec3 n = gr->n, *v = s->v;
+    double vn = tb_dot(v[i], n);
+    tb_vec3 vt = s->keep[k] > 0 ? tb_madd(v[i], -vn, n) : tb_v3(0, 0, 0); /* stuck: at rest */
+    vn = s->cvn[k] < 0 ? -gr->restitution * s->cvn[k] : fmax(vn, 0);
+    v[i] = tb_madd(vt, vn, n);
+  }
+}
+
+/* 5. A contact changed its node's normal velocity by an impulse: the
+ * normal part of the history the next BDF2 step reads is made that of a
+ * smooth motion through the new state (x_n = x - dt v, v_n = v along n);
+ * else the backward difference turns the stop into a rebound (v = (3
+ * x_{n+1} - 4 x_n + x_{n-1}) / (2 dt) = V / 2 up for a node that fell at
+ * V and stopped). The tangential history is kept: a sliding node's is smooth. */
+static void contact_history(pbd *s, const tb_ground *gr, int nc, double h) {
+  for (int k = 0; k < nc; k++) {
+    int i = s->cids[k];
+    tb_vec3 n = gr->n;
+    double xn = tb_dot(s->x[i], n) - h * tb_dot(s->v[i], n);
+    s->xm1[i] = tb_madd(s->xm1[i], xn - tb_dot(s->xm1[i], n), n);
+    s->vm1[i] = tb_madd(s->vm1[i], tb_dot(s->v[i], n) - tb_dot(s->vm1[i], n), n);
+  }
+}
+
 int pbd_step(void *self, const tb_step *in, tb_error *err) {
   pbd *s = self;
   double h = in->dt;
   if (!(h > 0) || !isfinite(h)) return tb_error_set(err, "pbd", 0, "dt must be > 0 (got %g)", h);
   const tb_ground *gr = in->ground;
-  int nv = s->nv, iters = s->set.iterations;
+  const int nv = s->nv, iters = s->set.iterations;
   if (s->set.damping > 0) damp(s, 1 - exp(-s->set.damping * h));
+  const int *old = s->sl.old, *nw = s->sl.nw, par = s->sl.nslabs > 1;
   memcpy(s->w, s->invm, sizeof(double) * (size_t)nv);
-  for (int k = 0; k < in->nfixed; k++) s->w[in->fixed[k]] = 0;
-  double alpha = 1.0 / (h * h), gamma = s->set.rayleigh_stiffness / h;
-  int same = s->have_prev && s->last_dt == h; /* a second-order step can use the history */
-  int second = same && s->set.integrator == PBD_BDF2;
-  int bdf2 = same && s->set.integrator != PBD_EULER;
+  for (int k = 0; k < in->nfixed; k++) s->w[nw[in->fixed[k]]] = 0;
+  const double alpha = 1.0 / (h * h), gamma = s->set.rayleigh_stiffness / h;
+  const int same = s->have_prev && s->last_dt == h; /* a second-order step can use the history */
+  const int second = same && s->set.integrator == PBD_BDF2;
+  const int bdf2 = same && s->set.integrator != PBD_EULER;
+  const int damp_rates = !s->xpbd && gamma > 0;
   tb_vec3 *x = s->x, *p = s->p, *v = s->v;
-  int nc = 0; /* ground contacts of the last sweep */
-#pragma omp parallel
+  int nc = 0;  /* ground contacts of the last sweep */
+  int nth = 1; /* the team's size, up to PBD_MAX_THREADS sharing the sweeps */
+#pragma omp parallel if (par)
   {
+    const int k = tb_thread_id();
+#pragma omp single
+    {
+      nth = tb_threads_team() < PBD_MAX_THREADS ? tb_threads_team() : PBD_MAX_THREADS;
+      plan(s, nth);
+      s->measured = nth > 1;
+    }
+    /* 1. prediction */
 #pragma omp for schedule(static)
     for (int i = 0; i < nv; i++) {
       s->depth[i] = 0, s->fric[i] = tb_v3(0, 0, 0);
       tb_vec3 vn = v[i];
       if (s->w[i] > 0) {
         tb_vec3 a = in->gravity;
-        if (in->force) a = tb_madd(a, s->invm[i], in->force[i]);
+        if (in->force) a = tb_madd(a, s->invm[i], in->force[old[i]]);
         if (second) {
           v[i] = tb_madd(tb_scale(tb_sub(tb_scale(vn, 4), s->vm1[i]), 1.0 / 3), 2.0 / 3 * h, a);
           p[i] =
@@ -280,56 +374,34 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
       for (int t = 0; t < s->nt; t++) s->lam[t] = 0;
     }
 #pragma omp single
-    for (int k = 0; k < in->nfixed; k++) p[in->fixed[k]] = in->fixed_x[k];
+    for (int f = 0; f < in->nfixed; f++) p[nw[in->fixed[f]]] = in->fixed_x[f];
+    /* 2. projection */
     for (int it = 0; it < iters; it++) {
-      for (int c = 0; c < s->ncolours; c++) {
-#pragma omp for schedule(static)
-        for (int t = s->colour_start[c]; t < s->colour_start[c + 1]; t++)
-          project(s, t, alpha, gamma);
-      }
+      sweep(s, k, nth, it & 1, alpha, gamma, -1);
       if (gr) {
 #pragma omp single
         nc = ground_sweep(s, gr);
       }
     }
-  }
-#pragma omp parallel for schedule(static)
-  for (int i = 0; i < nv; i++) {
-    if (s->w[i] == 0 || !bdf2)
-      v[i] = tb_scale(tb_sub(p[i], x[i]), 1 / h);
-    else
-      v[i] = tb_scale(tb_add(tb_sub(tb_scale(p[i], 3), tb_scale(x[i], 4)), s->xm1[i]), 0.5 / h);
-  }
-  for (int k = 0; k < nc; k++) { /* contacts: restitution, friction's share */
-    int i = s->cids[k];
-    tb_vec3 n = gr->n;
-    double vn = tb_dot(v[i], n);
-    tb_vec3 vt = s->keep[k] > 0 ? tb_madd(v[i], -vn, n) : tb_v3(0, 0, 0); /* stuck: at rest */
-    vn = s->cvn[k] < 0 ? -gr->restitution * s->cvn[k] : fmax(vn, 0);
-    v[i] = tb_madd(vt, vn, n);
-  }
-  if (!s->xpbd && gamma > 0) {
-    double c = gamma / (1 + gamma);
-#pragma omp parallel
-    for (int k = 0; k < s->ncolours; k++) {
+    /* 3. velocity */
 #pragma omp for schedule(static)
-      for (int t = s->colour_start[k]; t < s->colour_start[k + 1]; t++) damp_rate(s, t, c);
+    for (int i = 0; i < nv; i++) {
+      if (s->w[i] == 0 || !bdf2)
+        v[i] = tb_scale(tb_sub(p[i], x[i]), 1 / h);
+      else
+        v[i] = tb_scale(tb_add(tb_sub(tb_scale(p[i], 3), tb_scale(x[i], 4)), s->xm1[i]), 0.5 / h);
     }
-  }
-  memcpy(s->xm1, x, sizeof(tb_vec3) * (size_t)nv);
-  memcpy(x, p, sizeof(tb_vec3) * (size_t)nv);
-  /* 5. A contact changed its node's normal velocity by an impulse: the
-   * normal part of the history the next BDF2 step reads is made that of a
-   * smooth motion through the new state (x_n = x - dt v, v_n = v along n);
-   * else the backward difference turns the stop into a rebound (v = (3
-   * x_{n+1} - 4 x_n + x_{n-1}) / (2 dt) = V / 2 up for a node that fell at
-   * V and stopped). The tangential history is kept: a sliding node's is smooth. */
-  for (int k = 0; k < nc; k++) {
-    int i = s->cids[k];
-    tb_vec3 n = gr->n;
-    double xn = tb_dot(x[i], n) - h * tb_dot(v[i], n);
-    s->xm1[i] = tb_madd(s->xm1[i], xn - tb_dot(s->xm1[i], n), n);
-    s->vm1[i] = tb_madd(s->vm1[i], tb_dot(v[i], n) - tb_dot(s->vm1[i], n), n);
+#pragma omp single
+    contact_velocities(s, gr, nc);
+    /* 4. PBD's constraint damping */
+    if (damp_rates) sweep(s, k, nth, 0, alpha, gamma, gamma / (1 + gamma));
+#pragma omp for schedule(static)
+    for (int i = 0; i < nv; i++) s->xm1[i] = x[i], x[i] = p[i];
+#pragma omp single
+    contact_history(s, gr, nc, h);
+    /* the mesh's order */
+#pragma omp for schedule(static)
+    for (int m = 0; m < nv; m++) s->xo[m] = x[nw[m]], s->vo[m] = v[nw[m]];
   }
   s->have_prev = 1, s->last_dt = h;
   return 0;

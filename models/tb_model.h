@@ -347,6 +347,24 @@ int tb_ground_friction(const tb_ground *g, int n, const int *ids, const double *
  * order within a colour). */
 int tb_tet_colours(const tb_mesh *mesh, int *ncolours, int **order, int **start, tb_error *err);
 
+/* A schedule for parallel Gauss-Seidel sweeps (models/tet_slabs.c): the
+ * nodes cut into nslabs slabs, numbered again slab by slab (internal node n
+ * is mesh node old[n]; mesh node m is internal nw[m]), the tets (mesh ids)
+ * in order[] by task, task q's tets order[task[q] .. task[q+1]), and phase
+ * p's tasks phase[p] .. phase[p+1]: tasks of one phase share no node, and
+ * the phases run one after another. At most max_slabs slabs; 1 (a single
+ * task) for meshes too small to share. */
+typedef struct tb_tet_slabs {
+  int nslabs, ntasks;
+  int *old, *nw, *order, *task;
+  int phase[5];
+} tb_tet_slabs;
+int tb_tet_slabs_build(const tb_mesh *mesh, int max_slabs, tb_tet_slabs *s, tb_error *err);
+/* The slabs the position-based models' sweeps use at most: 64 keeps 32
+ * tasks a phase for 32 threads. */
+#define TB_SWEEP_SLABS 64
+void tb_tet_slabs_free(tb_tet_slabs *s);
+
 /* ---- blow-up detection (every suite and the CLI check each run) ---- */
 typedef struct tb_health {
   int ok;

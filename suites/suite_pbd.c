@@ -31,6 +31,7 @@
 #include "core/tb_timer.h"
 #include "meshgen/tb_generators.h"
 #include "meshgen/tb_meshgen.h"
+#include "models/tb_model.h"
 #include "report/tb_results.h"
 #include "scenes/tb_sim.h"
 
@@ -222,7 +223,7 @@ static void runner_steps(runner *u, int n, int block) {
 /* Everything measured on one liver: medians over blocks with their 95%
  * intervals (ms per step), the ratios paired by block. */
 typedef struct row {
-  int ok, nv, ntet, links, colours, blocks, bt_ok;
+  int ok, nv, ntet, links, slabs, phases, blocks, bt_ok;
   char source[32], why[160];
   tb_est one, one_wall, all, all_cpu, speedup; /* one thread CPU and wall; all threads wall, CPU */
   tb_est us_elem;                              /* one thread CPU us per element-step */
@@ -390,7 +391,8 @@ static const char *busy_text(const tb_noise *n, int threads, char *buf, size_t c
 static void thread_table(tb_suite *su, const row *rows, int cores, const tb_noise *nz) {
   static const char *cols[] = {"model (patent)",
                                "tets",
-                               "tet colours",
+                               "slabs",
+                               "barriers a sweep",
                                "threads",
                                "ms/step wall, 1 thread (median)",
                                "ms/step wall, all threads (median)",
@@ -409,17 +411,18 @@ static void thread_table(tb_suite *su, const row *rows, int cores, const tb_nois
            "Patent table 2: one thread against all %d cores (wall time, CPU beside); positions "
            "after the run bit-identical?",
            cores);
-  tb_table *t = tb_table_new("threads", title, 16, cols);
-  tb_table_only(t, 9, TB_CSV_ONLY), tb_table_only(t, 10, TB_CSV_ONLY);
+  tb_table *t = tb_table_new("threads", title, 17, cols);
+  tb_table_only(t, 10, TB_CSV_ONLY), tb_table_only(t, 11, TB_CSV_ONLY);
   const char *why = busy_text(nz, cores, busy, sizeof busy);
   for (int r = 0; r < NROWS; r++) {
     const row *w = &rows[r];
     tb_table_row(t);
     tb_table_cell(t, "%s", patent[r].name);
     if (w->ntet)
-      tb_table_num(t, w->ntet, "%.0f"), tb_table_num(t, w->colours, "%.0f");
+      tb_table_num(t, w->ntet, "%.0f"), tb_table_num(t, w->slabs, "%.0f"),
+          tb_table_num(t, w->phases, "%.0f");
     else
-      tb_table_cell(t, "-"), tb_table_cell(t, "-");
+      tb_table_cell(t, "-"), tb_table_cell(t, "-"), tb_table_cell(t, "-");
     tb_table_num(t, cores, "%.0f");
     if (w->ok) {
       tb_table_num(t, w->one_wall.value, "%.3f");
@@ -566,9 +569,12 @@ int tb_suite_pbd(const tb_suite_opts *o) {
       continue;
     }
     w->nv = m.nv, w->ntet = m.ntet;
-    int *order = NULL, *start = NULL;
-    if (tb_tet_colours(&m, &w->colours, &order, &start, &err)) w->colours = 0;
-    free(order), free(start);
+    tb_tet_slabs sl;
+    if (!tb_tet_slabs_build(&m, TB_SWEEP_SLABS, &sl, &err)) {
+      w->slabs = sl.nslabs;
+      for (int ph = 0; ph < 4; ph++) w->phases += sl.phase[ph] < sl.phase[ph + 1];
+      tb_tet_slabs_free(&sl);
+    }
     measure(su, r, &m, &si, &p, cores, w);
     if (!w->ok) fprintf(stderr, "pbd: %d tets: %s\n", m.ntet, w->why), failed = 1;
     if (w->ok && !w->identical) failed = 1; /* a bug: the count must not change the answer */
@@ -636,16 +642,20 @@ int tb_suite_pbd(const tb_suite_opts *o) {
                 "the all-thread run's, the median of the blocks' paired ratios with its 95%% "
                 "interval; it is stated only when the machine left the cores free (over the "
                 "suite so far: %s), else the table says not measurable (the numbers are still "
-                "shown). Tets of one colour share "
-                "no node and are projected in parallel; the ground, damping and friction run "
-                "in node order, so the thread count must not change a single bit: `identical` "
-                "compares every position after the run of 1 and of %d threads (memcmp).%s Each "
-                "colour is one parallel loop ending in a barrier, and the ground's another, so "
-                "a step passes about %d x (colours + 1) barriers. Thread i is pinned to CPU i "
-                "(core/threads.c; left to Linux, both threads sometimes shared one CPU and a "
-                "step took 3x as long); when the machine has more runnable work than cores, a "
-                "thread descheduled before a barrier still holds the others up, and the "
-                "all-core times grow beyond the one-thread ones.",
+                "shown). The sweeps follow the slab schedule (models/tet_slabs.c): the "
+                "nodes cut into slabs along the longest extent, each sweep projecting the "
+                "slabs' interiors, then the even and the odd interfaces between them, then any "
+                "tet spanning three slabs, each phase's tasks sharing no node, each task's tets "
+                "in a fixed order; the ground, damping and friction run in node order, so the "
+                "thread count must not change a single bit: `identical` compares every position "
+                "after the run of 1 and of %d threads (memcmp).%s A phase ends in a barrier "
+                "(the `barriers a sweep` column; the ground adds one), so a step passes about "
+                "%d x that plus 8 barriers (one per colour, 20 to 50 a sweep, before). Each "
+                "thread runs a contiguous range of a phase's tasks, cut where the last step's "
+                "measured task times balance; a mesh too small for two slabs runs on one "
+                "thread. When the machine has more runnable work than cores, a thread "
+                "descheduled before a barrier still holds the others up, and the all-core "
+                "times grow beyond the one-thread ones.",
                 cores, what, cores,
                 cores < 2 ? " With one core both runs use one thread, so this shows nothing." : "",
                 ITERS);
