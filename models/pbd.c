@@ -47,7 +47,7 @@ static void destroy(void *self) {
   free(s->depth), free(s->cids), free(s->cp), free(s->cdepth), free(s->cvn), free(s->keep),
       free(s->fric);
   free(s->tet), free(s->vol), free(s->dminv), free(s->lam), free(s->tmesh);
-  free(s->xo), free(s->vo), free(s->hit), free(s->orig), free(s->cost), free(s->busy);
+  free(s->xo), free(s->vo), free(s->hit), free(s->orig), free(s->cost), free(s->busy), free(s->run);
   tb_tet_slabs_free(&s->sl);
   tb_carve_free(&s->carve);
   free(s);
@@ -118,7 +118,8 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
   s->hit = calloc(T, 1), s->orig = malloc(sizeof(int) * T);
   s->cost = calloc((size_t)s->sl.ntasks, sizeof(double));
   s->busy = calloc((size_t)s->sl.ntasks, sizeof(double));
-  if (!s->hit || !s->orig || !s->cost || !s->busy) {
+  s->run = malloc(sizeof(int) * 2 * (size_t)s->sl.ntasks);
+  if (!s->hit || !s->orig || !s->cost || !s->busy || !s->run) {
     tb_error_set(err, name, 0, "out of memory");
     goto fail;
   }

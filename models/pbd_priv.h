@@ -29,11 +29,13 @@ typedef struct pbd {
    * mesh node old[n]), the tets by task, the tasks by phase */
   tb_tet_slabs sl;
   /* the threads' shares: in each phase p, thread k runs the tasks
-   * share[p][k] .. share[p][k+1], contiguous ranges of about equal cost;
-   * cost[q]: task q's wall time a step, a running mean (tet counts until
-   * measured); busy[q]: its time in this step's sweeps so far. Which thread
-   * runs a task never changes the result (a phase's tasks share no node). */
+   * run[share[p][k] .. share[p][k+1]), a contiguous range of about equal
+   * cost (pbd_solve.c, plan): cost[q], task q's tets with a free node in
+   * the last step (its tet count before the first), counted into busy[q]
+   * by the step's first sweep. Which thread runs a task never changes the
+   * result (a phase's tasks share no node). */
   int share[4][PBD_MAX_THREADS + 1];
+  int *run;
   double *cost, *busy;
   int measured;
   /* hot, per node: current, previous and predicted positions, current and

@@ -62,7 +62,6 @@
 
 #include "pbd_priv.h"
 #include "core/tb_threads.h"
-#include "core/tb_timer.h"
 
 /* An inverted or flat tet (det F <= 0): the energy and stress of Irving,
  * Teran & Fedkiw 2004 ("Invertible finite elements"), as Bender et al.
@@ -135,21 +134,22 @@ static inline double gradients(const pbd *s, const tb_vec3 *p, int t, tb_vec3 g[
   return V * psi;
 }
 
-/* Projects tet t (colour order) on p; alpha: XPBD's compliance / dt^2;
- * gamma: XPBD's damping factor rayleigh_stiffness / dt. */
-static inline void project(pbd *s, int t, double alpha, double gamma) {
+/* Projects tet t (the schedule's order) on p; alpha: XPBD's compliance /
+ * dt^2; gamma: XPBD's damping factor rayleigh_stiffness / dt. Returns 0
+ * when all its nodes are prescribed (nothing to do), else 1. */
+static inline int project(pbd *s, int t, double alpha, double gamma) {
   const int *n = s->tet[t];
   tb_vec3 *p = s->p;
   const double *w = s->w;
   double wj[4] = {w[n[0]], w[n[1]], w[n[2]], w[n[3]]};
-  if (wj[0] + wj[1] + wj[2] + wj[3] == 0) return;
+  if (wj[0] + wj[1] + wj[2] + wj[3] == 0) return 0;
   tb_vec3 g[4];
   double U = gradients(s, p, t, g);
-  if (U == 0) return;
+  if (U == 0) return 1;
   double sum = 0;
   PBD_UNROLL
   for (int j = 0; j < 4; j++) sum += wj[j] * tb_dot(g[j], g[j]);
-  if (!(sum > 0)) return;
+  if (!(sum > 0)) return 1;
   double f;
   if (s->xpbd) {
     double gdx = 0; /* grad U . (p - x_n), the constraint's change over the step */
@@ -166,6 +166,7 @@ static inline void project(pbd *s, int t, double alpha, double gamma) {
   }
   PBD_UNROLL
   for (int j = 0; j < 4; j++) p[n[j]] = tb_madd(p[n[j]], f * wj[j], g[j]);
+  return 1;
 }
 
 /* Step 5 (PBD): tet t's strain rate at the new positions p reduced by the
@@ -186,17 +187,21 @@ static inline void damp_rate(pbd *s, int t, double c) {
   for (int j = 0; j < 4; j++) v[n[j]] = tb_madd(v[n[j]], f * wj[j], g[j]);
 }
 
-/* The threads' shares for this step (see struct pbd): each phase's tasks
- * cut into nth contiguous ranges of about equal cost, a task going to the
- * share its cost's midpoint falls in. One thread, at the step's start. */
+/* The threads' shares for this step (see struct pbd), one thread, at the
+ * step's start: each phase's tasks cut into nth contiguous ranges of about
+ * equal cost, a task going to the range its cost's midpoint falls in.
+ * Contiguous, so that a thread keeps its slabs and the interfaces between
+ * them in its cache from phase to phase and step to step (dealt out by
+ * cost alone, a task that changed cores ran a third slower there). A
+ * task's cost is its tets with a free node in the last step (a tet of
+ * prescribed nodes costs nearly nothing): a count, not a time, which would
+ * move with the caches. */
 static void plan(pbd *s, int nth) {
   const int *phase = s->sl.phase, *task = s->sl.task;
-  for (int q = 0; q < s->sl.ntasks; q++) { /* the last step's times into the running mean */
-    if (s->measured) s->cost[q] = 0.5 * (s->cost[q] + s->busy[q]);
-    s->busy[q] = 0;
+  for (int q = 0; q < s->sl.ntasks; q++) {
+    s->cost[q] = s->measured ? s->busy[q] : task[q + 1] - task[q];
+    s->run[q] = q;
   }
-  if (!s->measured)
-    for (int q = 0; q < s->sl.ntasks; q++) s->cost[q] = task[q + 1] - task[q];
   for (int ph = 0; ph < 4; ph++) {
     int a = phase[ph], b = phase[ph + 1], q = a;
     double total = 0, acc = 0;
@@ -213,24 +218,26 @@ static void plan(pbd *s, int nth) {
 /* One sweep of project (damp_share < 0) or damp_rate (damp_share: its
  * share) over the tets, phase by phase, thread k of nth running its share
  * of each phase (none for k >= nth), a barrier after each phase; every
- * thread of the team calls it. The projections' tasks are timed for the
- * next plan when threads share them. */
-static void sweep(pbd *s, int k, int nth, int back, double alpha, double gamma, double damp_share) {
+ * thread of the team calls it. back: in reverse (symmetric Gauss-Seidel:
+ * forward and backward sweeps in turn, so that no direction of the mesh is
+ * favoured). count: each task's tets with a free node into busy, the next
+ * plan's costs. */
+static void sweep(pbd *s, int k, int nth, int back, int count, double alpha, double gamma,
+                  double damp_share) {
   const int *task = s->sl.task, *phase = s->sl.phase;
   for (int f = 0; f < 4; f++) {
     int ph = back ? 3 - f : f;
     if (phase[ph] == phase[ph + 1]) continue;
     int lo = k < nth ? s->share[ph][k] : 0, hi = k < nth ? s->share[ph][k + 1] : 0;
     for (int r = lo; r < hi; r++) {
-      int q = back ? lo + hi - 1 - r : r;
-      uint64_t t0 = nth > 1 ? tb_time_ns() : 0;
+      int q = s->run[back ? lo + hi - 1 - r : r], free = 0;
       if (damp_share >= 0)
         for (int t = task[q]; t < task[q + 1]; t++) damp_rate(s, t, damp_share);
       else if (back)
-        for (int t = task[q + 1] - 1; t >= task[q]; t--) project(s, t, alpha, gamma);
+        for (int t = task[q + 1] - 1; t >= task[q]; t--) free += project(s, t, alpha, gamma);
       else
-        for (int t = task[q]; t < task[q + 1]; t++) project(s, t, alpha, gamma);
-      if (nth > 1 && damp_share < 0) s->busy[q] += 1e-9 * (double)(tb_time_ns() - t0);
+        for (int t = task[q]; t < task[q + 1]; t++) free += project(s, t, alpha, gamma);
+      if (count) s->busy[q] = free;
     }
 #pragma omp barrier
   }
@@ -348,7 +355,7 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
     {
       nth = tb_threads_team() < PBD_MAX_THREADS ? tb_threads_team() : PBD_MAX_THREADS;
       plan(s, nth);
-      s->measured = nth > 1;
+      s->measured = 1;
     }
     /* 1. prediction */
 #pragma omp for schedule(static)
@@ -377,7 +384,7 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
     for (int f = 0; f < in->nfixed; f++) p[nw[in->fixed[f]]] = in->fixed_x[f];
     /* 2. projection */
     for (int it = 0; it < iters; it++) {
-      sweep(s, k, nth, it & 1, alpha, gamma, -1);
+      sweep(s, k, nth, it & 1, it == 0, alpha, gamma, -1);
       if (gr) {
 #pragma omp single
         nc = ground_sweep(s, gr);
@@ -394,7 +401,7 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
 #pragma omp single
     contact_velocities(s, gr, nc);
     /* 4. PBD's constraint damping */
-    if (damp_rates) sweep(s, k, nth, 0, alpha, gamma, gamma / (1 + gamma));
+    if (damp_rates) sweep(s, k, nth, 0, 0, alpha, gamma, gamma / (1 + gamma));
 #pragma omp for schedule(static)
     for (int i = 0; i < nv; i++) s->xm1[i] = x[i], x[i] = p[i];
 #pragma omp single

@@ -29,7 +29,7 @@
 
 #include "tb_model.h"
 
-#define TETS_PER_SLAB 1500 /* below this, a task costs less than the barrier after it */
+#define TETS_PER_SLAB 600 /* below this, a task costs less than the barrier after it */
 #define WIDE_SHARE 200
 
 typedef struct keyed {
