@@ -47,7 +47,8 @@ static void destroy(void *self) {
   free(s->depth), free(s->cids), free(s->cp), free(s->cdepth), free(s->cvn), free(s->keep),
       free(s->fric);
   free(s->tet), free(s->vol), free(s->dminv), free(s->lam), free(s->tmesh);
-  free(s->xo), free(s->vo), free(s->hit), free(s->orig), free(s->cost), free(s->busy), free(s->run);
+  free(s->xo), free(s->vo), free(s->hit), free(s->orig), free(s->cost), free(s->busy), free(s->run),
+      free(s->done);
   tb_tet_slabs_free(&s->sl);
   tb_carve_free(&s->carve);
   free(s);
@@ -119,11 +120,13 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
   s->cost = calloc((size_t)s->sl.ntasks, sizeof(double));
   s->busy = calloc((size_t)s->sl.ntasks, sizeof(double));
   s->run = malloc(sizeof(int) * 2 * (size_t)s->sl.ntasks);
-  if (!s->hit || !s->orig || !s->cost || !s->busy || !s->run) {
+  s->done = malloc(sizeof(atomic_int) * (size_t)s->sl.ntasks);
+  if (!s->hit || !s->orig || !s->cost || !s->busy || !s->run || !s->done) {
     tb_error_set(err, name, 0, "out of memory");
     goto fail;
   }
   memcpy(s->orig, order, sizeof(int) * T);
+  for (int q = 0; q < s->sl.ntasks; q++) atomic_init(&s->done[q], 0);
   return s;
 fail:
   destroy(s);

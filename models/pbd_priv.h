@@ -4,6 +4,8 @@
 #ifndef TB_PBD_PRIV_H
 #define TB_PBD_PRIV_H
 
+#include <stdatomic.h>
+
 #include "carve_priv.h"
 #include "tb_model.h"
 
@@ -37,6 +39,9 @@ typedef struct pbd {
   int share[4][PBD_MAX_THREADS + 1];
   int *run;
   double *cost, *busy;
+  /* per task: how often it has run in this step (the threads' sweeps wait
+   * on their conflicts' counts instead of on each other at every phase) */
+  atomic_int *done;
   int measured;
   /* hot, per node: current, previous and predicted positions, current and
    * previous velocity, mass, inverse mass (w) and the w the step uses (0 for

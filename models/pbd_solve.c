@@ -58,6 +58,7 @@
  * forces and prescribed nodes through it and ends by copying x and v into
  * the mesh's order. Nothing is allocated here. */
 #include <math.h>
+#include <sched.h>
 #include <string.h>
 
 #include "pbd_priv.h"
@@ -215,22 +216,36 @@ static void plan(pbd *s, int nth) {
   }
 }
 
+/* Waits until task c has run `need` times in this step. */
+static void wait_for(atomic_int *c, int need) {
+  for (int spins = 0; atomic_load_explicit(c, memory_order_acquire) < need; spins++)
+    if (spins > 1000) sched_yield(); /* the thread it waits for may need this core */
+}
+
 /* One sweep of project (damp_share < 0) or damp_rate (damp_share: its
  * share) over the tets, phase by phase, thread k of nth running its share
- * of each phase (none for k >= nth), a barrier after each phase; every
- * thread of the team calls it. back: in reverse (symmetric Gauss-Seidel:
- * forward and backward sweeps in turn, so that no direction of the mesh is
- * favoured). count: each task's tets with a free node into busy, the next
- * plan's costs. */
-static void sweep(pbd *s, int k, int nth, int back, int count, double alpha, double gamma,
+ * of each phase (none for k >= nth); every thread of the team calls it.
+ * back: in reverse (symmetric Gauss-Seidel: forward and backward sweeps in
+ * turn, so that no direction of the mesh is favoured). count: each task's
+ * tets with a free node into busy, the next plan's costs.
+ * occ NULL: a barrier ends each phase. Else occ[p] counts the runs of
+ * phase p so far in the step (the same on every thread), and a task waits
+ * only for its conflicts (the tasks of other phases sharing a node with
+ * it) to have run as often as their phases have before this one: every
+ * node still sees its tets in the same order, while a thread whose share
+ * of one phase ends early goes on with the next. */
+static void sweep(pbd *s, int k, int nth, int back, int count, int *occ, double alpha, double gamma,
                   double damp_share) {
-  const int *task = s->sl.task, *phase = s->sl.phase;
+  const int *task = s->sl.task, *phase = s->sl.phase, *cs = s->sl.conf_start, *conf = s->sl.conf;
   for (int f = 0; f < 4; f++) {
     int ph = back ? 3 - f : f;
     if (phase[ph] == phase[ph + 1]) continue;
     int lo = k < nth ? s->share[ph][k] : 0, hi = k < nth ? s->share[ph][k + 1] : 0;
     for (int r = lo; r < hi; r++) {
       int q = s->run[back ? lo + hi - 1 - r : r], free = 0;
+      if (occ)
+        for (int c = cs[q]; c < cs[q + 1]; c++)
+          wait_for(&s->done[conf[c]], occ[tb_tet_slabs_phase(&s->sl, conf[c])]);
       if (damp_share >= 0)
         for (int t = task[q]; t < task[q + 1]; t++) damp_rate(s, t, damp_share);
       else if (back)
@@ -238,8 +253,13 @@ static void sweep(pbd *s, int k, int nth, int back, int count, double alpha, dou
       else
         for (int t = task[q]; t < task[q + 1]; t++) free += project(s, t, alpha, gamma);
       if (count) s->busy[q] = free;
+      if (occ) atomic_store_explicit(&s->done[q], occ[ph] + 1, memory_order_release);
     }
+    if (occ)
+      occ[ph]++;
+    else {
 #pragma omp barrier
+    }
   }
 }
 
@@ -356,6 +376,8 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
       nth = tb_threads_team() < PBD_MAX_THREADS ? tb_threads_team() : PBD_MAX_THREADS;
       plan(s, nth);
       s->measured = 1;
+      for (int q = 0; q < s->sl.ntasks; q++)
+        atomic_store_explicit(&s->done[q], 0, memory_order_relaxed);
     }
     /* 1. prediction */
 #pragma omp for schedule(static)
@@ -383,13 +405,16 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
 #pragma omp single
     for (int f = 0; f < in->nfixed; f++) p[nw[in->fixed[f]]] = in->fixed_x[f];
     /* 2. projection */
+    int occ[4] = {0}; /* the phases' runs in this step (see sweep) */
     for (int it = 0; it < iters; it++) {
-      sweep(s, k, nth, it & 1, it == 0, alpha, gamma, -1);
-      if (gr) {
+      sweep(s, k, nth, it & 1, it == 0, nth > 1 ? occ : NULL, alpha, gamma, -1);
+      if (gr) { /* every node: after all of the sweep's tasks */
+#pragma omp barrier
 #pragma omp single
         nc = ground_sweep(s, gr);
       }
     }
+#pragma omp barrier
     /* 3. velocity */
 #pragma omp for schedule(static)
     for (int i = 0; i < nv; i++) {
@@ -401,7 +426,7 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
 #pragma omp single
     contact_velocities(s, gr, nc);
     /* 4. PBD's constraint damping */
-    if (damp_rates) sweep(s, k, nth, 0, 0, alpha, gamma, gamma / (1 + gamma));
+    if (damp_rates) sweep(s, k, nth, 0, 0, NULL, alpha, gamma, gamma / (1 + gamma));
 #pragma omp for schedule(static)
     for (int i = 0; i < nv; i++) s->xm1[i] = x[i], x[i] = p[i];
 #pragma omp single

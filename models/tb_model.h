@@ -358,8 +358,13 @@ typedef struct tb_tet_slabs {
   int nslabs, ntasks;
   int *old, *nw, *order, *task;
   int phase[5];
+  /* task q's conflicts conf[conf_start[q] .. conf_start[q+1]): the tasks of
+   * other phases that share a node with it, ascending */
+  int *conf_start, *conf;
 } tb_tet_slabs;
 int tb_tet_slabs_build(const tb_mesh *mesh, int max_slabs, tb_tet_slabs *s, tb_error *err);
+/* The phase task q belongs to. */
+int tb_tet_slabs_phase(const tb_tet_slabs *s, int q);
 /* The slabs the position-based models' sweeps use at most: 64 keeps 32
  * tasks a phase for 32 threads. */
 #define TB_SWEEP_SLABS 64

@@ -14,7 +14,10 @@
  *   2. the odd interfaces;
  *   3. the wide tets, one task.
  * The order in which every node sees its tets is fixed by the mesh alone,
- * so a sweep gives the same bits on any thread count. B is the largest
+ * so a sweep gives the same bits on any thread count. Each task also lists
+ * its conflicts, the tasks of other phases sharing a node with it: a
+ * thread may start a task once those have run (pbd_solve.c), without a
+ * barrier between phases. B is the largest
  * power of two up to max_slabs with at least TETS_PER_SLAB tets a slab and
  * at most 1 in WIDE_SHARE tets wide: B = 1 (one task, no threads) for small
  * meshes.
@@ -92,6 +95,55 @@ static int colour_tasks(const tb_mesh *mesh, tb_tet_slabs *s, uint64_t *key) {
   return 0;
 }
 
+/* The conflicts: for each task, the tasks of the other phases that share
+ * a node with it (tasks of one phase share none), by ascending task. */
+static int conflicts(const tb_mesh *mesh, tb_tet_slabs *s) {
+  const int nv = mesh->nv, nq = s->ntasks;
+  int *owner = malloc(sizeof(int) * 4 * (size_t)(nv ? nv : 1));
+  int *stamp = malloc(sizeof(int) * (size_t)nq);
+  s->conf_start = calloc((size_t)nq + 1, sizeof(int));
+  if (!owner || !stamp || !s->conf_start) return free(owner), free(stamp), -1;
+  for (int i = 0; i < 4 * nv; i++) owner[i] = -1;
+  for (int ph = 0; ph < 4; ph++)
+    for (int q = s->phase[ph]; q < s->phase[ph + 1]; q++)
+      for (int k = s->task[q]; k < s->task[q + 1]; k++)
+        for (int j = 0; j < 4; j++) owner[4 * mesh->tet[4 * s->order[k] + j] + ph] = q;
+  for (int pass = 0; pass < 2; pass++) {
+    for (int q = 0; q < nq; q++) stamp[q] = -1;
+    for (int q = 0; q < nq; q++) {
+      int n = 0, ph = tb_tet_slabs_phase(s, q);
+      for (int k = s->task[q]; k < s->task[q + 1]; k++)
+        for (int j = 0; j < 4; j++)
+          for (int p = 0; p < 4; p++) {
+            int c = owner[4 * mesh->tet[4 * s->order[k] + j] + p];
+            if (p == ph || c < 0 || stamp[c] == q) continue;
+            stamp[c] = q;
+            if (pass) s->conf[s->conf_start[q] + n] = c;
+            n++;
+          }
+      if (!pass) s->conf_start[q + 1] = s->conf_start[q] + n;
+    }
+    if (!pass) {
+      s->conf = malloc(sizeof(int) * (size_t)(s->conf_start[nq] ? s->conf_start[nq] : 1));
+      if (!s->conf) return free(owner), free(stamp), -1;
+    }
+  }
+  for (int q = 0; q < nq; q++) /* ascending (insertion: a few each) */
+    for (int a = s->conf_start[q] + 1; a < s->conf_start[q + 1]; a++)
+      for (int b = a; b > s->conf_start[q] && s->conf[b - 1] > s->conf[b]; b--) {
+        int t = s->conf[b];
+        s->conf[b] = s->conf[b - 1], s->conf[b - 1] = t;
+      }
+  free(owner), free(stamp);
+  return 0;
+}
+
+int tb_tet_slabs_phase(const tb_tet_slabs *s, int q) {
+  int ph = 0;
+  while (ph < 3 && q >= s->phase[ph + 1]) ph++;
+  return ph;
+}
+
 int tb_tet_slabs_build(const tb_mesh *mesh, int max_slabs, tb_tet_slabs *s, tb_error *err) {
   memset(s, 0, sizeof *s);
   const int nv = mesh->nv, nt = mesh->ntet;
@@ -158,6 +210,7 @@ int tb_tet_slabs_build(const tb_mesh *mesh, int max_slabs, tb_tet_slabs *s, tb_e
   } else {
     s->phase[1] = B, s->phase[2] = B + B / 2, s->phase[3] = 2 * B - 1, s->phase[4] = 2 * B;
   }
+  if (conflicts(mesh, s)) goto oom;
   free(k), free(slab), free(rank), free(key), free(count);
   return 0;
 oom:
@@ -167,6 +220,6 @@ oom:
 }
 
 void tb_tet_slabs_free(tb_tet_slabs *s) {
-  free(s->old), free(s->nw), free(s->order), free(s->task);
+  free(s->old), free(s->nw), free(s->order), free(s->task), free(s->conf_start), free(s->conf);
   memset(s, 0, sizeof *s);
 }

@@ -392,7 +392,7 @@ static void thread_table(tb_suite *su, const row *rows, int cores, const tb_nois
   static const char *cols[] = {"model (patent)",
                                "tets",
                                "slabs",
-                               "barriers a sweep",
+                               "phases a sweep",
                                "threads",
                                "ms/step wall, 1 thread (median)",
                                "ms/step wall, all threads (median)",
@@ -648,14 +648,16 @@ int tb_suite_pbd(const tb_suite_opts *o) {
                 "tet spanning three slabs, each phase's tasks sharing no node, each task's tets "
                 "in a fixed order; the ground, damping and friction run in node order, so the "
                 "thread count must not change a single bit: `identical` compares every position "
-                "after the run of 1 and of %d threads (memcmp).%s A phase ends in a barrier "
-                "(the `barriers a sweep` column; the ground adds one), so a step passes about "
-                "%d x that plus 8 barriers (one per colour, 20 to 50 a sweep, before). Each "
-                "thread runs a contiguous range of a phase's tasks, cut where the last step's "
-                "measured task times balance; a mesh too small for two slabs runs on one "
-                "thread. When the machine has more runnable work than cores, a thread "
-                "descheduled before a barrier still holds the others up, and the all-core "
-                "times grow beyond the one-thread ones.",
+                "after the run of 1 and of %d threads (memcmp).%s No barrier ends a phase "
+                "(one per colour, 20 to 50 a sweep, before): a task waits only for the tasks "
+                "of other phases that share a node with it to have run, so a thread whose "
+                "share of a phase ends early goes on with the next; about 8 barriers a step "
+                "remain (the ground adds one a sweep, %d a step). Each thread runs a "
+                "contiguous range of a phase's tasks, cut where the tasks' counts of tets with "
+                "a free node balance; a mesh too small for two slabs runs on one thread. When "
+                "the machine has more runnable work than cores, a descheduled thread still "
+                "holds up the tasks that wait for its own, and the all-core times grow beyond "
+                "the one-thread ones.",
                 cores, what, cores,
                 cores < 2 ? " With one core both runs use one thread, so this shows nothing." : "",
                 ITERS);
