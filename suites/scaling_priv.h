@@ -24,18 +24,27 @@ typedef struct cell {
   char why[160];
 } cell;
 
-/* One model on the threads table's mesh: a run on one thread and one on
- * every core, live side by side and taking turns step by step. */
+/* One model on a threads mesh: runs on 1, 2, 4, ... threads and on every
+ * core, live side by side and taking turns step by step. */
+#define SCALING_MAX_COUNTS 6 /* 1, 2, 4, 8, 16 and the cores at most */
 typedef struct thread_cell {
-  int ok, steps;                               /* steps: timed steps of each run */
-  double one_wall, one_cpu, all_wall, all_cpu; /* medians, ms per step */
-  tb_est speedup;            /* one thread's wall time over all threads', paired by step */
-  uint64_t sum_one, sum_all; /* hashes of positions and velocities after the runs */
-  int busy;                  /* the machine did not leave the cores free (tb_suite_noise) */
-  double others;             /* the cores other processes kept busy */
-  int cores;                 /* the machine's */
+  int ok, steps;                 /* steps: timed steps of each run */
+  int ncounts;                   /* counts run; [ncounts - 1]: every core */
+  int count[SCALING_MAX_COUNTS]; /* their thread counts */
+  double wall[SCALING_MAX_COUNTS], cpu[SCALING_MAX_COUNTS]; /* medians, ms per step */
+  tb_est speedup[SCALING_MAX_COUNTS]; /* one thread's wall time over this count's, paired by step */
+  int identical;                      /* positions and velocities the same bits on every count */
+  int busy;      /* the machine did not leave the cores free (tb_suite_noise) */
+  double others; /* the cores other processes kept busy */
+  int cores;     /* the machine's */
   char why[160];
 } thread_cell;
+
+/* The speed-up a count of n threads is predicted to reach from the
+ * measured one on the most threads (Karp & Flatt 1990: the serial share e
+ * that explains it, held constant): 1 / (e + (1 - e) / n); *e gets the
+ * share. NAN when fewer than 2 threads were measured. */
+double tb_scaling_predict(const thread_cell *t, int n, double *e);
 
 /* One mesh of the ladder. */
 typedef struct size_row {
@@ -47,11 +56,11 @@ typedef struct size_row {
 
 typedef struct scaling_run {
   int nsizes, nm, cores, big, frames; /* big: the largest mesh made (-1: none) */
-  int threads_row;                    /* the size of the one against all threads table */
+  int nthread_rows, thread_rows[2];   /* the sizes the thread counts run on */
   double budget, seconds;
   size_row rows[SCALING_MAX_SIZES];
   cell cells[SCALING_MAX_MODELS][SCALING_MAX_SIZES]; /* [model of the table][size], 1 thread */
-  thread_cell thr[SCALING_MAX_MODELS]; /* one thread against all on the threads mesh */
+  thread_cell thr[SCALING_MAX_MODELS][2];            /* [model][thread row]: the thread counts */
 } scaling_run;
 
 /* Tables, notes and charts; 1 when something failed. */

@@ -16,12 +16,16 @@
  *     (the scene's copy of the mesh included), per tet. (A forked child
  *     cannot be used: CHOLMOD starts OpenMP threads, and libgomp hangs in a
  *     child of a process that has used them.)
- *  3. One thread against all cores at 100 000 tets (tiny runs: the
- *     largest): the two runs live side by side, taking turns step by step;
- *     wall ms per step (CPU beside), the speed-up (the median of the steps'
- *     paired wall-time ratios, with its 95% interval; "not measurable" when
- *     other processes held the cores), and whether positions and velocities
- *     after the same steps are bit-identical (a hash of their bytes).
+ *  3. Threads at 12 800 and 100 000 tets (the patent's liver and ten
+ *     times it; tiny runs: the largest): runs on 1, 2, 4, ... threads and
+ *     on every core live side by side, taking turns step by step; wall ms
+ *     per step (CPU beside), each count's speed-up over one thread (the
+ *     median of the steps' paired wall-time ratios, with its 95% interval;
+ *     "not measurable" when other processes held the cores), whether
+ *     positions and velocities after the same steps are bit-identical on
+ *     every count (a hash of their bytes), and the speed-up predicted for
+ *     4, 8 and 16 cores from the one measured on the most
+ *     (tb_scaling_predict).
  *  4. Collision: the composite hierarchy (collision/tb_bvh.h) over all tet
  *     faces of each liver (the thesis's liver model, as the refit suite)
  *     against the instrument held inside it, the liver deformed every frame
@@ -46,12 +50,15 @@
 #include "scenes/tb_sim.h"
 
 #define MAX_STEPS 400
-#define THREADS_TETS 100000 /* one thread against all at this size */
-#define THREADS_QUICK_S 12  /* quick mode: a model's thread runs take at most this long */
+#define THREADS_QUICK_S 12 /* quick mode: a model's thread runs take at most this long */
+
+/* The sizes of the thread runs: the patent's liver (table 2's largest) and
+ * ten times it. */
+static const int thread_sizes[] = {12800, 100000};
 
 /* Tet counts: --full, the default (quick) and --scale < 1 (tests). */
-static const int ladder_full[] = {600, 1200, 2500, 5000, 10000, 20000, 50000, 100000, 200000};
-static const int ladder_quick[] = {600, 2500, 10000, 40000, 100000};
+static const int ladder_full[] = {600, 1200, 2500, 5000, 12800, 20000, 50000, 100000, 200000};
+static const int ladder_quick[] = {600, 2500, 12800, 40000, 100000};
 static const int ladder_tiny[] = {600, 1200, 2500};
 
 static uint64_t fnv(uint64_t h, const void *p, size_t n) {
@@ -186,37 +193,57 @@ static void run_measured(const tb_mesh *mesh, const char *model, double budget, 
   c->rss = reset ? status_kb("VmHWM:") - rss0 : NAN;
 }
 
-/* model on mesh on one thread and on `cores`, the two runs live side by
- * side and taking turns step by step (one warm-up step each, then steps
- * timed), so that a busy spell of the machine falls on both alike and step
+/* The thread counts run on a machine of `cores`: 1, 2, 4, ... below it,
+ * then the cores; at most SCALING_MAX_COUNTS (16 and the cores beyond). */
+static int thread_counts(int cores, int *count) {
+  int n = 0;
+  for (int c = 1; c < cores && n < SCALING_MAX_COUNTS - 1 && c <= 16; c *= 2) count[n++] = c;
+  count[n++] = cores;
+  return n;
+}
+
+/* model on mesh on each thread count (thread_counts), the runs live side
+ * by side and taking turns step by step (one warm-up step each, then steps
+ * timed), so that a busy spell of the machine falls on all alike and step
  * k of each is the same step of the scene. */
 static void run_threads(tb_suite *su, const tb_mesh *mesh, const char *model, int cores, int steps,
                         thread_cell *t) {
   memset(t, 0, sizeof *t);
-  double *store = malloc(sizeof(double) * 4 * MAX_STEPS);
-  if (!store) {
+  t->ncounts = thread_counts(cores, t->count);
+  const int nc = t->ncounts;
+  double *store = malloc(sizeof(double) * 2 * MAX_STEPS * (size_t)nc);
+  stepper *u = calloc((size_t)nc, sizeof *u);
+  if (!store || !u) {
     snprintf(t->why, sizeof t->why, "out of memory");
+    free(store), free(u);
     return;
   }
-  stepper u[2];
-  stepper_open(&u[0], mesh, model, 1, store);
-  stepper_open(&u[1], mesh, model, cores, store + 2 * MAX_STEPS);
-  for (int q = 0; q < 2; q++) stepper_step(&u[q], 0);
-  for (int k = 0; k < steps && !u[0].failed && !u[1].failed; k++)
-    for (int q = 0; q < 2; q++) stepper_step(&u[q], 1);
-  if (u[0].failed || u[1].failed) {
-    snprintf(t->why, sizeof t->why, "%s%.140s",
-             u[0].failed ? "" : "all threads: ", u[u[0].failed ? 0 : 1].err.msg);
+  int failed = -1; /* the first count that failed */
+  for (int q = 0; q < nc; q++)
+    stepper_open(&u[q], mesh, model, t->count[q], store + 2 * MAX_STEPS * q);
+  for (int q = 0; q < nc; q++) stepper_step(&u[q], 0);
+  for (int k = 0; k < steps && failed < 0; k++)
+    for (int q = 0; q < nc && failed < 0; q++) {
+      stepper_step(&u[q], 1);
+      if (u[q].failed) failed = q;
+    }
+  for (int q = 0; q < nc && failed < 0; q++)
+    if (u[q].failed) failed = q;
+  if (failed >= 0) {
+    snprintf(t->why, sizeof t->why, "%d thread%s: %.140s", t->count[failed],
+             t->count[failed] > 1 ? "s" : "", u[failed].err.msg);
   } else {
     int n = u[0].n;
-    t->ok = 1, t->steps = n;
-    t->one_wall = tb_stats_of(u[0].wall, n).median, t->one_cpu = tb_stats_of(u[0].cpu, n).median;
-    t->all_wall = tb_stats_of(u[1].wall, n).median, t->all_cpu = tb_stats_of(u[1].cpu, n).median;
-    t->speedup = tb_ratio_est(u[0].wall, u[1].wall, n);
-    t->sum_one = stepper_sum(&u[0]), t->sum_all = stepper_sum(&u[1]);
+    uint64_t sum0 = stepper_sum(&u[0]);
+    t->ok = 1, t->steps = n, t->identical = 1;
+    for (int q = 0; q < nc; q++) {
+      t->wall[q] = tb_stats_of(u[q].wall, n).median, t->cpu[q] = tb_stats_of(u[q].cpu, n).median;
+      t->speedup[q] = tb_ratio_est(u[0].wall, u[q].wall, n);
+      t->identical &= stepper_sum(&u[q]) == sum0;
+    }
   }
-  for (int q = 0; q < 2; q++) stepper_close(&u[q]);
-  free(store);
+  for (int q = 0; q < nc; q++) stepper_close(&u[q]);
+  free(store), free(u);
   tb_noise nz = tb_suite_noise(su, cores);
   t->busy = nz.busy, t->others = nz.others, t->cores = nz.cores;
 }
@@ -352,7 +379,9 @@ static int model_case(tb_suite *su, scaling_mesh *sm, const char *model, double 
       if (!one->ok) fprintf(stderr, "scaling: %s on %d tets: %s\n", model, m->ntet, one->why);
     }
     int pairs = one->steps > min_steps ? one->steps : min_steps;
-    double secs = 2e-3 * pairs * one->wall; /* the thread runs' time, about */
+    int counts[SCALING_MAX_COUNTS];
+    double secs = 1e-3 * pairs * one->wall * thread_counts(cores > 0 ? cores : 1, counts);
+    /* the thread runs' time, at most about (no count slower than one thread) */
     if (m && cores && one->ok && secs <= cap_s)
       run_threads(su, m, model, cores, pairs, thr);
     else if (cores && one->ok)
@@ -367,13 +396,16 @@ static int model_case(tb_suite *su, scaling_mesh *sm, const char *model, double 
     c.nv = 7, c.nt = 1;
     if (cores) {
       double *x = c.v + 7;
-      x[0] = thr->ok, x[1] = thr->steps, x[2] = thr->one_wall, x[3] = thr->one_cpu;
-      x[4] = thr->all_wall, x[5] = thr->all_cpu, x[6] = thr->speedup.value;
-      x[7] = thr->speedup.lo, x[8] = thr->speedup.hi, x[9] = thr->speedup.n;
-      put_sum(x + 10, thr->sum_one), put_sum(x + 12, thr->sum_all);
-      x[14] = thr->busy, x[15] = thr->others, x[16] = thr->cores;
+      x[0] = thr->ok, x[1] = thr->steps, x[2] = thr->ncounts, x[3] = thr->identical;
+      x[4] = thr->busy, x[5] = thr->others, x[6] = thr->cores;
+      for (int q = 0; q < thr->ncounts; q++) {
+        double *y = x + 7 + 7 * q;
+        y[0] = thr->count[q], y[1] = thr->wall[q], y[2] = thr->cpu[q];
+        y[3] = thr->speedup[q].value, y[4] = thr->speedup[q].lo, y[5] = thr->speedup[q].hi;
+        y[6] = thr->speedup[q].n;
+      }
       snprintf(c.t[1], sizeof c.t[1], "%s", thr->why);
-      c.nv = 7 + 17, c.nt = 2;
+      c.nv = 7 + 7 + 7 * SCALING_MAX_COUNTS, c.nt = 2;
     }
     tb_suite_case_done(su, &c);
   } else {
@@ -383,16 +415,20 @@ static int model_case(tb_suite *su, scaling_mesh *sm, const char *model, double 
     snprintf(one->why, sizeof one->why, "%.159s", c.t[0]);
     if (cores) {
       const double *x = c.v + 7;
-      thr->ok = (int)x[0], thr->steps = (int)x[1], thr->one_wall = x[2], thr->one_cpu = x[3];
-      thr->all_wall = x[4], thr->all_cpu = x[5];
-      thr->speedup = (tb_est){x[6], x[7], x[8], (int)x[9]};
-      thr->sum_one = get_sum(x + 10), thr->sum_all = get_sum(x + 12);
-      thr->busy = (int)x[14], thr->others = x[15], thr->cores = (int)x[16];
+      thr->ok = (int)x[0], thr->steps = (int)x[1], thr->ncounts = (int)x[2];
+      thr->identical = (int)x[3], thr->busy = (int)x[4], thr->others = x[5];
+      thr->cores = (int)x[6];
+      if (thr->ncounts < 0 || thr->ncounts > SCALING_MAX_COUNTS) thr->ok = 0, thr->ncounts = 0;
+      for (int q = 0; q < thr->ncounts; q++) {
+        const double *y = x + 7 + 7 * q;
+        thr->count[q] = (int)y[0], thr->wall[q] = y[1], thr->cpu[q] = y[2];
+        thr->speedup[q] = (tb_est){y[3], y[4], y[5], (int)y[6]};
+      }
       snprintf(thr->why, sizeof thr->why, "%.159s", c.t[1]);
     }
   }
   /* the thread count must not change a bit */
-  return cores && one->ok && thr->ok && thr->sum_one != thr->sum_all;
+  return cores && one->ok && thr->ok && !thr->identical;
 }
 
 int tb_suite_scaling(const tb_suite_opts *o) {
@@ -416,10 +452,11 @@ int tb_suite_scaling(const tb_suite_opts *o) {
   sr->budget = o->full ? 1.0 : (o->scale < 1 ? 0.02 : 0.12); /* timed seconds per cell */
   sr->frames = o->full ? 20 : (o->scale < 1 ? 3 : 6);
   sr->nm = tb_model_count < SCALING_MAX_MODELS ? tb_model_count : SCALING_MAX_MODELS;
-  sr->cores = tb_threads_cores(), sr->big = -1, sr->threads_row = nsizes - 1;
-  for (int r = 0; r < nsizes;
-       r++) /* threads: at 100 000 tets (the size), else the largest */
-    if (ladder[r] == THREADS_TETS) sr->threads_row = r;
+  sr->cores = tb_threads_cores(), sr->big = -1;
+  for (int r = 0; r < nsizes; r++) /* the thread runs' sizes, else the largest */
+    for (int q = 0; q < 2; q++)
+      if (ladder[r] == thread_sizes[q]) sr->thread_rows[sr->nthread_rows++] = r;
+  if (sr->nthread_rows == 0) sr->thread_rows[sr->nthread_rows++] = nsizes - 1;
   int threads_before = tb_threads_setting(), failed = 0, nm = sr->nm, cores = sr->cores;
   int min_steps = o->scale < 1 ? 3 : TB_EST_MIN; /* the thread runs' pairs */
   /* quick mode bounds a model's thread runs (a step of seconds would take
@@ -447,10 +484,12 @@ int tb_suite_scaling(const tb_suite_opts *o) {
     sm.tets = ladder[r], sm.seed = o->seed;
     failed |= size_case(su, &sm, &inst, frames, &rows[r]);
     if (rows[r].ok) sr->big = r;
+    int tr = -1; /* this size's thread row */
+    for (int q = 0; q < sr->nthread_rows; q++)
+      if (sr->thread_rows[q] == r) tr = q;
     for (int k = 0; k < nm; k++)
-      failed |=
-          model_case(su, &sm, tb_model_classes[k]->name, budget, r == sr->threads_row ? cores : 0,
-                     min_steps, cap_s, &cells[k][r], &sr->thr[k]);
+      failed |= model_case(su, &sm, tb_model_classes[k]->name, budget, tr >= 0 ? cores : 0,
+                           min_steps, cap_s, &cells[k][r], tr >= 0 ? &sr->thr[k][tr] : NULL);
     if (sm.made > 0) tb_mesh_free(&sm.mesh);
   }
   tb_progress("scaling", nsizes, nsizes);

@@ -12,12 +12,27 @@
 #include "scaling_priv.h"
 #include "models/tb_model.h"
 
-/* The thread table's speed goals: the model on all cores at least this many
- * times its one-thread speed, at the size of the thread table. */
+/* The thread runs' speed goals: the model on 2 threads at least this many
+ * times its one-thread speed (wall time) at about this many tets. */
 static const struct {
   const char *model;
+  int tets;
   double speedup;
-} thread_goals[] = {{"msm", 1.7}, {"sm", 1.7}};
+} thread_goals[] = {{"pbd-stvk", 12800, 1.8},  {"msm", 12800, 1.8},  {"sm", 12800, 1.8},
+                    {"pbd-stvk", 100000, 1.9}, {"msm", 100000, 1.9}, {"sm", 100000, 1.9}};
+
+/* The core counts a prediction is given for. */
+static const int predicted[] = {4, 8, 16};
+
+double tb_scaling_predict(const thread_cell *t, int n, double *e) {
+  *e = NAN;
+  int q = t->ncounts - 1;
+  if (!t->ok || q < 1 || t->count[q] < 2 || !(t->speedup[q].value > 0)) return NAN;
+  double p = t->count[q], s = t->speedup[q].value;
+  *e = fmax(0, (1 / s - 1 / p) / (1 - 1 / p)); /* superlinear: no serial share */
+  if (*e >= 1) return NAN;                     /* no gain measured: nothing to extrapolate */
+  return 1 / (*e + (1 - *e) / n);
+}
 
 /* A least-squares line log10(y) = a + b log10(x). */
 typedef struct fit {
@@ -186,7 +201,9 @@ static const char *busy_text(const thread_cell *t, int cores, char *buf, size_t 
   return buf;
 }
 
-/* The threads table; returns 1 when a count changed a bit. */
+/* The threads table, one row per model and size: one thread against every
+ * core, and the speed-ups predicted for more cores; returns 1 when a count
+ * changed a bit. */
 static int thread_table(tb_suite *su, const scaling_run *sr) {
   static const char *cols[] = {"model",
                                "tets",
@@ -199,45 +216,109 @@ static int thread_table(tb_suite *su, const scaling_run *sr) {
                                "speed-up low",
                                "speed-up high",
                                "speed-up measurable",
-                               "identical"};
+                               "identical",
+                               "serial share (Karp-Flatt)",
+                               "predicted speed-up, 4 cores",
+                               "predicted speed-up, 8 cores",
+                               "predicted speed-up, 16 cores"};
   char title[240];
-  int r = sr->rows[sr->threads_row].ok ? sr->threads_row : -1, bad = 0;
+  int bad = 0;
   snprintf(title, sizeof title,
-           "One thread against all %d cores on the %d-tet liver (wall time, CPU beside; the runs "
-           "taking turns step by step): positions and velocities after the same steps "
-           "bit-identical?",
-           sr->cores, r >= 0 ? sr->rows[r].ntet : 0);
-  tb_table *t = tb_table_new("threads", title, 12, cols);
+           "Threads: one against all %d cores (measured, wall time, CPU beside; the runs taking "
+           "turns step by step; bit-identical on every count?) and the speed-ups predicted for "
+           "4, 8 and 16 cores",
+           sr->cores);
+  tb_table *t = tb_table_new("threads", title, 16, cols);
   tb_table_only(t, 8, TB_CSV_ONLY), tb_table_only(t, 9, TB_CSV_ONLY);
-  for (int k = 0; k < sr->nm && r >= 0; k++) {
-    const thread_cell *x = &sr->thr[k];
-    tb_table_row(t);
-    tb_table_cell(t, "%s", tb_model_classes[k]->name);
-    tb_table_num(t, sr->rows[r].ntet, "%.0f");
-    tb_table_num(t, sr->cores, "%.0f");
-    if (!x->ok) {
-      for (int c = 3; c < 11; c++) tb_table_cell(t, "-");
-      tb_table_cell(t, "%s", x->why[0] ? x->why : "-");
-      continue;
+  for (int k = 0; k < sr->nm; k++)
+    for (int g = 0; g < sr->nthread_rows; g++) {
+      int r = sr->thread_rows[g];
+      if (!sr->rows[r].ok) continue;
+      const thread_cell *x = &sr->thr[k][g];
+      int a = x->ncounts - 1;
+      tb_table_row(t);
+      tb_table_cell(t, "%s", tb_model_classes[k]->name);
+      tb_table_num(t, sr->rows[r].ntet, "%.0f");
+      tb_table_num(t, sr->cores, "%.0f");
+      if (!x->ok || a < 0) {
+        for (int c = 3; c < 11; c++) tb_table_cell(t, "-");
+        tb_table_cell(t, "%s", x->why[0] ? x->why : "-");
+        for (int c = 12; c < 16; c++) tb_table_cell(t, "-");
+        continue;
+      }
+      tb_table_num(t, x->wall[0], "%.4g");
+      tb_table_num(t, x->wall[a], "%.4g");
+      tb_table_num(t, x->cpu[0], "%.4g");
+      tb_table_num(t, x->cpu[a], "%.4g");
+      tb_est su_all = x->speedup[a];
+      if (isfinite(su_all.value))
+        tb_table_numf(t, su_all.value, "%.2fx (%.2f-%.2f)", su_all.value, su_all.lo, su_all.hi);
+      else
+        tb_table_cell(t, "-");
+      tb_table_num(t, su_all.lo, "%.6g"), tb_table_num(t, su_all.hi, "%.6g");
+      char busy[160];
+      const char *why = busy_text(x, sr->cores, busy, sizeof busy);
+      tb_table_cell(t, "%s", why ? why : "yes");
+      tb_table_cell(t, "%s", x->identical ? "yes" : "NO");
+      bad |= !x->identical;
+      double e;
+      tb_scaling_predict(x, 2, &e);
+      tb_table_num(t, why ? NAN : e, "%.3f");
+      for (int c = 0; c < 3; c++) /* none where the threads gained nothing (e >= 1) */
+        tb_table_num(t, why ? NAN : tb_scaling_predict(x, predicted[c], &e), "%.2f");
     }
-    tb_table_num(t, x->one_wall, "%.4g");
-    tb_table_num(t, x->all_wall, "%.4g");
-    tb_table_num(t, x->one_cpu, "%.4g");
-    tb_table_num(t, x->all_cpu, "%.4g");
-    if (isfinite(x->speedup.value))
-      tb_table_numf(t, x->speedup.value, "%.2fx (%.2f-%.2f)", x->speedup.value, x->speedup.lo,
-                    x->speedup.hi);
-    else
-      tb_table_cell(t, "-");
-    tb_table_num(t, x->speedup.lo, "%.6g"), tb_table_num(t, x->speedup.hi, "%.6g");
-    char busy[160];
-    const char *why = busy_text(x, sr->cores, busy, sizeof busy);
-    tb_table_cell(t, "%s", why ? why : "yes");
-    tb_table_cell(t, "%s", x->sum_one == x->sum_all ? "yes" : "NO");
-    bad |= x->sum_one != x->sum_all;
-  }
   tb_suite_table(su, t);
   return bad;
+}
+
+/* Every count measured and predicted, tidy: one row per model, size and
+ * count, measured or predicted. */
+static void thread_axis_table(tb_suite *su, const scaling_run *sr) {
+  static const char *cols[] = {"model",
+                               "tets",
+                               "threads",
+                               "source",
+                               "ms/step wall (median)",
+                               "ms/step CPU (median)",
+                               "speed-up",
+                               "speed-up low",
+                               "speed-up high"};
+  tb_table *t = tb_table_new("thread-axis",
+                             "Speed-up against threads: measured on this machine's counts, "
+                             "predicted (Karp-Flatt) beyond them",
+                             9, cols);
+  for (int k = 0; k < sr->nm; k++)
+    for (int g = 0; g < sr->nthread_rows; g++) {
+      int r = sr->thread_rows[g];
+      const thread_cell *x = &sr->thr[k][g];
+      if (!sr->rows[r].ok || !x->ok) continue;
+      char busy[160];
+      int measurable = !busy_text(x, sr->cores, busy, sizeof busy);
+      for (int q = 0; q < x->ncounts; q++) {
+        tb_table_row(t);
+        tb_table_cell(t, "%s", tb_model_classes[k]->name);
+        tb_table_num(t, sr->rows[r].ntet, "%.0f");
+        tb_table_num(t, x->count[q], "%.0f");
+        tb_table_cell(t, "measured");
+        tb_table_num(t, x->wall[q], "%.4g"), tb_table_num(t, x->cpu[q], "%.4g");
+        tb_table_num(t, x->speedup[q].value, "%.3f");
+        tb_table_num(t, x->speedup[q].lo, "%.3f"), tb_table_num(t, x->speedup[q].hi, "%.3f");
+      }
+      for (int c = 0; c < 3 && measurable; c++) {
+        if (predicted[c] <= x->count[x->ncounts - 1]) continue;
+        double e, v = tb_scaling_predict(x, predicted[c], &e);
+        if (!isfinite(v)) continue;
+        tb_table_row(t);
+        tb_table_cell(t, "%s", tb_model_classes[k]->name);
+        tb_table_num(t, sr->rows[r].ntet, "%.0f");
+        tb_table_num(t, predicted[c], "%.0f");
+        tb_table_cell(t, "predicted");
+        for (int z = 0; z < 2; z++) tb_table_num(t, NAN, "%.4g");
+        tb_table_num(t, v, "%.3f");
+        for (int z = 0; z < 2; z++) tb_table_num(t, NAN, "%.3f");
+      }
+    }
+  tb_suite_table(su, t);
 }
 
 static void collision_table(tb_suite *su, const scaling_run *sr) {
@@ -324,8 +405,58 @@ static int charts(tb_suite *su, const scaling_run *sr) {
     }
     put(&cl, "\n", 0);
   }
+  /* speed-up against threads on the largest thread size: measured, and
+   * predicted (dashed) */
+  buf td = {0}, tp = {0};
+  char th[1024];
+  int tl = snprintf(th, sizeof th, "threads");
+  for (int k = 0; k < sr->nm; k++)
+    tl += snprintf(th + tl, sizeof th - (size_t)tl, ",%s", tb_model_classes[k]->name);
+  snprintf(th + tl, sizeof th - (size_t)tl, ",linear");
+  int g = sr->nthread_rows - 1, gr = sr->thread_rows[g], ref = -1;
+  for (int k = 0; k < sr->nm && ref < 0; k++)
+    if (sr->thr[k][g].ok) ref = k;
+  for (int q = 0; ref >= 0 && q < sr->thr[ref][g].ncounts; q++) {
+    int n = sr->thr[ref][g].count[q];
+    put(&td, "%.0f", n);
+    for (int k = 0; k < sr->nm; k++) {
+      const thread_cell *x = &sr->thr[k][g];
+      put(&td, ",%.6g", x->ok && q < x->ncounts ? x->speedup[q].value : NAN);
+    }
+    put(&td, ",%.6g\n", n);
+  }
+  for (int n = 1; ref >= 0 && n <= 16; n *= 2) {
+    put(&tp, "%.0f", n);
+    for (int k = 0; k < sr->nm; k++) {
+      double e;
+      char busy[160];
+      const thread_cell *x = &sr->thr[k][g];
+      put(&tp, ",%.6g",
+          busy_text(x, sr->cores, busy, sizeof busy) ? NAN : tb_scaling_predict(x, n, &e));
+    }
+    put(&tp, ",%.6g\n", n);
+  }
+  char vars[400];
+  snprintf(vars, sizeof vars,
+           "title='Speed-up against threads, %d tets, liver-stretch (solid: measured on this "
+           "machine; dashed: predicted, Karp-Flatt)'; xlabel='threads'; ylabel='speed-up over "
+           "one thread (wall time)'; logx=1; logy=1; fitfile='threads_fit.csv'",
+           sr->rows[gr].ntet);
   int rc = 0;
   tb_error err;
+  if (ref >= 0 && td.p && tp.p &&
+      (tb_suite_write_data(su, "threads.csv", th, td.p, &err) ||
+       tb_suite_write_data(su, "threads_fit.csv", th, tp.p, &err) ||
+       tb_suite_chart_vars(su, "chart_lines.gp", "threads.csv", "threads", vars, &err))) {
+    fprintf(stderr, "scaling: %s\n", err.msg);
+    rc = 1;
+  } else if (ref >= 0 && td.p && tp.p) {
+    tb_suite_caption(su, "threads",
+                     "Speed-up over one thread against the thread count on the largest liver "
+                     "of the thread runs: measured on this machine's counts (solid), predicted "
+                     "beyond them from the serial share the most threads showed (dashed)");
+  }
+  free(td.p), free(tp.p);
   const char *ch = "triangles,refit,query,refit + query";
   if (!data.p || !line.p || !cd.p || !cl.p ||
       tb_suite_write_data(su, "time.csv", head, data.p, &err) ||
@@ -393,42 +524,69 @@ int tb_scaling_report(tb_suite *su, const scaling_run *sr) {
                 "cannot take a tet liver, or blew up on every size, is listed as skipped with "
                 "its reason.");
   failed |= thread_table(su, sr);
-  int r = sr->rows[sr->threads_row].ok ? sr->threads_row : -1;
-  tb_suite_note(su,
-                "One thread against all %d cores, set explicitly (not the automatic count): the "
-                "two runs of a model (one warm-up step each, then as many steps as its "
-                "one-thread run above timed, at least %d) live side by side and take turns step "
-                "by step, so that a busy spell of the machine falls on both alike; the speed-up "
-                "is the median of the steps' paired wall-time ratios (one thread over all) with "
-                "its 95%% interval. When other processes did not leave the cores free (over the "
-                "suite up to that run), the speed-up is not measurable and says so; the numbers "
-                "are still shown.",
-                sr->cores, TB_EST_MIN);
-  for (int q = 0; q < (int)(sizeof thread_goals / sizeof thread_goals[0]) && r >= 0; q++)
-    for (int k = 0; k < sr->nm; k++) {
-      const char *name = tb_model_classes[k]->name;
-      if (strcmp(name, thread_goals[q].model)) continue;
-      const thread_cell *x = &sr->thr[k];
-      double goal = thread_goals[q].speedup;
-      char v[200], busy[160], key[64];
-      const char *why = busy_text(x, sr->cores, busy, sizeof busy);
-      if (!x->ok)
-        snprintf(v, sizeof v, "not measured (%s)", x->why);
-      else if (why)
-        snprintf(v, sizeof v, "%s", why);
-      else
-        tb_verdict_text(x->speedup, goal, 1, v, sizeof v);
-      tb_suite_note(su,
-                    "Speed goal: %s on %d threads at least %.1fx one thread at %d tets (wall "
-                    "time): %.2fx, 95%% interval %.2f-%.2f over %d steps; %s.",
-                    name, sr->cores, goal, sr->rows[r].ntet, x->speedup.value, x->speedup.lo,
-                    x->speedup.hi, x->speedup.n, v);
-      snprintf(key, sizeof key, "thread_goal/%s", name);
-      tb_suite_counter_est(su, key, "speedup", x->speedup);
-      tb_suite_counter(su, key, "goal", goal);
-      tb_suite_counter(su, key, "measurable", x->ok && !why);
-      if (x->ok && !why) tb_suite_counter(su, key, "verdict", tb_verdict(x->speedup, goal, 1));
-    }
+  thread_axis_table(su, sr);
+  tb_suite_note(
+      su,
+      "Threads, set explicitly (not the automatic count): a model's runs on 1, 2, 4, ... "
+      "threads and on all %d cores (one warm-up step each, then as many steps as its "
+      "one-thread run above timed, at least %d) live side by side and take turns step by step, "
+      "so that a busy spell of the machine falls on all alike; a speed-up is the median of the "
+      "steps' paired wall-time ratios (one thread over the count) with its 95%% interval. When "
+      "other processes did not leave the cores free (over the suite up to that run), the "
+      "speed-up is not measurable and says so; the numbers are still shown. Measured columns "
+      "are this machine's counts; the predicted columns (and the `predicted` rows of "
+      "table-thread-axis.csv, dashed in the chart) extrapolate the speed-up measured on the "
+      "most threads, p, by Karp and Flatt's serial share e = (1/S - 1/p) / (1 - 1/p), held "
+      "constant: S(n) = 1 / (e + (1 - e) / n). e lumps what the measurement saw: the serial "
+      "parts, the barriers, the work imbalance, the memory traffic between cores. The "
+      "prediction is optimistic where those grow with n (a barrier across more cores costs "
+      "more, memory bandwidth is shared by all cores, pbd's sweeps have 2 tasks a slab and "
+      "at most %d slabs, so n beyond the tasks of a phase waits) and pessimistic where the "
+      "measured run was held up by something n does not make worse (one slow step, another "
+      "process). Where the threads gained nothing (e >= 1) nothing is predicted. A machine "
+      "with more cores runs the same suite and gets measured columns instead.",
+      sr->cores, TB_EST_MIN, TB_SWEEP_SLABS);
+  for (int q = 0; q < (int)(sizeof thread_goals / sizeof thread_goals[0]); q++) {
+    const char *name = thread_goals[q].model;
+    double goal = thread_goals[q].speedup;
+    int k = 0, g = 0, two = -1; /* the model, its thread row, the count of 2 threads */
+    while (k < sr->nm && strcmp(tb_model_classes[k]->name, name)) k++;
+    while (g < sr->nthread_rows && !(sr->rows[sr->thread_rows[g]].ok &&
+                                     fabs((double)sr->rows[sr->thread_rows[g]].ntet -
+                                          thread_goals[q].tets) <= 0.1 * thread_goals[q].tets))
+      g++;
+    const thread_cell *x = k < sr->nm && g < sr->nthread_rows ? &sr->thr[k][g] : NULL;
+    for (int c = 0; x && c < x->ncounts; c++)
+      if (x->count[c] == 2) two = c;
+    tb_est est = two >= 0 ? x->speedup[two] : (tb_est){NAN, NAN, NAN, 0};
+    char v[200], busy[160], key[64];
+    const char *why = x ? busy_text(x, sr->cores, busy, sizeof busy) : NULL;
+    if (!x)
+      snprintf(v, sizeof v, "not measured (no thread runs at about %d tets in this run)",
+               thread_goals[q].tets);
+    else if (!x->ok)
+      snprintf(v, sizeof v, "not measured (%s)", x->why);
+    else if (two < 0)
+      snprintf(v, sizeof v, "not measured (one core)");
+    else if (why)
+      snprintf(v, sizeof v, "%s", why);
+    else
+      tb_verdict_text(est, goal, 1, v, sizeof v);
+    char got[120] = "";
+    if (est.n > 0)
+      snprintf(got, sizeof got, "%.2fx, 95%% interval %.2f-%.2f over %d steps; ", est.value, est.lo,
+               est.hi, est.n);
+    tb_suite_note(su,
+                  "Speed goal: %s on 2 threads at least %.1fx one thread at %d tets (wall "
+                  "time): %s%s.",
+                  name, goal, x ? sr->rows[sr->thread_rows[g]].ntet : thread_goals[q].tets, got, v);
+    int measurable = x && x->ok && two >= 0 && !why;
+    snprintf(key, sizeof key, "thread_goal/%s/%d", name, thread_goals[q].tets);
+    tb_suite_counter_est(su, key, "speedup", est);
+    tb_suite_counter(su, key, "goal", goal);
+    tb_suite_counter(su, key, "measurable", measurable);
+    if (measurable) tb_suite_counter(su, key, "verdict", tb_verdict(est, goal, 1));
+  }
   collision_table(su, sr);
   tb_suite_note(su,
                 "Collision: the liver's every tet face (the thesis's liver model, as the refit "

@@ -262,8 +262,12 @@ static void scaling_suite_smoke(void) {
                                          "speed-up low",
                                          "speed-up high",
                                          "speed-up measurable",
-                                         "identical"};
-  TB_CHECK(slurp("table-threads.csv", csv, sizeof csv) == 0 && has_columns(csv, thr_cols, 10));
+                                         "identical",
+                                         "serial share (Karp-Flatt)",
+                                         "predicted speed-up, 4 cores",
+                                         "predicted speed-up, 8 cores",
+                                         "predicted speed-up, 16 cores"};
+  TB_CHECK(slurp("table-threads.csv", csv, sizeof csv) == 0 && has_columns(csv, thr_cols, 14));
   for (int k = 0; k < tb_model_count; k++) {
     const char *name = tb_model_classes[k]->name;
     for (int c = 3; c <= 9; c++) /* the times, the speed-up and its interval */
@@ -272,21 +276,44 @@ static void scaling_suite_smoke(void) {
     const char *m = tb_test_csv_cell(csv, name, 10);
     TB_CHECK_MSG(!strcmp(m, "yes") || !strncmp(m, "not measurable (", 16), "%s: %s", name, m);
     TB_CHECK_MSG(!strcmp(tb_test_csv_cell(csv, name, 11), "yes"), "%s: %s", name, csv);
+    /* predicted where measurable: a serial share below 1, speed-ups growing with the
+     * cores and never beyond them; none where the threads gained nothing */
+    double e = tb_test_csv_num(csv, name, 12), p4 = tb_test_csv_num(csv, name, 13),
+           p8 = tb_test_csv_num(csv, name, 14), p16 = tb_test_csv_num(csv, name, 15);
+    if (!strcmp(m, "yes") && tb_threads_cores() >= 2 && e < 1)
+      TB_CHECK_MSG(e >= 0 && p4 >= 1 && p4 <= p8 && p8 <= p16 && p4 <= 4 && p8 <= 8 && p16 <= 16,
+                   "%s: e %g, predicted %g %g %g", name, e, p4, p8, p16);
+    else if (!strcmp(m, "yes") && tb_threads_cores() >= 2)
+      TB_CHECK_MSG(isnan(p4) && isnan(p16), "%s: no gain, yet predicted %g %g", name, p4, p16);
+  }
+  /* the thread axis: every model's counts measured, 1 thread first with a speed-up of 1 */
+  static const char *const axis_cols[] = {"model", "tets", "threads", "source", "speed-up"};
+  TB_CHECK(slurp("table-thread-axis.csv", csv, sizeof csv) == 0 && has_columns(csv, axis_cols, 5));
+  for (int k = 0; k < tb_model_count; k++) {
+    const char *name = tb_model_classes[k]->name;
+    TB_CHECK_MSG(tb_test_csv_num(csv, name, 2) == 1 &&
+                     !strcmp(tb_test_csv_cell(csv, name, 3), "measured") &&
+                     tb_test_csv_num(csv, name, 6) == 1,
+                 "%s: %s", name, csv);
   }
   static const char *const col_cols[] = {"tets", "triangles (all tet faces)", "refit CPU (ms)",
                                          "query CPU (ms)", "refit + query wall (ms)"};
   TB_CHECK(slurp("table-collision.csv", csv, sizeof csv) == 0 && has_columns(csv, col_cols, 5));
   static char md[65536];
   TB_CHECK(slurp("table.md", md, sizeof md) == 0);
-  static const char *const goals[] = {"Speed goal: msm on ", "Speed goal: sm on "};
-  for (int k = 0; k < 2; k++) {
-    const char *g = strstr(md, goals[k]), *semi = g ? strstr(g, "; ") : NULL;
-    TB_CHECK_MSG(g && semi && verdict_word(semi + 2), "%s: %.300s", goals[k], g ? g : md);
+  static const char *const goals[] = {"Speed goal: pbd-stvk on 2 threads", "Speed goal: msm on 2",
+                                      "Speed goal: sm on 2"};
+  for (int k = 0; k < 3; k++) { /* "...(wall time): [measured; ]verdict." */
+    const char *g = strstr(md, goals[k]), *p = g ? strstr(g, "(wall time): ") : NULL;
+    const char *semi = p ? strstr(p, "; ") : NULL, *end = p ? strchr(p, '\n') : NULL;
+    TB_CHECK_MSG(
+        p && (verdict_word(p + 13) || (semi && (!end || semi < end) && verdict_word(semi + 2))),
+        "%s: %.300s", goals[k], g ? g : md);
   }
   snprintf(args, sizeof args,
            "test -s %s/rsc/scaling/time.png && test -s %s/rsc/scaling/collision.png && test -s "
-           "%s/rsc/scaling/data.json",
-           tb_test_tmpdir(), tb_test_tmpdir(), tb_test_tmpdir());
+           "%s/rsc/scaling/data.json && test -s %s/rsc/scaling/threads.png",
+           tb_test_tmpdir(), tb_test_tmpdir(), tb_test_tmpdir(), tb_test_tmpdir());
   TB_CHECK_MSG(tb_test_run(args, tb_test_out, sizeof tb_test_out) == 0, "%s", tb_test_out);
 }
 
