@@ -1,8 +1,8 @@
 /* Threads and the scaling suite: msm and sm give
  * bit-identical positions and velocities on 1 and 2 threads (every sm mode,
  * overlapping regions and per-node tet clusters) on a beam large enough
- * that both threads get work (the models stay on one thread below 4096
- * springs or cluster members), msm on 3 threads too; msm's spatial node
+ * that both threads get work (the models stay on one thread below 40000
+ * springs or 8000 cluster members), msm on 3 threads too; msm's spatial node
  * order splits a beam into halves across its length; the blow-up check
  * reports the same on 1 and 2 threads; the `scaling` suite run tiny
  * (suites/suite_scaling.c, --scale 0.01: livers of 600, 1200 and 2500
@@ -22,15 +22,15 @@
 #include "meshgen/tb_meshgen.h"
 #include "models/tb_model.h"
 
-/* A 3 x 0.8 x 0.8 beam of 30 x 8 x 8 cubes (2511 nodes, 11520 tets,
- * about 17000 springs) held at x = 0, under gravity and a sideways force
+/* A 3 x 0.5 x 0.5 beam of 60 x 10 x 10 cubes (7381 nodes, 36000 tets,
+ * 45980 springs) held at x = 0, under gravity and a sideways force
  * on its far end, `steps` steps on `threads` threads; x and v copied out. */
 static int run(const char *model, const char *kvs, int threads, int steps, tb_vec3 *x, tb_vec3 *v,
                int *nv) {
   tb_mesh m;
   tb_error err;
   memset(&m, 0, sizeof m);
-  if (tb_beam(3, 0.8, 0.8, 30, 8, 8, &m, &err)) {
+  if (tb_beam(3, 0.5, 0.5, 60, 10, 10, &m, &err)) {
     TB_CHECK_MSG(0, "%s", err.msg);
     return -1;
   }
@@ -65,7 +65,7 @@ static int run(const char *model, const char *kvs, int threads, int steps, tb_ve
 
 /* 1 and nt threads: the same bits, and the beam moved (the steps did work). */
 static void identical_nt(const char *model, const char *kvs, int nt) {
-  enum { NV = 31 * 9 * 9, STEPS = 40 };
+  enum { NV = 61 * 11 * 11, STEPS = 40 };
   static tb_vec3 x1[NV], v1[NV], x2[NV], v2[NV];
   int n1 = 0, n2 = 0, threads = tb_threads();
   int r1 = run(model, kvs, 1, STEPS, x1, v1, &n1), r2 = run(model, kvs, nt, STEPS, x2, v2, &n2);
