@@ -371,7 +371,7 @@ static int step(void *self, const tb_step *in, tb_error *err) {
     s->v[v] = tb_scale(tb_sub(in->fixed_x[p], s->x[v]), 1 / dt), s->x[v] = in->fixed_x[p];
     s->presc[v] = 1;
   }
-#pragma omp parallel for schedule(static) if (s->nv > 2048)
+#pragma omp parallel for schedule(static) if (s->nv >= TB_METABALL_PARALLEL_MIN)
   for (int v = 0; v < s->nv; v++)
     if (!s->presc[v]) s->v[v] = tb_scale(tb_sub(m->x[v], s->skin0[v]), 1 / dt), s->x[v] = m->x[v];
   for (int p = 0; p < nfixed; p++) s->presc[in->fixed[p]] = 0;
