@@ -426,7 +426,7 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
 #pragma omp single
     contact_velocities(s, gr, nc);
     /* 4. PBD's constraint damping */
-    if (damp_rates) sweep(s, k, nth, 0, 0, NULL, alpha, gamma, gamma / (1 + gamma));
+    if (damp_rates) sweep(s, k, nth, 0, 0, nth > 1 ? occ : NULL, alpha, gamma, gamma / (1 + gamma));
 #pragma omp for schedule(static)
     for (int i = 0; i < nv; i++) s->xm1[i] = x[i], x[i] = p[i];
 #pragma omp single
