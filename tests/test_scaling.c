@@ -133,9 +133,9 @@ static void sm_threads_identical(void) {
   for (int k = 0; k < 6; k++) identical("sm", kvs[k]);
 }
 
-/* tb_model_health on threads (models/model_util.c: 20 000 nodes or tets
- * and up) on a 60 x 18 x 18 beam (22021 nodes, 116640 tets): the first bad
- * node and the inverted tets' count and first, on 1 and 2 threads alike. */
+/* tb_model_health (models/model_util.c; one thread whatever the count) on
+ * a 60 x 18 x 18 beam (22021 nodes, 116640 tets): the first bad node and
+ * the inverted tets' count and first, on 1 and 2 threads alike. */
 static void health_threads(void) {
   tb_mesh m;
   tb_error err;
