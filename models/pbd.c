@@ -33,7 +33,6 @@
  * Cutting removes the tets the blade touches (carve.c): their constraints
  * leave the schedule, the masses are lumped again from the tets left. */
 #include <math.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,8 +46,7 @@ static void destroy(void *self) {
   free(s->depth), free(s->cids), free(s->cp), free(s->cdepth), free(s->cvn), free(s->keep),
       free(s->fric);
   free(s->tet), free(s->vol), free(s->dminv), free(s->lam), free(s->tmesh);
-  free(s->xo), free(s->vo), free(s->hit), free(s->orig), free(s->cost), free(s->busy), free(s->run),
-      free(s->done);
+  free(s->xo), free(s->vo), free(s->hit), free(s->orig), free(s->cost), free(s->done);
   tb_tet_slabs_free(&s->sl);
   tb_carve_free(&s->carve);
   free(s);
@@ -117,16 +115,17 @@ static void *create_any(const tb_mesh *mesh, const void *settings, int xpbd, tb_
       for (int c = 0; c < 3; c++) s->dminv[k][3 * r + c] = inv.m[r][c];
   }
   s->hit = calloc(T, 1), s->orig = malloc(sizeof(int) * T);
-  s->cost = calloc((size_t)s->sl.ntasks, sizeof(double));
-  s->busy = calloc((size_t)s->sl.ntasks, sizeof(double));
-  s->run = malloc(sizeof(int) * 2 * (size_t)s->sl.ntasks);
+  s->cost = malloc(sizeof(double) * (size_t)s->sl.ntasks);
   s->done = malloc(sizeof(atomic_int) * (size_t)s->sl.ntasks);
-  if (!s->hit || !s->orig || !s->cost || !s->busy || !s->run || !s->done) {
+  if (!s->hit || !s->orig || !s->cost || !s->done) {
     tb_error_set(err, name, 0, "out of memory");
     goto fail;
   }
   memcpy(s->orig, order, sizeof(int) * T);
-  for (int q = 0; q < s->sl.ntasks; q++) atomic_init(&s->done[q], 0);
+  for (int q = 0; q < s->sl.ntasks; q++) {
+    s->cost[q] = s->sl.task[q + 1] - s->sl.task[q];
+    atomic_init(&s->done[q], 0);
+  }
   return s;
 fail:
   destroy(s);

@@ -31,18 +31,16 @@ typedef struct pbd {
    * mesh node old[n]), the tets by task, the tasks by phase */
   tb_tet_slabs sl;
   /* the threads' shares: in each phase p, thread k runs the tasks
-   * run[share[p][k] .. share[p][k+1]), a contiguous range of about equal
-   * cost (pbd_solve.c, plan): cost[q], task q's tets with a free node in
-   * the last step (its tet count before the first), counted into busy[q]
-   * by the step's first sweep. Which thread runs a task never changes the
-   * result (a phase's tasks share no node). */
+   * share[p][k] .. share[p][k+1], a contiguous range of about equal cost
+   * (pbd_solve.c, plan): cost[q], task q's tets with a free node, counted
+   * by each step's first sweep for the next step's plan (its tet count
+   * before the first). Which thread runs a task never changes the result
+   * (a phase's tasks share no node). */
   int share[4][PBD_MAX_THREADS + 1];
-  int *run;
-  double *cost, *busy;
+  double *cost;
   /* per task: how often it has run in this step (the threads' sweeps wait
    * on their conflicts' counts instead of on each other at every phase) */
   atomic_int *done;
-  int measured;
   /* hot, per node: current, previous and predicted positions, current and
    * previous velocity, mass, inverse mass (w) and the w the step uses (0 for
    * prescribed nodes) */

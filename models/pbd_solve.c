@@ -41,8 +41,9 @@
  *             a = 1 / dt^2, lambda += dlambda, dp_j = w_j (g_j / C) dlambda.
  *     Tets are swept in the phases of the slab schedule (models/tet_slabs.c:
  *     slab interiors, even interfaces, odd interfaces, wide tets; a phase's
- *     tasks share no node, a task's tets go in a fixed order): four barriers
- *     a sweep, and the result does not depend on the thread count. After
+ *     tasks share no node, a task's tets go in a fixed order), forward and
+ *     backward in turn; a task waits only for the tasks sharing a node with
+ *     it (sweep), and the result does not depend on the thread count. After
  *     the tets of each sweep the ground constraint (p - q).n >= 0 (patent eq. 4) is
  *     projected for every free node, so the sweep ends with nothing below
  *     the ground, and friction acts on the nodes the ground touched
@@ -198,11 +199,7 @@ static inline void damp_rate(pbd *s, int t, double c) {
  * prescribed nodes costs nearly nothing): a count, not a time, which would
  * move with the caches. */
 static void plan(pbd *s, int nth) {
-  const int *phase = s->sl.phase, *task = s->sl.task;
-  for (int q = 0; q < s->sl.ntasks; q++) {
-    s->cost[q] = s->measured ? s->busy[q] : task[q + 1] - task[q];
-    s->run[q] = q;
-  }
+  const int *phase = s->sl.phase;
   for (int ph = 0; ph < 4; ph++) {
     int a = phase[ph], b = phase[ph + 1], q = a;
     double total = 0, acc = 0;
@@ -227,13 +224,13 @@ static void wait_for(atomic_int *c, int need) {
  * of each phase (none for k >= nth); every thread of the team calls it.
  * back: in reverse (symmetric Gauss-Seidel: forward and backward sweeps in
  * turn, so that no direction of the mesh is favoured). count: each task's
- * tets with a free node into busy, the next plan's costs.
- * occ NULL: a barrier ends each phase. Else occ[p] counts the runs of
- * phase p so far in the step (the same on every thread), and a task waits
- * only for its conflicts (the tasks of other phases sharing a node with
- * it) to have run as often as their phases have before this one: every
- * node still sees its tets in the same order, while a thread whose share
- * of one phase ends early goes on with the next. */
+ * tets with a free node into cost, the next plan's.
+ * No barrier ends a phase: occ[p] counts the runs of phase p so far in the
+ * step (the same on every thread), and a task waits only for its
+ * conflicts (the tasks of other phases sharing a node with it) to have run
+ * as often as their phases have before this one: every node still sees its
+ * tets in the same order, while a thread whose share of one phase ends
+ * early goes on with the next. */
 static void sweep(pbd *s, int k, int nth, int back, int count, int *occ, double alpha, double gamma,
                   double damp_share) {
   const int *task = s->sl.task, *phase = s->sl.phase, *cs = s->sl.conf_start, *conf = s->sl.conf;
@@ -242,24 +239,19 @@ static void sweep(pbd *s, int k, int nth, int back, int count, int *occ, double 
     if (phase[ph] == phase[ph + 1]) continue;
     int lo = k < nth ? s->share[ph][k] : 0, hi = k < nth ? s->share[ph][k + 1] : 0;
     for (int r = lo; r < hi; r++) {
-      int q = s->run[back ? lo + hi - 1 - r : r], free = 0;
-      if (occ)
-        for (int c = cs[q]; c < cs[q + 1]; c++)
-          wait_for(&s->done[conf[c]], occ[tb_tet_slabs_phase(&s->sl, conf[c])]);
+      int q = back ? lo + hi - 1 - r : r, free = 0;
+      for (int c = cs[q]; c < cs[q + 1]; c++)
+        wait_for(&s->done[conf[c]], occ[tb_tet_slabs_phase(&s->sl, conf[c])]);
       if (damp_share >= 0)
         for (int t = task[q]; t < task[q + 1]; t++) damp_rate(s, t, damp_share);
       else if (back)
         for (int t = task[q + 1] - 1; t >= task[q]; t--) free += project(s, t, alpha, gamma);
       else
         for (int t = task[q]; t < task[q + 1]; t++) free += project(s, t, alpha, gamma);
-      if (count) s->busy[q] = free;
-      if (occ) atomic_store_explicit(&s->done[q], occ[ph] + 1, memory_order_release);
+      if (count) s->cost[q] = free;
+      atomic_store_explicit(&s->done[q], occ[ph] + 1, memory_order_release);
     }
-    if (occ)
-      occ[ph]++;
-    else {
-#pragma omp barrier
-    }
+    occ[ph]++;
   }
 }
 
@@ -375,7 +367,6 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
     {
       nth = tb_threads_team() < PBD_MAX_THREADS ? tb_threads_team() : PBD_MAX_THREADS;
       plan(s, nth);
-      s->measured = 1;
       for (int q = 0; q < s->sl.ntasks; q++)
         atomic_store_explicit(&s->done[q], 0, memory_order_relaxed);
     }
@@ -407,7 +398,7 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
     /* 2. projection */
     int occ[4] = {0}; /* the phases' runs in this step (see sweep) */
     for (int it = 0; it < iters; it++) {
-      sweep(s, k, nth, it & 1, it == 0, nth > 1 ? occ : NULL, alpha, gamma, -1);
+      sweep(s, k, nth, it & 1, it == 0, occ, alpha, gamma, -1);
       if (gr) { /* every node: after all of the sweep's tasks */
 #pragma omp barrier
 #pragma omp single
@@ -426,7 +417,7 @@ int pbd_step(void *self, const tb_step *in, tb_error *err) {
 #pragma omp single
     contact_velocities(s, gr, nc);
     /* 4. PBD's constraint damping */
-    if (damp_rates) sweep(s, k, nth, 0, 0, nth > 1 ? occ : NULL, alpha, gamma, gamma / (1 + gamma));
+    if (damp_rates) sweep(s, k, nth, 0, 0, occ, alpha, gamma, gamma / (1 + gamma));
 #pragma omp for schedule(static)
     for (int i = 0; i < nv; i++) s->xm1[i] = x[i], x[i] = p[i];
 #pragma omp single
