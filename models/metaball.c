@@ -156,8 +156,8 @@ void tb_metaball_bind_offsets(tb_metaball *m, int v) {
  * plus what is left of a blend (see tb_metaball). */
 void tb_metaball_reskin(tb_metaball *m) {
   double share = m->blend && m->blend_left > 0 ? m->blend_left / TB_METABALL_BLEND : 0;
-#pragma omp parallel for schedule( \
-    static) if (m->nv >= TB_METABALL_PARALLEL_MIN) /* each vertex alone: any count */
+  /* each vertex alone: any count */
+#pragma omp parallel for schedule(static) if (m->nv >= TB_METABALL_PARALLEL_MIN)
   for (int v = 0; v < m->nv; v++) {
     tb_vec3 x = tb_v3(0, 0, 0);
     for (int q = 0; q < 3; q++) {
